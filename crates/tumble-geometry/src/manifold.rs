@@ -1,0 +1,73 @@
+//! Contact manifolds: up to four points sharing one normal, each with a feature id.
+
+use crate::{Point3, Real, Vec3};
+
+/// The most points a manifold keeps (the thesis's reduction to a quadrilateral).
+pub const MAX_MANIFOLD_POINTS: usize = 4;
+
+/// One contact point of a manifold.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct ContactPoint {
+    /// World-space point midway between the two surfaces along the manifold normal.
+    pub position: Point3,
+    /// Penetration along the normal: positive when the boxes overlap, negative when they are
+    /// apart but within the speculative margin.
+    pub depth: Real,
+    /// Feature id: stays the same while the same pair of features (incident vertex or clipped
+    /// edge against a reference face side, or edge against edge) makes this point.
+    pub id: u32,
+}
+
+/// Which SAT axis produced the manifold.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum FeatureKind {
+    /// Face `0..6` of box A is the reference face.
+    #[default]
+    FaceA,
+    /// Face `0..6` of box B is the reference face.
+    FaceB,
+    /// An edge of A against an edge of B: a single point.
+    Edge,
+}
+
+/// A contact manifold between two boxes A and B.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Manifold {
+    /// Unit normal pointing from A to B.
+    pub normal: Vec3,
+    /// Which kind of feature pair made the manifold.
+    pub kind: FeatureKind,
+    /// Reference face index for `FaceA`/`FaceB`; for `Edge`, the packed edge pair
+    /// (`edge_a * 12 + edge_b`); used as the hysteresis key from step to step.
+    pub feature: u32,
+    /// Storage for the points; only the first `len` are valid.
+    pub contacts: [ContactPoint; MAX_MANIFOLD_POINTS],
+    /// Number of valid points (1 to 4).
+    pub len: u8,
+}
+
+impl Manifold {
+    /// The valid contact points (at most four).
+    pub fn points(&self) -> &[ContactPoint] {
+        &self.contacts[..self.len as usize]
+    }
+
+    /// The largest penetration among the points.
+    pub fn max_depth(&self) -> Real {
+        self.points()
+            .iter()
+            .map(|p| p.depth)
+            .fold(Real::NEG_INFINITY, Real::max)
+    }
+
+    /// Appends a point; returns false (and drops it) when the manifold is full.
+    pub fn push(&mut self, p: ContactPoint) -> bool {
+        if (self.len as usize) < MAX_MANIFOLD_POINTS {
+            self.contacts[self.len as usize] = p;
+            self.len += 1;
+            true
+        } else {
+            false
+        }
+    }
+}

@@ -117,6 +117,18 @@ impl Cuboid {
         2 * axis + usize::from(dir[axis] < 0.0)
     }
 
+    /// The point of the solid box nearest to local point `p` (`p` itself when inside).
+    ///
+    /// Written with `max`/`min` rather than `clamp`, which panics on inverted bounds.
+    pub fn local_closest_point(&self, p: &Point3) -> Point3 {
+        let h = self.half_extents;
+        Point3::new(
+            p.x.max(-h.x).min(h.x),
+            p.y.max(-h.y).min(h.y),
+            p.z.max(-h.z).min(h.z),
+        )
+    }
+
     /// Volume of the box.
     pub fn volume(&self) -> Real {
         8.0 * self.half_extents.x * self.half_extents.y * self.half_extents.z

@@ -10,3 +10,5 @@ pub type Point3 = nalgebra::Point3<Real>;
 pub type Pose = nalgebra::Isometry3<Real>;
 /// A unit quaternion rotation.
 pub type Rot = nalgebra::UnitQuaternion<Real>;
+/// A 3x3 matrix (relative rotations between box frames).
+pub type Mat3 = nalgebra::Matrix3<Real>;

@@ -1,1 +1,56 @@
-//! placeholder
+//! Tumble's solver layer: bodies (cold data apart from hot state), contact constraints with a
+//! normal and two friction rows per point, the Baumgarte and soft-step sequential-impulse
+//! solvers, graph coloring for parallel solving, integration and contact persistence.
+//!
+//! The solve stage is a list of stages, each a plain function on slices so the GPU kernels can
+//! mirror them one to one: [`prepare_contact`], [`integrate_velocities`],
+//! [`warm_start_contact`], [`solve_contact`], [`integrate_positions`],
+//! [`restitution_contact`], [`ContactConstraint::store_impulses`], [`finalize_bodies`].
+#![warn(missing_docs)]
+
+mod body;
+mod coloring;
+mod config;
+mod constraint;
+mod contact;
+mod contact_cache;
+mod contact_solver;
+mod error;
+mod gyroscopic;
+mod integrate;
+mod mass;
+mod material;
+mod softness;
+mod solve;
+mod sweep;
+mod tangent_basis;
+
+pub use body::{Body, BodyKind, BodyState, Locks};
+pub use coloring::{
+    Coloring, ColoringError, GRAPH_COLOR_COUNT, OVERFLOW_COLOR, color_constraints,
+    validate_coloring,
+};
+pub use config::{
+    DEFAULT_BAUMGARTE, DEFAULT_BAUMGARTE_ITERATIONS, DEFAULT_CONTACT_HERTZ, DEFAULT_DAMPING_RATIO,
+    DEFAULT_MAX_PUSH_OUT, DEFAULT_PARALLEL_THRESHOLD, DEFAULT_RESTITUTION_THRESHOLD, DEFAULT_SLOP,
+    SolveOrder, SolverConfig, SolverKind,
+};
+pub use constraint::{ConstraintPoint, ContactConstraint, PrepareContext, prepare_contact};
+pub use contact::{Contact, PointImpulse};
+pub use contact_cache::{CachedManifold, ContactCache, PairKey};
+pub use contact_solver::{PassContext, restitution_contact, solve_contact, warm_start_contact};
+pub use error::{InvalidParameter, require_finite3, require_non_negative, require_positive};
+pub use gyroscopic::gyroscopic_midpoint;
+pub use integrate::{
+    MAX_LINEAR_SPEED, MAX_ROTATION_PER_SUBSTEP, begin_step, finalize_bodies, integrate_positions,
+    integrate_velocities,
+};
+pub use mass::MassProperties;
+pub use material::{DEFAULT_FRICTION, Material, mix_friction, mix_restitution};
+pub use softness::Softness;
+pub use solve::{SolveStats, solve};
+pub use sweep::{Batch, sweep};
+pub use tangent_basis::tangent_basis;
+
+/// A 3x3 matrix (world inverse inertia).
+pub type Mat3 = tumble_geometry::nalgebra::Matrix3<tumble_geometry::Real>;

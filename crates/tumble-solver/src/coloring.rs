@@ -1,0 +1,293 @@
+//! Graph coloring of constraints: no two constraints of one color share a dynamic body, so
+//! the constraints of a color can be solved at the same time.
+//!
+//! Contract (shared with the GPU twin):
+//! - input: per constraint its two body indices, and per body whether it is dynamic; fixed and
+//!   kinematic bodies are never written by the solver, so they do not count;
+//! - output: per constraint a color in `0..GRAPH_COLOR_COUNT`, or [`OVERFLOW_COLOR`] when every
+//!   color already holds one of its dynamic bodies; overflow constraints are solved one after
+//!   another after the colors;
+//! - the CPU assignment is greedy in constraint order (lowest free color), so it is
+//!   deterministic; any assignment that passes [`validate_coloring`] solves correctly.
+
+use crate::InvalidParameter;
+
+/// Number of graph colors. Box2D v3 uses 24 (`B2_GRAPH_COLOR_COUNT`): enough for dense piles,
+/// where a box has at most about a dozen neighbours, while a body touching more than this
+/// many others (a crowded floor is fixed, so it does not count) spills into the overflow set.
+/// At most 32, so a body's used colors fit one `u32` mask.
+pub const GRAPH_COLOR_COUNT: usize = 24;
+
+/// The color of a constraint left to the sequential overflow set.
+pub const OVERFLOW_COLOR: u32 = GRAPH_COLOR_COUNT as u32;
+
+const _: () = assert!(GRAPH_COLOR_COUNT <= 32, "a body's color mask is one u32");
+
+/// The result of coloring: a color per constraint and the constraints grouped by color.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Coloring {
+    /// Color of each constraint, `0..GRAPH_COLOR_COUNT` or [`OVERFLOW_COLOR`].
+    pub colors: Vec<u32>,
+    /// Constraint indices grouped by color (ascending color, overflow last), ascending within
+    /// a color.
+    pub order: Vec<u32>,
+    /// `order[offsets[c]..offsets[c + 1]]` holds color `c`; `c = OVERFLOW_COLOR` is the
+    /// overflow set. Length `GRAPH_COLOR_COUNT + 2`.
+    pub offsets: Vec<u32>,
+}
+
+impl Coloring {
+    /// The constraints of color `c` (`OVERFLOW_COLOR` for the overflow set).
+    pub fn color(&self, c: u32) -> &[u32] {
+        let (s, e) = (
+            self.offsets[c as usize] as usize,
+            self.offsets[c as usize + 1] as usize,
+        );
+        &self.order[s..e]
+    }
+
+    /// How many colors hold at least one constraint.
+    pub fn used_colors(&self) -> usize {
+        (0..GRAPH_COLOR_COUNT as u32)
+            .filter(|&c| !self.color(c).is_empty())
+            .count()
+    }
+
+    /// How many constraints fell into the overflow set.
+    pub fn overflow_count(&self) -> usize {
+        self.color(OVERFLOW_COLOR).len()
+    }
+
+    /// Groups `colors` into `order` and `offsets` (a counting sort, stable).
+    pub fn from_colors(colors: Vec<u32>) -> Self {
+        let mut offsets = vec![0u32; GRAPH_COLOR_COUNT + 2];
+        for &c in &colors {
+            offsets[c as usize + 1] += 1;
+        }
+        for c in 1..offsets.len() {
+            offsets[c] += offsets[c - 1];
+        }
+        let mut next = offsets.clone();
+        let mut order = vec![0u32; colors.len()];
+        for (i, &c) in colors.iter().enumerate() {
+            order[next[c as usize] as usize] = i as u32;
+            next[c as usize] += 1;
+        }
+        Self {
+            colors,
+            order,
+            offsets,
+        }
+    }
+}
+
+/// Colors constraints greedily in order: each takes the lowest color in which neither of its
+/// dynamic bodies appears yet, or [`OVERFLOW_COLOR`].
+///
+/// `pairs[i]` are constraint `i`'s body indices; `dynamic[b]` says whether body `b` counts.
+pub fn color_constraints(pairs: &[(u32, u32)], dynamic: &[bool]) -> Coloring {
+    // Bit c of used[b]: body b already has a constraint of color c.
+    let mut used = vec![0u32; dynamic.len()];
+    let all = if GRAPH_COLOR_COUNT == 32 {
+        u32::MAX
+    } else {
+        (1u32 << GRAPH_COLOR_COUNT) - 1
+    };
+    let colors = pairs
+        .iter()
+        .map(|&(a, b)| {
+            let (da, db) = (dynamic[a as usize], dynamic[b as usize]);
+            let mut taken = 0u32;
+            if da {
+                taken |= used[a as usize];
+            }
+            if db {
+                taken |= used[b as usize];
+            }
+            let free = !taken & all;
+            if free == 0 {
+                return OVERFLOW_COLOR;
+            }
+            let c = free.trailing_zeros();
+            if da {
+                used[a as usize] |= 1 << c;
+            }
+            if db {
+                used[b as usize] |= 1 << c;
+            }
+            c
+        })
+        .collect();
+    Coloring::from_colors(colors)
+}
+
+/// Why a coloring is invalid.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum ColoringError {
+    /// The color list and the constraint list differ in length.
+    #[error("{colors} colors for {constraints} constraints")]
+    LengthMismatch {
+        /// Number of colors given.
+        colors: usize,
+        /// Number of constraints.
+        constraints: usize,
+    },
+    /// A color outside `0..GRAPH_COLOR_COUNT` that is not the overflow color.
+    #[error("constraint {constraint} has color {color}")]
+    ColorOutOfRange {
+        /// The constraint.
+        constraint: usize,
+        /// Its color.
+        color: u32,
+    },
+    /// Two constraints of one color share a dynamic body.
+    #[error("constraints {first} and {second} share dynamic body {body} in color {color}")]
+    SharedBody {
+        /// The earlier constraint.
+        first: usize,
+        /// The later constraint.
+        second: usize,
+        /// The shared body.
+        body: u32,
+        /// The color.
+        color: u32,
+    },
+    /// A body index beyond the body list.
+    #[error(transparent)]
+    BadBody(#[from] InvalidParameter),
+}
+
+/// Checks that no two constraints of one color share a dynamic body and that every color is
+/// in range. Overflow constraints may share anything.
+pub fn validate_coloring(
+    pairs: &[(u32, u32)],
+    dynamic: &[bool],
+    colors: &[u32],
+) -> Result<(), ColoringError> {
+    if pairs.len() != colors.len() {
+        return Err(ColoringError::LengthMismatch {
+            colors: colors.len(),
+            constraints: pairs.len(),
+        });
+    }
+    // owner[(body, color)] = the constraint that holds the body in that color.
+    let mut owner = std::collections::HashMap::new();
+    for (i, (&(a, b), &c)) in pairs.iter().zip(colors).enumerate() {
+        if c == OVERFLOW_COLOR {
+            continue;
+        }
+        if c as usize >= GRAPH_COLOR_COUNT {
+            return Err(ColoringError::ColorOutOfRange {
+                constraint: i,
+                color: c,
+            });
+        }
+        for body in [a, b] {
+            let is_dynamic = *dynamic.get(body as usize).ok_or_else(|| {
+                InvalidParameter::new("body index", body, "an index below the body count")
+            })?;
+            if !is_dynamic {
+                continue;
+            }
+            if let Some(&first) = owner.get(&(body, c)) {
+                if first != i {
+                    return Err(ColoringError::SharedBody {
+                        first,
+                        second: i,
+                        body,
+                        color: c,
+                    });
+                }
+            } else {
+                owner.insert((body, c), i);
+            }
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    fn random_graph(rng: &mut ChaCha8Rng, bodies: u32, edges: usize) -> Vec<(u32, u32)> {
+        (0..edges)
+            .map(|_| {
+                let a = rng.random_range(0..bodies);
+                let mut b = rng.random_range(0..bodies);
+                while b == a {
+                    b = rng.random_range(0..bodies);
+                }
+                (a.min(b), a.max(b))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn greedy_coloring_of_random_graphs_is_valid() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        for trial in 0..50 {
+            let bodies = rng.random_range(2..400);
+            let edges = rng.random_range(0..2000);
+            let pairs = random_graph(&mut rng, bodies, edges);
+            // A fifth of the bodies are fixed or kinematic.
+            let dynamic: Vec<bool> = (0..bodies).map(|_| rng.random_bool(0.8)).collect();
+            let coloring = color_constraints(&pairs, &dynamic);
+            validate_coloring(&pairs, &dynamic, &coloring.colors)
+                .unwrap_or_else(|e| panic!("trial {trial}: {e}"));
+            // order is a permutation grouped by color.
+            let mut seen = coloring.order.clone();
+            seen.sort_unstable();
+            assert!(seen.iter().enumerate().all(|(i, &c)| c as usize == i));
+            for c in 0..=OVERFLOW_COLOR {
+                assert!(
+                    coloring
+                        .color(c)
+                        .iter()
+                        .all(|&i| coloring.colors[i as usize] == c)
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_body_touching_a_hundred_others_fills_every_color_then_overflows() {
+        // Body 0 is dynamic and touches 100 dynamic bodies: each color can hold it once.
+        let pairs: Vec<(u32, u32)> = (1..=100).map(|i| (0, i)).collect();
+        let dynamic = vec![true; 101];
+        let coloring = color_constraints(&pairs, &dynamic);
+        validate_coloring(&pairs, &dynamic, &coloring.colors).unwrap();
+        assert_eq!(coloring.used_colors(), GRAPH_COLOR_COUNT);
+        assert_eq!(coloring.overflow_count(), 100 - GRAPH_COLOR_COUNT);
+
+        // The same star around a fixed body needs one color: fixed bodies do not count.
+        let mut fixed_hub = dynamic.clone();
+        fixed_hub[0] = false;
+        let coloring = color_constraints(&pairs, &fixed_hub);
+        validate_coloring(&pairs, &fixed_hub, &coloring.colors).unwrap();
+        assert_eq!(coloring.used_colors(), 1);
+        assert_eq!(coloring.overflow_count(), 0);
+    }
+
+    #[test]
+    fn validation_catches_a_shared_dynamic_body() {
+        let pairs = [(0, 1), (1, 2), (2, 3)];
+        let dynamic = [true, true, true, false];
+        assert!(matches!(
+            validate_coloring(&pairs, &dynamic, &[0, 0, 1]),
+            Err(ColoringError::SharedBody { body: 1, .. })
+        ));
+        // Bodies 0 and 3 do not meet, so (0, 1) and (2, 3) may share a color; (1, 2) and
+        // (2, 3) may not, because of body 2.
+        assert!(validate_coloring(&pairs, &dynamic, &[0, 1, 0]).is_ok());
+        assert!(validate_coloring(&pairs, &dynamic, &[0, 1, 1]).is_err());
+        assert!(matches!(
+            validate_coloring(&pairs, &dynamic, &[0, 99, 1]),
+            Err(ColoringError::ColorOutOfRange { .. })
+        ));
+        // Overflow may share anything.
+        assert!(validate_coloring(&pairs, &dynamic, &[OVERFLOW_COLOR; 3]).is_ok());
+    }
+}

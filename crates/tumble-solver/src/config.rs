@@ -1,0 +1,178 @@
+//! Solver settings: which algorithm, how many iterations, and the soft-contact tuning.
+
+use tumble_geometry::Real;
+
+use crate::InvalidParameter;
+use crate::error::{require_non_negative, require_positive};
+
+/// Which velocity solver runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+pub enum SolverKind {
+    /// The thesis's projected Gauss-Seidel: one step, `iterations` passes, position error fed
+    /// back as a velocity bias `-beta / dt * max(depth - slop, 0)`.
+    Baumgarte,
+    /// Box2D v3's soft step: substeps, soft contacts (hertz, damping ratio), relax passes.
+    SoftStep,
+}
+
+/// The order in which constraints are visited inside one pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+pub enum SolveOrder {
+    /// Reference Gauss-Seidel: constraints in manifold order, one at a time.
+    Sequential,
+    /// Graph colors one after another; the constraints of one color in parallel (they share no
+    /// dynamic body), then the overflow set sequentially.
+    Colored,
+}
+
+/// Everything the solver stage needs besides bodies and contacts.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SolverConfig {
+    /// Baumgarte PGS or soft step.
+    pub kind: SolverKind,
+    /// Biased velocity passes per substep.
+    pub iterations: u32,
+    /// Substeps per step (the Baumgarte solver honours it too; its default is 1).
+    pub substeps: u32,
+    /// Unbiased (relax) passes per substep, soft step only.
+    pub relax_iterations: u32,
+    /// Start each substep from last step's impulses, matched by feature id.
+    pub warm_start: bool,
+    /// Sequential or colored visiting order.
+    pub order: SolveOrder,
+    /// Soft contact stiffness in Hz (capped at a quarter of the substep rate).
+    pub contact_hertz: Real,
+    /// Soft contact damping ratio (dimensionless; > 1 is over-damped).
+    pub damping_ratio: Real,
+    /// Largest separation speed, m/s, the position correction may add (push-out cap).
+    pub max_push_out: Real,
+    /// Baumgarte factor `beta` in `[0, 1]`: the fraction of the penetration removed per step.
+    pub baumgarte: Real,
+    /// Penetration in m the Baumgarte bias tolerates, so resting contacts do not jitter.
+    pub slop: Real,
+    /// Approach speed in m/s below which restitution is ignored (resting contacts stay put).
+    pub restitution_threshold: Real,
+    /// Colors with at least this many constraints are solved on the rayon pool.
+    pub parallel_threshold: u32,
+}
+
+/// Box2D v3's contact stiffness: `b2DefaultWorldDef` sets `contactHertz = 30`.
+pub const DEFAULT_CONTACT_HERTZ: Real = 30.0;
+/// Box2D v3's contact damping ratio: `contactDampingRatio = 10` (heavily over-damped, so
+/// contacts push out without bouncing).
+pub const DEFAULT_DAMPING_RATIO: Real = 10.0;
+/// Box2D v3's push-out speed cap: `maxContactPushSpeed = 3 m/s` (`contactPushMaxVelocity`
+/// in earlier v3 releases).
+pub const DEFAULT_MAX_PUSH_OUT: Real = 3.0;
+/// Box2D v3's restitution threshold: `restitutionThreshold = 1 m/s`.
+pub const DEFAULT_RESTITUTION_THRESHOLD: Real = 1.0;
+/// The classic Baumgarte factor of Box2D v2 (`b2_baumgarte = 0.2`): removes a fifth of the
+/// error per step, stiff enough to hold stacks, soft enough not to add visible energy.
+pub const DEFAULT_BAUMGARTE: Real = 0.2;
+/// Box2D v2's `b2_linearSlop = 0.005 m`: 5 mm of tolerated overlap keeps resting contacts
+/// alive from step to step without correction jitter.
+pub const DEFAULT_SLOP: Real = 0.005;
+/// Velocity passes of the Baumgarte solver. The thesis ran 150 on the CPU without warm
+/// starting; with warm starting the stability suite (30-box column, 650-box pyramid, 100:1
+/// mass ratio) stands with this many (see docs/solver.md).
+pub const DEFAULT_BAUMGARTE_ITERATIONS: u32 = 40;
+/// A rayon task costs a few microseconds; one constraint pass about 0.1 us, so colors smaller
+/// than this run faster on one thread.
+pub const DEFAULT_PARALLEL_THRESHOLD: u32 = 256;
+
+impl Default for SolverConfig {
+    /// Soft step, 4 substeps, 1 iteration, 1 relax pass, warm starting, colored order.
+    fn default() -> Self {
+        Self {
+            kind: SolverKind::SoftStep,
+            iterations: 1,
+            substeps: 4,
+            relax_iterations: 1,
+            warm_start: true,
+            order: SolveOrder::Colored,
+            contact_hertz: DEFAULT_CONTACT_HERTZ,
+            damping_ratio: DEFAULT_DAMPING_RATIO,
+            max_push_out: DEFAULT_MAX_PUSH_OUT,
+            baumgarte: DEFAULT_BAUMGARTE,
+            slop: DEFAULT_SLOP,
+            restitution_threshold: DEFAULT_RESTITUTION_THRESHOLD,
+            parallel_threshold: DEFAULT_PARALLEL_THRESHOLD,
+        }
+    }
+}
+
+impl SolverConfig {
+    /// The soft-step default (same as `Default`).
+    pub fn soft_step() -> Self {
+        Self::default()
+    }
+
+    /// The thesis's solver: Baumgarte PGS, one substep, [`DEFAULT_BAUMGARTE_ITERATIONS`]
+    /// passes, warm starting on, colored order.
+    pub fn baumgarte() -> Self {
+        Self {
+            kind: SolverKind::Baumgarte,
+            iterations: DEFAULT_BAUMGARTE_ITERATIONS,
+            substeps: 1,
+            relax_iterations: 0,
+            ..Self::default()
+        }
+    }
+
+    /// Checks every field; the error names the first bad one.
+    pub fn validate(&self) -> Result<(), InvalidParameter> {
+        if self.iterations == 0 {
+            return Err(InvalidParameter::new(
+                "solver.iterations",
+                self.iterations,
+                "at least 1",
+            ));
+        }
+        if self.substeps == 0 {
+            return Err(InvalidParameter::new(
+                "solver.substeps",
+                self.substeps,
+                "at least 1",
+            ));
+        }
+        require_positive("solver.contact_hertz", self.contact_hertz)?;
+        require_non_negative("solver.damping_ratio", self.damping_ratio)?;
+        require_positive("solver.max_push_out", self.max_push_out)?;
+        if !(self.baumgarte.is_finite() && (0.0..=1.0).contains(&self.baumgarte)) {
+            return Err(InvalidParameter::new(
+                "solver.baumgarte",
+                self.baumgarte,
+                "a number in [0, 1]",
+            ));
+        }
+        require_non_negative("solver.slop", self.slop)?;
+        require_non_negative("solver.restitution_threshold", self.restitution_threshold)?;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid_and_bad_fields_are_named() {
+        SolverConfig::default().validate().unwrap();
+        SolverConfig::baumgarte().validate().unwrap();
+        let bad = SolverConfig {
+            substeps: 0,
+            ..Default::default()
+        };
+        assert_eq!(bad.validate().unwrap_err().field, "solver.substeps");
+        let bad = SolverConfig {
+            contact_hertz: Real::NAN,
+            ..Default::default()
+        };
+        assert_eq!(bad.validate().unwrap_err().field, "solver.contact_hertz");
+        let bad = SolverConfig {
+            baumgarte: 1.5,
+            ..SolverConfig::baumgarte()
+        };
+        assert_eq!(bad.validate().unwrap_err().field, "solver.baumgarte");
+    }
+}

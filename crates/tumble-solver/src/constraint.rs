@@ -1,0 +1,203 @@
+//! Contact constraints: per manifold point a normal row and two friction rows, with effective
+//! masses and anchors relative to the body centres, prepared once per step.
+//!
+//! Layout contract (mirrored by the GPU kernels): one [`ContactConstraint`] per manifold,
+//! holding its bodies' inverse masses so the inner loops never touch cold body data, and up to
+//! [`MAX_MANIFOLD_POINTS`] [`ConstraintPoint`]s. Anchors are world-space offsets from each body's
+//! centre at the start of the step; the current separation is rebuilt every pass from the
+//! bodies' delta positions and delta rotations (Box2D v3's `baseSeparation` scheme).
+
+use tumble_geometry::{MAX_MANIFOLD_POINTS, Real, Vec3};
+
+use crate::{Body, BodyState, Contact, Mat3, Softness, SolverKind, tangent_basis};
+
+/// One point of a contact constraint.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ConstraintPoint {
+    /// Contact point minus body A's centre, world axes, at the start of the step.
+    pub anchor_a: Vec3,
+    /// Contact point minus body B's centre, world axes, at the start of the step.
+    pub anchor_b: Vec3,
+    /// `separation - (anchor_b - anchor_a) . n`: adding the current `(c_b + r_b - c_a - r_a) . n`
+    /// change gives the current separation (negative = overlap).
+    pub base_separation: Real,
+    /// `1 / (J M^-1 J^T)` of the normal row.
+    pub normal_mass: Real,
+    /// Effective masses of the two friction rows.
+    pub tangent_mass: [Real; 2],
+    /// Accumulated normal impulse of the current substep (>= 0).
+    pub normal_impulse: Real,
+    /// Accumulated friction impulses along `tangent1`, `tangent2`.
+    pub tangent_impulse: [Real; 2],
+    /// Normal impulse applied over the whole step (all substeps, warm starts, restitution).
+    pub total_normal_impulse: Real,
+    /// Normal relative velocity at preparation (negative = approaching), for restitution.
+    pub relative_velocity: Real,
+}
+
+/// The constraint of one manifold.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactConstraint {
+    /// Body A's index in the solver arrays.
+    pub body_a: u32,
+    /// Body B's index.
+    pub body_b: u32,
+    /// Index of the [`Contact`] this constraint came from (impulses are stored back there).
+    pub contact: u32,
+    /// Body A is dynamic: the solver writes its velocity.
+    pub dynamic_a: bool,
+    /// Body B is dynamic.
+    pub dynamic_b: bool,
+    /// Unit normal from A to B, fixed for the step.
+    pub normal: Vec3,
+    /// First friction direction.
+    pub tangent1: Vec3,
+    /// Second friction direction (`tangent1 x tangent2 = normal`).
+    pub tangent2: Vec3,
+    /// Body A's inverse mass per world axis (zero on locked axes).
+    pub inverse_mass_a: Vec3,
+    /// Body B's inverse mass per world axis.
+    pub inverse_mass_b: Vec3,
+    /// Body A's world inverse inertia at the start of the step.
+    pub inverse_inertia_a: Mat3,
+    /// Body B's world inverse inertia.
+    pub inverse_inertia_b: Mat3,
+    /// Combined friction coefficient; 0 removes the friction rows.
+    pub friction: Real,
+    /// Combined restitution; 0 skips the restitution pass.
+    pub restitution: Real,
+    /// Position feedback of the biased passes (soft step: the soft spring; Baumgarte:
+    /// `bias_rate = beta / h`, rigid mass).
+    pub softness: Softness,
+    /// Overlap tolerated before position feedback starts (Baumgarte only; 0 for soft step).
+    pub slop: Real,
+    /// Number of valid points.
+    pub point_count: u32,
+    /// The points; only the first `point_count` are valid.
+    pub points: [ConstraintPoint; MAX_MANIFOLD_POINTS],
+}
+
+/// Step-wide values that [`prepare_contact`] needs.
+#[derive(Clone, Copy, Debug)]
+pub struct PrepareContext {
+    /// Soft step or Baumgarte.
+    pub kind: SolverKind,
+    /// Substep length in s.
+    pub h: Real,
+    /// Softness of contacts between two dynamic bodies.
+    pub contact_softness: Softness,
+    /// Softness of contacts with a fixed or kinematic body (stiffer, as in Box2D v3).
+    pub static_softness: Softness,
+    /// Baumgarte slop in m.
+    pub slop: Real,
+    /// 1 to warm start, 0 to start from zero impulses.
+    pub warm_start_scale: Real,
+}
+
+/// `(r x d) . I^-1 (r x d)`: the angular part of a row's inverse effective mass.
+fn angular_term(inverse_inertia: &Mat3, r: &Vec3, d: &Vec3) -> Real {
+    let rd = r.cross(d);
+    rd.dot(&(inverse_inertia * rd))
+}
+
+/// Inverse of a row's `J M^-1 J^T`, or 0 when both bodies are immovable along it.
+fn row_mass(
+    constraint: &ContactConstraint,
+    anchor_a: &Vec3,
+    anchor_b: &Vec3,
+    direction: &Vec3,
+) -> Real {
+    let d2 = direction.component_mul(direction);
+    let k = constraint.inverse_mass_a.dot(&d2)
+        + constraint.inverse_mass_b.dot(&d2)
+        + angular_term(&constraint.inverse_inertia_a, anchor_a, direction)
+        + angular_term(&constraint.inverse_inertia_b, anchor_b, direction);
+    if k > 0.0 { 1.0 / k } else { 0.0 }
+}
+
+/// Builds the constraint of `contacts[index]`.
+///
+/// `inverse_inertia` holds each body's world inverse inertia for this step; `states` gives the
+/// velocities used to record the approach speed for restitution.
+pub fn prepare_contact(
+    bodies: &[Body],
+    inverse_inertia: &[Mat3],
+    states: &[BodyState],
+    contacts: &[Contact],
+    index: usize,
+    ctx: &PrepareContext,
+) -> ContactConstraint {
+    let contact = &contacts[index];
+    let (ia, ib) = (contact.body_a as usize, contact.body_b as usize);
+    let (a, b) = (&bodies[ia], &bodies[ib]);
+    let normal = contact.manifold.normal;
+    let (tangent1, tangent2) = tangent_basis(&normal);
+    let softness = match ctx.kind {
+        SolverKind::SoftStep if a.is_dynamic() && b.is_dynamic() => ctx.contact_softness,
+        SolverKind::SoftStep => ctx.static_softness,
+        SolverKind::Baumgarte => ctx.contact_softness,
+    };
+    let mut c = ContactConstraint {
+        body_a: contact.body_a,
+        body_b: contact.body_b,
+        contact: index as u32,
+        dynamic_a: a.is_dynamic(),
+        dynamic_b: b.is_dynamic(),
+        normal,
+        tangent1,
+        tangent2,
+        inverse_mass_a: a.inverse_mass_axes(),
+        inverse_mass_b: b.inverse_mass_axes(),
+        inverse_inertia_a: inverse_inertia[ia],
+        inverse_inertia_b: inverse_inertia[ib],
+        friction: crate::mix_friction(a.material.friction, b.material.friction),
+        restitution: crate::mix_restitution(a.material.restitution, b.material.restitution),
+        softness,
+        slop: match ctx.kind {
+            SolverKind::Baumgarte => ctx.slop,
+            SolverKind::SoftStep => 0.0,
+        },
+        point_count: u32::from(contact.manifold.len),
+        points: [ConstraintPoint::default(); MAX_MANIFOLD_POINTS],
+    };
+    let (ca, cb) = (a.pose.translation.vector, b.pose.translation.vector);
+    let (sa, sb) = (&states[ia], &states[ib]);
+    for (i, p) in contact.manifold.points().iter().enumerate() {
+        let anchor_a = p.position.coords - ca;
+        let anchor_b = p.position.coords - cb;
+        let warm = &contact.impulses[i];
+        let dv = sb.linear_velocity + sb.angular_velocity.cross(&anchor_b)
+            - sa.linear_velocity
+            - sa.angular_velocity.cross(&anchor_a);
+        c.points[i] = ConstraintPoint {
+            anchor_a,
+            anchor_b,
+            base_separation: -p.depth - (anchor_b - anchor_a).dot(&normal),
+            normal_mass: row_mass(&c, &anchor_a, &anchor_b, &normal),
+            tangent_mass: [
+                row_mass(&c, &anchor_a, &anchor_b, &tangent1),
+                row_mass(&c, &anchor_a, &anchor_b, &tangent2),
+            ],
+            normal_impulse: ctx.warm_start_scale * warm.normal,
+            tangent_impulse: [
+                ctx.warm_start_scale * warm.friction.dot(&tangent1),
+                ctx.warm_start_scale * warm.friction.dot(&tangent2),
+            ],
+            total_normal_impulse: 0.0,
+            relative_velocity: dv.dot(&normal),
+        };
+    }
+    c
+}
+
+impl ContactConstraint {
+    /// Writes this constraint's final impulses back into its contact.
+    pub fn store_impulses(&self, contact: &mut Contact) {
+        for (i, p) in self.points[..self.point_count as usize].iter().enumerate() {
+            contact.impulses[i].normal = p.normal_impulse;
+            contact.impulses[i].friction =
+                self.tangent1 * p.tangent_impulse[0] + self.tangent2 * p.tangent_impulse[1];
+            contact.total_normal_impulse[i] = p.total_normal_impulse;
+        }
+    }
+}

@@ -1,0 +1,151 @@
+//! The per-constraint kernels of the solve stage: warm start, one (biased or relaxed) pass of
+//! sequential impulses over a manifold's points, and the restitution pass.
+//!
+//! Each function reads and writes only the constraint and the two body states it is given, so
+//! the same code serves the sequential order and the colored (parallel) order.
+
+use tumble_geometry::{Real, Vec3};
+
+use crate::{BodyState, ContactConstraint};
+
+/// Per-pass values shared by every constraint.
+#[derive(Clone, Copy, Debug)]
+pub struct PassContext {
+    /// `1 / h` for the substep, used by speculative points to close the gap in one substep.
+    pub inv_h: Real,
+    /// Feed position error back (solve) or not (relax).
+    pub use_bias: bool,
+    /// Cap on the separation speed the position feedback may request, m/s.
+    pub max_push_out: Real,
+}
+
+/// Applies impulse `p` (world vector) at the anchors: `-p` on A, `+p` on B.
+#[inline]
+fn apply(
+    c: &ContactConstraint,
+    a: &mut BodyState,
+    b: &mut BodyState,
+    anchor_a: &Vec3,
+    anchor_b: &Vec3,
+    p: &Vec3,
+) {
+    a.linear_velocity -= c.inverse_mass_a.component_mul(p);
+    a.angular_velocity -= c.inverse_inertia_a * anchor_a.cross(p);
+    b.linear_velocity += c.inverse_mass_b.component_mul(p);
+    b.angular_velocity += c.inverse_inertia_b * anchor_b.cross(p);
+}
+
+/// Velocity of B's anchor relative to A's anchor.
+#[inline]
+fn relative_velocity(a: &BodyState, b: &BodyState, anchor_a: &Vec3, anchor_b: &Vec3) -> Vec3 {
+    b.linear_velocity + b.angular_velocity.cross(anchor_b)
+        - a.linear_velocity
+        - a.angular_velocity.cross(anchor_a)
+}
+
+/// Re-applies the accumulated impulses (normal and friction) at the start of a substep.
+pub fn warm_start_contact(c: &mut ContactConstraint, a: &mut BodyState, b: &mut BodyState) {
+    let (normal, t1, t2) = (c.normal, c.tangent1, c.tangent2);
+    for i in 0..c.point_count as usize {
+        let cp = c.points[i];
+        let p =
+            normal * cp.normal_impulse + t1 * cp.tangent_impulse[0] + t2 * cp.tangent_impulse[1];
+        c.points[i].total_normal_impulse += cp.normal_impulse;
+        apply(c, a, b, &cp.anchor_a, &cp.anchor_b, &p);
+    }
+}
+
+/// One pass over the constraint's points: non-penetration first, then Coulomb friction.
+///
+/// Non-penetration: the current separation `s` is rebuilt from the bodies' deltas. A point
+/// still apart (`s > 0`) is speculative: bodies may approach by at most `s` this substep
+/// (`bias = s / h`). An overlapping point gets, when `use_bias`, the position feedback
+/// `max(mass_scale * bias_rate * min(s + slop, 0), -max_push_out)` with the soft mass and
+/// impulse scales; relax passes use the rigid row with no feedback.
+///
+/// Friction: the two tangent rows update together and the tangential impulse vector is
+/// clamped to the disc of radius `mu * normal impulse` (isotropic Coulomb friction).
+pub fn solve_contact(
+    c: &mut ContactConstraint,
+    a: &mut BodyState,
+    b: &mut BodyState,
+    ctx: &PassContext,
+) {
+    let normal = c.normal;
+    let dp = b.delta_position - a.delta_position;
+    let count = c.point_count as usize;
+    for i in 0..count {
+        let cp = c.points[i];
+        let ds = dp + b.delta_rotation * cp.anchor_b - a.delta_rotation * cp.anchor_a;
+        let s = cp.base_separation + ds.dot(&normal);
+        let (bias, mass_scale, impulse_scale) = if s > 0.0 {
+            (s * ctx.inv_h, 1.0, 0.0)
+        } else if ctx.use_bias {
+            let soft = c.softness;
+            let bias =
+                (soft.mass_scale * soft.bias_rate * (s + c.slop).min(0.0)).max(-ctx.max_push_out);
+            (bias, soft.mass_scale, soft.impulse_scale)
+        } else {
+            (0.0, 1.0, 0.0)
+        };
+        let vn = relative_velocity(a, b, &cp.anchor_a, &cp.anchor_b).dot(&normal);
+        let delta = -cp.normal_mass * (mass_scale * vn + bias) - impulse_scale * cp.normal_impulse;
+        let accumulated = (cp.normal_impulse + delta).max(0.0);
+        let applied = accumulated - cp.normal_impulse;
+        c.points[i].normal_impulse = accumulated;
+        c.points[i].total_normal_impulse += applied;
+        apply(c, a, b, &cp.anchor_a, &cp.anchor_b, &(normal * applied));
+    }
+
+    // Zero friction means one row per point: skip the tangent rows entirely.
+    if c.friction == 0.0 {
+        return;
+    }
+    let (t1, t2) = (c.tangent1, c.tangent2);
+    for i in 0..count {
+        let cp = c.points[i];
+        let dv = relative_velocity(a, b, &cp.anchor_a, &cp.anchor_b);
+        let old = cp.tangent_impulse;
+        let mut new = [
+            old[0] - cp.tangent_mass[0] * dv.dot(&t1),
+            old[1] - cp.tangent_mass[1] * dv.dot(&t2),
+        ];
+        let limit = c.friction * cp.normal_impulse;
+        let length = (new[0] * new[0] + new[1] * new[1]).sqrt();
+        if length > limit {
+            let scale = if length > 0.0 { limit / length } else { 0.0 };
+            new = [new[0] * scale, new[1] * scale];
+        }
+        c.points[i].tangent_impulse = new;
+        let p = t1 * (new[0] - old[0]) + t2 * (new[1] - old[1]);
+        apply(c, a, b, &cp.anchor_a, &cp.anchor_b, &p);
+    }
+}
+
+/// Restitution after the substeps: points that approached faster than `threshold` and
+/// pushed during the step get a normal velocity of `-restitution * approach speed`.
+pub fn restitution_contact(
+    c: &mut ContactConstraint,
+    a: &mut BodyState,
+    b: &mut BodyState,
+    threshold: Real,
+) {
+    if c.restitution == 0.0 {
+        return;
+    }
+    let normal = c.normal;
+    for i in 0..c.point_count as usize {
+        let cp = c.points[i];
+        // A point that never pushed is a speculative point that did not collide.
+        if cp.relative_velocity > -threshold || cp.total_normal_impulse == 0.0 {
+            continue;
+        }
+        let vn = relative_velocity(a, b, &cp.anchor_a, &cp.anchor_b).dot(&normal);
+        let delta = -cp.normal_mass * (vn + c.restitution * cp.relative_velocity);
+        let accumulated = (cp.normal_impulse + delta).max(0.0);
+        let applied = accumulated - cp.normal_impulse;
+        c.points[i].normal_impulse = accumulated;
+        c.points[i].total_normal_impulse += applied;
+        apply(c, a, b, &cp.anchor_a, &cp.anchor_b, &(normal * applied));
+    }
+}

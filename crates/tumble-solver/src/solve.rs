@@ -1,0 +1,382 @@
+//! The solve stage: from bodies and manifolds to new velocities and in-step deltas.
+//!
+//! Soft step (Box2D v3, `b2SolverStage_*`): prepare contacts once, then per substep integrate
+//! velocities, warm start, solve (biased), integrate positions, relax (unbiased); after the
+//! substeps apply restitution (only when a material has it) and store impulses.
+//! Baumgarte (the thesis's PGS) runs the same stages with rigid rows, the bias
+//! `-beta / h * max(depth - slop, 0)`, `iterations` passes and, by default, one substep and
+//! no relax pass.
+
+use rayon::prelude::*;
+use tumble_geometry::{Real, Vec3};
+
+use crate::{
+    Batch, Body, BodyState, Coloring, Contact, ContactConstraint, Mat3, OVERFLOW_COLOR,
+    PassContext, PrepareContext, Softness, SolveOrder, SolverConfig, SolverKind, begin_step,
+    integrate_positions, integrate_velocities, prepare_contact, restitution_contact, solve_contact,
+    sweep, warm_start_contact,
+};
+
+/// Box2D v3 caps the contact stiffness at a quarter of the substep rate: a stiffer spring
+/// would not be resolved by the substep and would ring.
+const MAX_HERTZ_PER_SUBSTEP_RATE: Real = 0.25;
+
+/// Box2D v3 makes contacts against fixed (and here kinematic) bodies twice as stiff, to keep
+/// piles from sinking into the ground.
+const STATIC_STIFFNESS_FACTOR: Real = 2.0;
+
+/// Constraint preparation goes wide from this many manifolds (below, the pool costs more).
+const PARALLEL_PREPARE_MIN: usize = 512;
+
+/// What one solve did, for statistics.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SolveStats {
+    /// Constraints solved (one per manifold).
+    pub constraints: usize,
+    /// Contact points solved.
+    pub points: usize,
+    /// Batches that ran on the thread pool.
+    pub parallel_batches: usize,
+}
+
+/// The visiting order: the constraint permutation and its batches.
+fn plan(
+    contacts: &[Contact],
+    coloring: &Coloring,
+    config: &SolverConfig,
+) -> (Vec<u32>, Vec<Batch>) {
+    let colored = config.order == SolveOrder::Colored && coloring.colors.len() == contacts.len();
+    if !colored {
+        let order = (0..contacts.len() as u32).collect();
+        let batches = vec![Batch {
+            range: 0..contacts.len(),
+            parallel: false,
+        }];
+        return (order, batches);
+    }
+    let batches = (0..=OVERFLOW_COLOR)
+        .map(|c| {
+            let range =
+                coloring.offsets[c as usize] as usize..coloring.offsets[c as usize + 1] as usize;
+            let parallel = c != OVERFLOW_COLOR && range.len() >= config.parallel_threshold as usize;
+            Batch { range, parallel }
+        })
+        .filter(|b| !b.range.is_empty())
+        .collect();
+    (coloring.order.clone(), batches)
+}
+
+/// Runs the solve stage for one step of length `dt`.
+///
+/// Velocities and deltas in `states` advance; poses in `bodies` stay at the start of the step
+/// until [`crate::finalize_bodies`]. Each contact's `impulses` are read as the warm start and
+/// overwritten with this step's impulses, and `total_normal_impulse` is filled. `coloring` is
+/// used when `config.order` is `Colored` and it colors exactly `contacts`; otherwise the
+/// reference sequential order runs.
+pub fn solve(
+    bodies: &[Body],
+    states: &mut [BodyState],
+    contacts: &mut [Contact],
+    coloring: &Coloring,
+    config: &SolverConfig,
+    dt: Real,
+    gravity: &Vec3,
+) -> SolveStats {
+    let substeps = config.substeps.max(1);
+    let h = dt / substeps as Real;
+    let inv_h = 1.0 / h;
+    let (contact_softness, static_softness) = match config.kind {
+        SolverKind::SoftStep => {
+            let hertz = config.contact_hertz.min(MAX_HERTZ_PER_SUBSTEP_RATE * inv_h);
+            (
+                Softness::new(hertz, config.damping_ratio, h),
+                Softness::new(STATIC_STIFFNESS_FACTOR * hertz, config.damping_ratio, h),
+            )
+        }
+        SolverKind::Baumgarte => {
+            let rigid = Softness {
+                bias_rate: config.baumgarte * inv_h,
+                ..Softness::RIGID
+            };
+            (rigid, rigid)
+        }
+    };
+    let prepare_ctx = PrepareContext {
+        kind: config.kind,
+        h,
+        contact_softness,
+        static_softness,
+        slop: config.slop,
+        warm_start_scale: if config.warm_start { 1.0 } else { 0.0 },
+    };
+
+    begin_step(states);
+    let inverse_inertia: Vec<Mat3> = bodies.iter().map(Body::inverse_inertia_world).collect();
+    let (order, batches) = plan(contacts, coloring, config);
+    let prepare = |&i: &u32| {
+        prepare_contact(
+            bodies,
+            &inverse_inertia,
+            states,
+            contacts,
+            i as usize,
+            &prepare_ctx,
+        )
+    };
+    let mut constraints: Vec<ContactConstraint> = if order.len() >= PARALLEL_PREPARE_MIN {
+        order.par_iter().map(prepare).collect()
+    } else {
+        order.iter().map(prepare).collect()
+    };
+
+    let mut scratch = Vec::new();
+    let solve_pass = |use_bias| PassContext {
+        inv_h,
+        use_bias,
+        max_push_out: config.max_push_out,
+    };
+    let biased = solve_pass(true);
+    let relaxed = solve_pass(false);
+    for _ in 0..substeps {
+        integrate_velocities(bodies, states, gravity, h);
+        sweep(
+            &mut constraints,
+            &batches,
+            states,
+            &mut scratch,
+            &warm_start_contact,
+        );
+        for _ in 0..config.iterations {
+            sweep(
+                &mut constraints,
+                &batches,
+                states,
+                &mut scratch,
+                &|c, a, b| solve_contact(c, a, b, &biased),
+            );
+        }
+        integrate_positions(bodies, states, h);
+        for _ in 0..config.relax_iterations {
+            sweep(
+                &mut constraints,
+                &batches,
+                states,
+                &mut scratch,
+                &|c, a, b| solve_contact(c, a, b, &relaxed),
+            );
+        }
+    }
+    if constraints.iter().any(|c| c.restitution > 0.0) {
+        let threshold = config.restitution_threshold;
+        sweep(
+            &mut constraints,
+            &batches,
+            states,
+            &mut scratch,
+            &|c, a, b| restitution_contact(c, a, b, threshold),
+        );
+    }
+    for c in &constraints {
+        c.store_impulses(&mut contacts[c.contact as usize]);
+    }
+    SolveStats {
+        constraints: constraints.len(),
+        points: constraints.iter().map(|c| c.point_count as usize).sum(),
+        parallel_batches: batches.iter().filter(|b| b.parallel).count(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{BodyKind, Material, color_constraints, finalize_bodies};
+    use tumble_geometry::{ContactPoint, Cuboid, FeatureKind, Manifold, Point3, Pose};
+
+    const GRAVITY: Real = 9.81;
+    const DT: Real = 1.0 / 60.0;
+
+    /// A fixed floor (top face at y = 0) and a unit cube of density 2 resting on it.
+    fn floor_and_cube() -> (Vec<Body>, Vec<BodyState>) {
+        let floor = Body::new(
+            BodyKind::Fixed,
+            Cuboid::new(Vec3::new(5.0, 0.5, 5.0)),
+            Pose::translation(0.0, -0.5, 0.0),
+            1.0,
+            Material::default(),
+        )
+        .unwrap();
+        let cube = Body::new(
+            BodyKind::Dynamic,
+            Cuboid::new(Vec3::repeat(0.5)),
+            Pose::translation(0.0, 0.5, 0.0),
+            2.0,
+            Material::default(),
+        )
+        .unwrap();
+        (vec![floor, cube], vec![BodyState::default(); 2])
+    }
+
+    /// The floor-cube manifold for the cube's current pose: its four bottom corners against
+    /// the plane y = 0 (an exact narrow phase for an upright cube).
+    fn manifold(cube: &Body) -> Manifold {
+        let mut m = Manifold {
+            normal: Vec3::y(),
+            kind: FeatureKind::FaceA,
+            feature: 2,
+            ..Default::default()
+        };
+        for (id, v) in [0usize, 1, 4, 5].into_iter().enumerate() {
+            let corner = cube.pose * cube.shape.vertex(v);
+            m.push(ContactPoint {
+                position: Point3::new(corner.x, corner.y * 0.5, corner.z),
+                depth: -corner.y,
+                id: id as u32,
+            });
+        }
+        m
+    }
+
+    fn run_resting(config: &SolverConfig, steps: usize) -> (Body, Contact) {
+        let (mut bodies, mut states) = floor_and_cube();
+        let mut contact = Contact::new(0, 1, manifold(&bodies[1]));
+        for _ in 0..steps {
+            contact.manifold = manifold(&bodies[1]);
+            let mut contacts = [contact];
+            let coloring = color_constraints(&[(0, 1)], &[false, true]);
+            solve(
+                &bodies,
+                &mut states,
+                &mut contacts,
+                &coloring,
+                config,
+                DT,
+                &Vec3::new(0.0, -GRAVITY, 0.0),
+            );
+            finalize_bodies(&mut bodies, &mut states);
+            contact = contacts[0];
+        }
+        (bodies[1], contact)
+    }
+
+    #[test]
+    fn a_resting_box_receives_m_g_dt_per_step() {
+        let mass = 2.0;
+        for config in [SolverConfig::default(), SolverConfig::baumgarte()] {
+            let (cube, contact) = run_resting(&config, 120);
+            let total: Real = contact.total_normal_impulse.iter().sum();
+            let expected = mass * GRAVITY * DT;
+            // At rest the contact carries the weight exactly; 1% leaves room for the residual
+            // settling of a soft contact, and catches a missing substep factor (4x) or a
+            // dropped warm start (the box would sink or bounce).
+            assert!(
+                (total - expected).abs() < 0.01 * expected,
+                "{:?}: impulse {total} vs m g dt {expected}",
+                config.kind
+            );
+            // And the box sits on the floor: at most a few mm of overlap, no drift.
+            let p = cube.pose.translation.vector;
+            assert!((p.y - 0.5).abs() < 0.005, "{:?}: y {}", config.kind, p.y);
+            assert!(p.x.abs() < 1e-4 && p.z.abs() < 1e-4, "{p}");
+        }
+    }
+
+    #[test]
+    fn speculative_points_stop_a_fast_box_at_the_gap() {
+        // The cube falls at 50 m/s, 0.3 m above the floor: one step moves it 0.83 m, so only
+        // the speculative points (negative depth) can stop it.
+        let (mut bodies, mut states) = floor_and_cube();
+        bodies[1].pose = Pose::translation(0.0, 0.8, 0.0);
+        states[1].linear_velocity = Vec3::new(0.0, -50.0, 0.0);
+        let mut contacts = [Contact::new(0, 1, manifold(&bodies[1]))];
+        let coloring = color_constraints(&[(0, 1)], &[false, true]);
+        let config = SolverConfig::default();
+        solve(
+            &bodies,
+            &mut states,
+            &mut contacts,
+            &coloring,
+            &config,
+            DT,
+            &Vec3::zeros(),
+        );
+        finalize_bodies(&mut bodies, &mut states);
+        // The bottom face may touch the floor but not cross it by more than round-off.
+        assert!(
+            bodies[1].pose.translation.y > 0.5 - 1e-3,
+            "{}",
+            bodies[1].pose.translation.y
+        );
+    }
+
+    /// Columns of two cubes on the floor: floor-bottom and bottom-top contacts, `n` columns.
+    fn columns(n: usize) -> (Vec<Body>, Vec<BodyState>, Vec<Contact>) {
+        let (floor_and_first, _) = floor_and_cube();
+        let mut bodies = vec![floor_and_first[0]];
+        let mut contacts = Vec::new();
+        for i in 0..n {
+            let x = 2.0 * i as Real;
+            for level in 0..2 {
+                let mut cube = floor_and_first[1];
+                // Slightly sunk and tilted, so the solver has real work to do.
+                cube.pose = Pose::new(
+                    Vec3::new(x, 0.5 + level as Real - 0.01, 0.0),
+                    Vec3::new(0.0, 0.0, 0.01 * (i % 7) as Real),
+                );
+                let below = if level == 0 {
+                    0
+                } else {
+                    bodies.len() as u32 - 1
+                };
+                let mut m = manifold(&cube);
+                for p in m.contacts.iter_mut() {
+                    p.depth -= level as Real;
+                    p.position.y += 0.5 * level as Real;
+                }
+                contacts.push(Contact::new(below, bodies.len() as u32, m));
+                bodies.push(cube);
+            }
+        }
+        let states =
+            vec![BodyState::moving(Vec3::new(0.1, -1.0, 0.0), Vec3::zeros()); bodies.len()];
+        (bodies, states, contacts)
+    }
+
+    #[test]
+    fn colored_parallel_solve_does_not_depend_on_threads() {
+        let (bodies, states0, contacts0) = columns(300);
+        let pairs: Vec<(u32, u32)> = contacts0.iter().map(|c| (c.body_a, c.body_b)).collect();
+        let dynamic: Vec<bool> = bodies.iter().map(Body::is_dynamic).collect();
+        let coloring = color_constraints(&pairs, &dynamic);
+        let run = |threshold: u32, threads: usize| {
+            let config = SolverConfig {
+                parallel_threshold: threshold,
+                ..Default::default()
+            };
+            let (mut states, mut contacts) = (states0.clone(), contacts0.clone());
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let stats = pool.install(|| {
+                solve(
+                    &bodies,
+                    &mut states,
+                    &mut contacts,
+                    &coloring,
+                    &config,
+                    DT,
+                    &Vec3::new(0.0, -GRAVITY, 0.0),
+                )
+            });
+            (states, contacts, stats)
+        };
+        let (serial_states, serial_contacts, serial) = run(u32::MAX, 1);
+        let (wide_states, wide_contacts, wide) = run(1, 4);
+        assert_eq!(serial.parallel_batches, 0);
+        assert!(wide.parallel_batches >= 2, "{wide:?}");
+        // Bit-for-bit: a color's constraints share no dynamic body, so gathering them in any
+        // order on any number of threads computes the same floats.
+        assert_eq!(serial_states, wide_states);
+        assert_eq!(serial_contacts, wide_contacts);
+    }
+}

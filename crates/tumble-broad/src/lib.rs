@@ -1,1 +1,19 @@
-//! placeholder
+//! Tumble's broad phase: sweep-and-prune over axis-aligned boxes, and the brute-force
+//! reference it must equal.
+//!
+//! Contract shared by every function here (and by the GPU kernels that mirror them): the
+//! result lists each overlapping pair once as `(i, j)` with `i < j` (indices into the input
+//! slice), sorted ascending; overlap uses closed intervals, as `Aabb::intersects`, so boxes
+//! that exactly touch form a pair (a resting box's AABB touches the floor's).
+#![warn(missing_docs)]
+
+mod brute_force;
+mod error;
+mod filter;
+mod sweep_and_prune;
+mod sweep_axis;
+
+pub use brute_force::{brute_force_pairs, brute_force_pairs_filtered};
+pub use error::BroadPhaseError;
+pub use sweep_and_prune::{SweepAndPrune, sweep_and_prune, sweep_and_prune_filtered};
+pub use sweep_axis::sweep_axis;

@@ -70,7 +70,7 @@ impl Cuboid {
     /// Local face `f` (0..6) with its outward normal and corners.
     pub fn face(&self, f: usize) -> CuboidFace {
         let mut normal = Vec3::zeros();
-        normal[f / 2] = if f % 2 == 0 { 1.0 } else { -1.0 };
+        normal[f / 2] = if f.is_multiple_of(2) { 1.0 } else { -1.0 };
         CuboidFace {
             normal,
             vertices: CUBOID_FACES[f],

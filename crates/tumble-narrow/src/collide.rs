@@ -1,0 +1,248 @@
+//! Box-box collision: the SAT axis, the contact built on it, and the reduction to four points.
+
+use crate::BoxPair;
+use crate::axis_choice::{deepest_axis, preferred_axis};
+use crate::edge_contact::edge_contact;
+use crate::face_contact::face_contact;
+use crate::feature_id::{KIND_FACE_A, KIND_FACE_B, edge_point_id, vertex_point_id};
+use crate::sat::{SatAxis, SatQuery, edge_axis};
+use crate::tolerance::WITNESS_TOL;
+use crate::vertex_contact::closest_vertex;
+use tumble_geometry::{
+    ContactPoint, Cuboid, FeatureKind, MAX_CLIP_VERTICES, Manifold, Pose, Real, Vec3, nalgebra,
+    reduce_into,
+};
+
+/// Number of edge pairs (12 x 12): `Manifold::feature` values of an edge contact are below it,
+/// those of a vertex contact start there (B's vertex `v`: `144 + v`; A's vertex `v`: `152 + v`).
+pub const EDGE_PAIR_COUNT: u32 = 144;
+
+/// First `Manifold::feature` value of a vertex contact on one of A's vertices.
+pub const VERTEX_OF_A_FEATURE: u32 = EDGE_PAIR_COUNT + 8;
+
+/// The contact points before reduction, in world space.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct ContactPolygon {
+    /// Unit normal from A to B.
+    pub normal: Vec3,
+    /// Which kind of feature pair made the contact (a vertex contact reports `Edge`).
+    pub kind: FeatureKind,
+    /// The hysteresis key, as in `Manifold::feature`.
+    pub feature: u32,
+    /// Storage for the points (midpoints between the surfaces, depth, id).
+    pub points: [ContactPoint; MAX_CLIP_VERTICES],
+    /// Number of valid points.
+    pub len: usize,
+}
+
+impl ContactPolygon {
+    /// The valid points: up to 8 for a face contact, 1 otherwise.
+    pub fn points(&self) -> &[ContactPoint] {
+        &self.points[..self.len]
+    }
+
+    /// The manifold: the same normal and feature, at most four of the points (Algorithm 8).
+    pub fn to_manifold(&self) -> Manifold {
+        let mut manifold = Manifold {
+            normal: self.normal,
+            kind: self.kind,
+            feature: self.feature,
+            ..Default::default()
+        };
+        reduce_into(self.points(), &mut manifold);
+        manifold
+    }
+}
+
+/// A contact built on one axis, and how far apart its closest pair is (`+inf` when it has none).
+struct Candidate {
+    polygon: ContactPolygon,
+    witness: Real,
+}
+
+/// The contact manifold of box `a` at `pose_a` and box `b` at `pose_b`: `None` when they are more
+/// than `margin` apart, else up to four points with a unit normal from A to B.
+pub fn collide_cuboids(
+    a: &Cuboid,
+    pose_a: &Pose,
+    b: &Cuboid,
+    pose_b: &Pose,
+    margin: Real,
+) -> Option<Manifold> {
+    collide_cuboids_cached(a, pose_a, b, pose_b, margin, None)
+}
+
+/// [`collide_cuboids`] with last step's `(kind, feature)` of this pair, whose reference face is
+/// kept while it stays within the hysteresis tolerance of the best axis.
+pub fn collide_cuboids_cached(
+    a: &Cuboid,
+    pose_a: &Pose,
+    b: &Cuboid,
+    pose_b: &Pose,
+    margin: Real,
+    previous: Option<(FeatureKind, u32)>,
+) -> Option<Manifold> {
+    contact_polygon(a, pose_a, b, pose_b, margin, previous).map(|p| p.to_manifold())
+}
+
+/// The contact [`collide_cuboids_cached`] reduces, before the reduction to four points.
+pub fn contact_polygon(
+    a: &Cuboid,
+    pose_a: &Pose,
+    b: &Cuboid,
+    pose_b: &Pose,
+    margin: Real,
+    previous: Option<(FeatureKind, u32)>,
+) -> Option<ContactPolygon> {
+    let pair = BoxPair::new(a, pose_a, b, pose_b);
+    let sat = SatQuery::new(&pair);
+    let best = sat.max_separation();
+    // The SAT separation never exceeds the distance, so past the margin nothing can touch.
+    // Written so that a NaN (from a NaN pose) also returns here.
+    if !(best <= margin) {
+        return None;
+    }
+    let chosen = preferred_axis(&pair, &sat, previous).axis;
+    let deepest = deepest_axis(&pair, &sat).axis;
+    let first = build(&pair, pose_a, pose_b, chosen, margin);
+
+    if best <= 0.0 {
+        // Overlap: the deepest axis always has points (its support feature lies over the
+        // reference face); a preferred one within tolerance of it almost always does too.
+        if first.polygon.len > 0 {
+            return Some(first.polygon);
+        }
+        let second = build(&pair, pose_a, pose_b, deepest, margin);
+        return (second.polygon.len > 0).then_some(second.polygon);
+    }
+
+    // Apart: the contact is right when its closest pair is as far apart as the SAT separation
+    // (which is then the distance); otherwise the closest pair is elsewhere, look for it.
+    let slack = WITNESS_TOL * pair.noise_scale();
+    if first.witness <= best + slack {
+        return (first.polygon.len > 0).then_some(first.polygon);
+    }
+    let (edge, _) = sat.best_edge();
+    let candidates = [
+        first,
+        build(&pair, pose_a, pose_b, deepest, margin),
+        build(&pair, pose_a, pose_b, SatAxis::Edge(edge), margin),
+        vertex_candidate(&pair, pose_a, slack),
+    ];
+    let distance = candidates
+        .iter()
+        .fold(Real::INFINITY, |d, c| d.min(c.witness));
+    if !(distance <= margin) {
+        return None;
+    }
+    candidates
+        .into_iter()
+        .find(|c| c.witness <= distance + slack && c.polygon.len > 0)
+        .map(|c| c.polygon)
+}
+
+/// The contact on one SAT axis, in world space.
+fn build(pair: &BoxPair, pose_a: &Pose, pose_b: &Pose, axis: SatAxis, margin: Real) -> Candidate {
+    let mut polygon = ContactPolygon::default();
+    let mut witness = Real::INFINITY;
+    match axis {
+        SatAxis::FaceA(f) => {
+            let c = face_contact(pair, f, margin, KIND_FACE_A);
+            polygon.normal = pose_a.rotation * c.normal;
+            polygon.kind = FeatureKind::FaceA;
+            polygon.feature = f as u32;
+            for p in c.points() {
+                push(
+                    &mut polygon,
+                    ContactPoint {
+                        position: pose_a * p.position,
+                        ..*p
+                    },
+                );
+            }
+            witness = c.min_separation;
+        }
+        SatAxis::FaceB(f) => {
+            // The same construction seen from B, whose face is the reference; the contact
+            // normal points from A to B, against B's outward face normal.
+            let c = face_contact(&pair.swapped(), f, margin, KIND_FACE_B);
+            polygon.normal = -(pose_b.rotation * c.normal);
+            polygon.kind = FeatureKind::FaceB;
+            polygon.feature = f as u32;
+            for p in c.points() {
+                push(
+                    &mut polygon,
+                    ContactPoint {
+                        position: pose_b * p.position,
+                        ..*p
+                    },
+                );
+            }
+            witness = c.min_separation;
+        }
+        SatAxis::Edge(k) => {
+            if let Some(n) = edge_axis(pair, k / 3, k % 3) {
+                let c = edge_contact(pair, k / 3, k % 3, &n);
+                polygon.normal = pose_a.rotation * n;
+                polygon.kind = FeatureKind::Edge;
+                polygon.feature = c.edge_a as u32 * 12 + c.edge_b as u32;
+                if c.depth >= -margin {
+                    push(
+                        &mut polygon,
+                        ContactPoint {
+                            position: pose_a * c.midpoint(),
+                            depth: c.depth,
+                            id: edge_point_id(c.edge_a as u32, c.edge_b as u32),
+                        },
+                    );
+                }
+                // Apart, the closest pair's length is a true distance; overlapping, the depth.
+                witness = if c.depth < 0.0 {
+                    c.closest.distance()
+                } else {
+                    -c.depth
+                };
+            }
+        }
+    }
+    Candidate { polygon, witness }
+}
+
+/// The closest vertex pair as a one-point contact along its own direction; none when the pair is
+/// too close for that direction to be defined.
+fn vertex_candidate(pair: &BoxPair, pose_a: &Pose, min_distance: Real) -> Candidate {
+    let v = closest_vertex(pair);
+    let mut polygon = ContactPolygon::default();
+    if !(v.distance > min_distance) {
+        return Candidate {
+            polygon,
+            witness: Real::INFINITY,
+        };
+    }
+    polygon.normal = pose_a.rotation * ((v.point_b - v.point_a) / v.distance);
+    polygon.kind = FeatureKind::Edge;
+    polygon.feature = if v.on_a {
+        VERTEX_OF_A_FEATURE
+    } else {
+        EDGE_PAIR_COUNT
+    } + v.vertex as u32;
+    push(
+        &mut polygon,
+        ContactPoint {
+            position: pose_a * nalgebra::center(&v.point_a, &v.point_b),
+            depth: -v.distance,
+            id: vertex_point_id(v.vertex as u32, v.on_a),
+        },
+    );
+    Candidate {
+        polygon,
+        witness: v.distance,
+    }
+}
+
+fn push(polygon: &mut ContactPolygon, p: ContactPoint) {
+    if polygon.len < MAX_CLIP_VERTICES {
+        polygon.points[polygon.len] = p;
+        polygon.len += 1;
+    }
+}

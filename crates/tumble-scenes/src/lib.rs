@@ -8,6 +8,8 @@ pub mod builders;
 mod canonical;
 mod check;
 mod error;
+#[cfg(feature = "rapier")]
+mod rapier_world;
 mod scene;
 mod validate;
 
@@ -19,5 +21,7 @@ pub use builders::{
 pub use canonical::{CANONICAL_FAR_OFFSET, CANONICAL_POOL, canonical};
 pub use check::SceneCheck;
 pub use error::SceneError;
+#[cfg(feature = "rapier")]
+pub use rapier_world::{RapierOptions, RapierWorld, build_rapier, build_rapier_with};
 pub use scene::{DEFAULT_DT, DEFAULT_STEPS, STANDARD_GRAVITY, Scene};
 pub use validate::ROTATION_NORM_TOLERANCE;

@@ -1,1 +1,51 @@
-//! placeholder
+//! Tumble: a rigid-body physics engine for boxes whose whole step runs on the GPU through wgpu
+//! compute shaders, with a CPU twin of every stage.
+//!
+//! ```
+//! use tumble::prelude::*;
+//!
+//! let mut world = World::new(WorldConfig::default())?;
+//! world.add_body(BodyDesc::fixed().cuboid(Vec3::new(5.0, 0.5, 5.0)).translation(0.0, -0.5, 0.0))?;
+//! let cube = world.add_body(BodyDesc::dynamic().translation(0.0, 2.0, 0.0))?;
+//! for _ in 0..120 {
+//!     world.step()?;
+//! }
+//! // The cube fell 1.5 m and rests on the floor.
+//! assert!((world.pose(cube)?.translation.y - 0.5).abs() < 0.01);
+//! # Ok::<(), tumble::Error>(())
+//! ```
+#![warn(missing_docs)]
+
+mod body_desc;
+mod config;
+mod contact_report;
+mod error;
+mod handle;
+mod scene;
+pub mod stages;
+mod stats;
+mod world;
+mod world_bodies;
+
+pub use body_desc::{BodyDesc, DEFAULT_HALF_EXTENTS};
+pub use config::{Backend, DEFAULT_MARGIN, STANDARD_GRAVITY, WorldConfig};
+pub use contact_report::{ContactPointReport, ContactReport};
+pub use error::Error;
+pub use handle::BodyHandle;
+pub use scene::body_desc;
+pub use stats::{StageTimings, StepStats};
+pub use world::World;
+
+pub use tumble_geometry as geometry;
+pub use tumble_geometry::{Aabb, Cuboid, Point3, Pose, Real, Rot, Vec3, nalgebra};
+pub use tumble_scenes as scenes;
+pub use tumble_solver as solver;
+pub use tumble_solver::{BodyKind, Locks, Material, SolveOrder, SolverConfig, SolverKind};
+
+/// The names most programs need, in one import.
+pub mod prelude {
+    pub use crate::{
+        Backend, BodyDesc, BodyHandle, BodyKind, Error, Point3, Pose, Real, Rot, SolveOrder,
+        SolverConfig, SolverKind, Vec3, World, WorldConfig,
+    };
+}

@@ -1,0 +1,64 @@
+//! World settings: gravity, time step, solver, backend.
+
+use tumble_geometry::{Real, Vec3};
+use tumble_solver::{
+    InvalidParameter, SolverConfig, require_finite3, require_non_negative, require_positive,
+};
+
+/// Where the step runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Backend {
+    /// Every stage on the CPU (the reference).
+    Cpu,
+    /// Every stage on the GPU through wgpu.
+    Gpu,
+    /// Collision (AABBs, broad and narrow phase) on the GPU, the solver on the CPU: the
+    /// thesis's fastest mix.
+    Hybrid,
+}
+
+/// Standard gravity, m/s^2.
+pub const STANDARD_GRAVITY: Real = 9.81;
+
+/// Box2D's speculative distance, `4 * linearSlop = 2 cm`: contacts closer than this are
+/// created before the boxes touch, so a resting contact never blinks in and out.
+pub const DEFAULT_MARGIN: Real = 0.02;
+
+/// Everything a world needs besides its bodies.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WorldConfig {
+    /// Gravity acceleration, m/s^2.
+    pub gravity: Vec3,
+    /// Step length, s.
+    pub dt: Real,
+    /// Solver settings.
+    pub solver: SolverConfig,
+    /// Where the step runs.
+    pub backend: Backend,
+    /// Base speculative margin, m: AABBs grow by it and the narrow phase reports points this
+    /// far apart. Each pair adds its relative speed times `dt` on top.
+    pub margin: Real,
+}
+
+impl Default for WorldConfig {
+    /// Earth gravity along -y, 60 Hz, the default soft-step solver, CPU.
+    fn default() -> Self {
+        Self {
+            gravity: Vec3::new(0.0, -STANDARD_GRAVITY, 0.0),
+            dt: 1.0 / 60.0,
+            solver: SolverConfig::default(),
+            backend: Backend::Cpu,
+            margin: DEFAULT_MARGIN,
+        }
+    }
+}
+
+impl WorldConfig {
+    /// Checks every field; the error names the first bad one.
+    pub fn validate(&self) -> Result<(), InvalidParameter> {
+        require_finite3("gravity", &self.gravity)?;
+        require_positive("dt", self.dt)?;
+        require_non_negative("margin", self.margin)?;
+        self.solver.validate()
+    }
+}

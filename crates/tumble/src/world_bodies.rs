@@ -1,0 +1,199 @@
+//! Adding, removing, reading and setting bodies.
+
+use tumble_geometry::{Point3, Pose, Real, Vec3};
+use tumble_solver::{BodyKind, InvalidParameter, require_finite3};
+
+use crate::{BodyDesc, BodyHandle, Error, World};
+
+fn require_finite_pose(pose: &Pose) -> Result<(), Error> {
+    let ok = pose.translation.vector.iter().all(|c| c.is_finite())
+        && pose.rotation.coords.iter().all(|c| c.is_finite());
+    if ok {
+        Ok(())
+    } else {
+        Err(InvalidParameter::new("pose", pose, "finite translation and rotation").into())
+    }
+}
+
+impl World {
+    /// Adds a body. Errs, leaving the world unchanged, on any bad field of `desc`.
+    pub fn add_body(&mut self, desc: BodyDesc) -> Result<BodyHandle, Error> {
+        let (body, state) = desc.build()?;
+        self.bodies.push(body);
+        self.states.push(state);
+        Ok(self.handles.insert())
+    }
+
+    /// Removes a body; its handle is never valid again.
+    pub fn remove_body(&mut self, h: BodyHandle) -> Result<(), Error> {
+        let d = self.handles.dense(h)?;
+        self.bodies.swap_remove(d);
+        self.states.swap_remove(d);
+        self.handles.remove(h, d);
+        self.forget_contacts_of(h);
+        Ok(())
+    }
+
+    /// Number of bodies.
+    pub fn body_count(&self) -> usize {
+        self.bodies.len()
+    }
+
+    /// True when `h` names a live body of this world.
+    pub fn contains(&self, h: BodyHandle) -> bool {
+        self.handles.dense(h).is_ok()
+    }
+
+    /// The handles of all live bodies, in the world's internal order.
+    pub fn handles(&self) -> &[BodyHandle] {
+        self.handles.handles()
+    }
+
+    /// The body's pose (centre and rotation).
+    pub fn pose(&self, h: BodyHandle) -> Result<Pose, Error> {
+        Ok(self.bodies[self.handles.dense(h)?].pose)
+    }
+
+    /// The body's linear velocity, m/s.
+    pub fn linear_velocity(&self, h: BodyHandle) -> Result<Vec3, Error> {
+        Ok(self.states[self.handles.dense(h)?].linear_velocity)
+    }
+
+    /// The body's angular velocity in world axes, rad/s.
+    pub fn angular_velocity(&self, h: BodyHandle) -> Result<Vec3, Error> {
+        Ok(self.states[self.handles.dense(h)?].angular_velocity)
+    }
+
+    /// Fixed, dynamic or kinematic.
+    pub fn kind(&self, h: BodyHandle) -> Result<BodyKind, Error> {
+        Ok(self.bodies[self.handles.dense(h)?].kind)
+    }
+
+    /// The box's half extents, m.
+    pub fn half_extents(&self, h: BodyHandle) -> Result<Vec3, Error> {
+        Ok(self.bodies[self.handles.dense(h)?].shape.half_extents)
+    }
+
+    /// The body's mass, kg (infinite for fixed and kinematic bodies).
+    pub fn mass(&self, h: BodyHandle) -> Result<Real, Error> {
+        let b = &self.bodies[self.handles.dense(h)?];
+        Ok(if b.inverse_mass > 0.0 {
+            1.0 / b.inverse_mass
+        } else {
+            Real::INFINITY
+        })
+    }
+
+    /// The body's angular momentum about its centre, world axes, kg m^2/s (zero for
+    /// fixed and kinematic bodies).
+    pub fn angular_momentum(&self, h: BodyHandle) -> Result<Vec3, Error> {
+        let d = self.handles.dense(h)?;
+        let (b, s) = (&self.bodies[d], &self.states[d]);
+        let local = b
+            .pose
+            .rotation
+            .inverse_transform_vector(&s.angular_velocity);
+        Ok(b.pose.rotation * b.inertia_local().component_mul(&local))
+    }
+
+    /// The body's kinetic energy, J (zero for fixed and kinematic bodies).
+    pub fn kinetic_energy(&self, h: BodyHandle) -> Result<Real, Error> {
+        let d = self.handles.dense(h)?;
+        let (b, s) = (&self.bodies[d], &self.states[d]);
+        if b.inverse_mass == 0.0 {
+            return Ok(0.0);
+        }
+        let local = b
+            .pose
+            .rotation
+            .inverse_transform_vector(&s.angular_velocity);
+        let rotational = 0.5 * local.dot(&b.inertia_local().component_mul(&local));
+        Ok(0.5 * s.linear_velocity.norm_squared() / b.inverse_mass + rotational)
+    }
+
+    /// Teleports the body (its velocities are kept).
+    pub fn set_pose(&mut self, h: BodyHandle, pose: Pose) -> Result<(), Error> {
+        let d = self.handles.dense(h)?;
+        require_finite_pose(&pose)?;
+        let mut pose = pose;
+        pose.rotation.renormalize();
+        self.bodies[d].pose = pose;
+        Ok(())
+    }
+
+    /// Sets the linear velocity. Errs for a fixed body unless `v` is zero.
+    pub fn set_linear_velocity(&mut self, h: BodyHandle, v: Vec3) -> Result<(), Error> {
+        let d = self.handles.dense(h)?;
+        require_finite3("linear_velocity", &v)?;
+        let body = &self.bodies[d];
+        if body.kind == BodyKind::Fixed && v != Vec3::zeros() {
+            return Err(InvalidParameter::new(
+                "linear_velocity",
+                [v.x, v.y, v.z],
+                "zero for a fixed body",
+            )
+            .into());
+        }
+        self.states[d].linear_velocity = v.component_mul(&body.locks.translation_mask());
+        Ok(())
+    }
+
+    /// Sets the angular velocity (world axes). Errs for a fixed body unless `w` is zero.
+    pub fn set_angular_velocity(&mut self, h: BodyHandle, w: Vec3) -> Result<(), Error> {
+        let d = self.handles.dense(h)?;
+        require_finite3("angular_velocity", &w)?;
+        let body = &self.bodies[d];
+        if body.kind == BodyKind::Fixed && w != Vec3::zeros() {
+            return Err(InvalidParameter::new(
+                "angular_velocity",
+                [w.x, w.y, w.z],
+                "zero for a fixed body",
+            )
+            .into());
+        }
+        self.states[d].angular_velocity = w.component_mul(&body.locks.rotation_mask());
+        Ok(())
+    }
+
+    /// Sets a kinematic body's velocities so that it reaches `target` at the end of the next
+    /// step. Errs for bodies that are not kinematic.
+    pub fn set_kinematic_target(&mut self, h: BodyHandle, target: Pose) -> Result<(), Error> {
+        let d = self.handles.dense(h)?;
+        require_finite_pose(&target)?;
+        let body = &self.bodies[d];
+        if body.kind != BodyKind::Kinematic {
+            return Err(InvalidParameter::new("kind", body.kind, "a kinematic body").into());
+        }
+        let inv_dt = 1.0 / self.config.dt;
+        let v = (target.translation.vector - body.pose.translation.vector) * inv_dt;
+        let turn = target.rotation * body.pose.rotation.inverse();
+        let w = turn.scaled_axis() * inv_dt;
+        self.states[d].linear_velocity = v;
+        self.states[d].angular_velocity = w;
+        Ok(())
+    }
+
+    /// Applies an impulse `impulse` (N s, world) at world point `point` to a dynamic body;
+    /// fixed and kinematic bodies are unaffected.
+    pub fn apply_impulse(
+        &mut self,
+        h: BodyHandle,
+        impulse: Vec3,
+        point: Point3,
+    ) -> Result<(), Error> {
+        let d = self.handles.dense(h)?;
+        require_finite3("impulse", &impulse)?;
+        require_finite3("point", &point.coords)?;
+        let body = &self.bodies[d];
+        if !body.is_dynamic() {
+            return Ok(());
+        }
+        let r = point.coords - body.pose.translation.vector;
+        let dv = body.inverse_mass_axes().component_mul(&impulse);
+        let dw = body.inverse_inertia_world() * r.cross(&impulse);
+        let state = &mut self.states[d];
+        state.linear_velocity += dv;
+        state.angular_velocity += dw;
+        Ok(())
+    }
+}

@@ -7,10 +7,14 @@ mod body;
 pub mod builders;
 mod canonical;
 mod check;
+mod embedded;
 mod error;
+mod evaluate;
+mod penetration;
 #[cfg(feature = "rapier")]
 mod rapier_world;
 mod scene;
+mod state;
 mod validate;
 
 pub use body::{BodyKind, BodySpec, DEFAULT_DENSITY, DEFAULT_FRICTION, DEFAULT_RESTITUTION};
@@ -20,8 +24,12 @@ pub use builders::{
 };
 pub use canonical::{CANONICAL_FAR_OFFSET, CANONICAL_POOL, canonical};
 pub use check::SceneCheck;
+pub use embedded::{EMBEDDED_SCENES, embedded, embedded_sources};
 pub use error::SceneError;
+pub use evaluate::{CheckReport, CheckTracker};
+pub use penetration::cuboid_penetration;
 #[cfg(feature = "rapier")]
 pub use rapier_world::{RapierOptions, RapierWorld, build_rapier, build_rapier_with};
 pub use scene::{DEFAULT_DT, DEFAULT_STEPS, STANDARD_GRAVITY, Scene};
+pub use state::BodyState;
 pub use validate::ROTATION_NORM_TOLERANCE;

@@ -1,1 +1,37 @@
-//! placeholder
+//! Tumble's GPU runtime: device setup, buffers, one pipeline per kernel, and the collision
+//! stages (`update_aabbs`, `broad_phase`, `narrow_phase`) recorded into one command stream.
+//!
+//! Shaders are WGSL files in the repository's `shaders/` folder, embedded at compile time;
+//! constants shared with them are defined in [`constants`] and reach them as `override`
+//! values. Every kernel has a CPU twin in its module under [`kernels`].
+#![warn(missing_docs)]
+
+pub mod buffer_pool;
+pub mod constants;
+pub mod context;
+pub mod error;
+pub mod kernel;
+pub mod kernels;
+pub mod layout;
+pub mod readback;
+pub mod shader;
+pub mod stage_timer;
+
+pub use buffer_pool::BufferPool;
+pub use constants::{MAX_BODIES, MAX_MANIFOLD_POINTS, RADIX, RADIX_BITS, WORKGROUP_SIZE};
+pub use context::{GpuContext, GpuOptions};
+pub use error::GpuError;
+pub use kernel::{Kernel, KernelArgs, KernelSpec};
+pub use readback::Readback;
+pub use stage_timer::StageTimer;
+
+/// Re-export of the WGSL front end and validator, for shader checks in tests and tools.
+pub use naga;
+/// Re-export of the GPU API.
+pub use wgpu;
+
+/// The capabilities wgpu's own validator uses for our pipelines: the device enables no
+/// shader-affecting feature (timestamps are a pass-level feature), so naga's defaults.
+pub fn validation_capabilities() -> naga::valid::Capabilities {
+    naga::valid::Capabilities::default()
+}

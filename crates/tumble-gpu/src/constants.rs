@@ -1,0 +1,145 @@
+//! Constants shared by the host and the shaders, defined once here and handed to every
+//! pipeline as WGSL `override` values (the shaders declare them in `common/constants.wgsl`
+//! without a value, so a missing one fails pipeline creation instead of drifting).
+
+/// Threads per workgroup for every kernel. 256 is a multiple of every vendor's SIMD width
+/// (32 on NVIDIA, 64 on AMD, 8 on lavapipe) and the WebGPU default invocation limit.
+pub const WORKGROUP_SIZE: u32 = 256;
+
+/// Bits of the key sorted per radix pass. Four bits (16 buckets) keeps the per-tile
+/// histogram and the digit-major scan small; 32-bit keys take 8 passes.
+pub const RADIX_BITS: u32 = 4;
+
+/// Buckets per radix pass.
+pub const RADIX: u32 = 1 << RADIX_BITS;
+
+/// Keys one workgroup of the radix sort handles per pass: one per thread.
+pub const RADIX_TILE: u32 = WORKGROUP_SIZE;
+
+/// The most contact points in one manifold (the thesis's reduction to four points).
+pub const MAX_MANIFOLD_POINTS: u32 = tumble_geometry::MAX_MANIFOLD_POINTS as u32;
+
+/// The most bodies a scene may have on the GPU path. The radix sort's offset scan runs in a
+/// single workgroup over `RADIX * bodies / RADIX_TILE` entries; at this cap that is 2^18
+/// entries (1024 per thread), still one short dispatch. Bodies are also indexed with 24 bits
+/// in debugging dumps.
+pub const MAX_BODIES: u32 = 1 << 22;
+
+/// Workgroups per dispatch dimension guaranteed by WebGPU; larger dispatches fold into `y`.
+pub const MAX_WORKGROUPS_PER_DIMENSION: u32 = 65_535;
+
+/// Marks "no manifold last step" in `GpuManifold::previous`.
+pub const NO_PREVIOUS: u32 = u32::MAX;
+
+/// `GpuManifold::kind` of a manifold whose reference face is on A.
+pub const MANIFOLD_FACE_A: u32 = 0;
+/// `GpuManifold::kind` of a manifold whose reference face is on B.
+pub const MANIFOLD_FACE_B: u32 = 1;
+/// `GpuManifold::kind` of an edge-edge (or vertex) manifold.
+pub const MANIFOLD_EDGE: u32 = 2;
+
+/// Bit offsets of the contact id fields, read off `tumble_narrow`'s id packing so that the
+/// GPU packs ids exactly as the CPU does without a second copy of the layout:
+/// `(kind, reference face, incident face, edge_in)`; `edge_out` is at bit 0.
+fn id_shifts() -> [u32; 4] {
+    use tumble_narrow::feature_id::face_point_id;
+    [
+        face_point_id(1, 0, 0, 0, 0).trailing_zeros(),
+        face_point_id(0, 1, 0, 0, 0).trailing_zeros(),
+        face_point_id(0, 0, 1, 0, 0).trailing_zeros(),
+        face_point_id(0, 0, 0, 1, 0).trailing_zeros(),
+    ]
+}
+
+/// Segment closest points treat a segment as a point below this ratio of squared lengths;
+/// the value of `tumble_geometry`'s segment routine (`f32::EPSILON`), which keeps it private.
+pub const SEGMENT_DEGENERATE_RATIO: f32 = f32::EPSILON;
+/// Segment closest points treat segments as parallel below this squared sine (1 mrad); the
+/// value of `tumble_geometry`'s segment routine, which keeps it private.
+pub const SEGMENT_PARALLEL_SIN_SQ: f32 = 1e-6;
+
+/// Every override value the shaders may declare, by WGSL name.
+pub fn shader_constants() -> Vec<(&'static str, f64)> {
+    use tumble_narrow::feature_id as id;
+    use tumble_narrow::tolerance as tol;
+    let [kind_shift, reference_shift, incident_shift, field_shift] = id_shifts();
+    vec![
+        ("WORKGROUP_SIZE", f64::from(WORKGROUP_SIZE)),
+        ("RADIX_BITS", f64::from(RADIX_BITS)),
+        ("RADIX", f64::from(RADIX)),
+        (
+            "MAX_WORKGROUPS_PER_DIMENSION",
+            f64::from(MAX_WORKGROUPS_PER_DIMENSION),
+        ),
+        ("BODY_STATIC", f64::from(crate::layout::BODY_STATIC)),
+        ("NO_PREVIOUS", f64::from(NO_PREVIOUS)),
+        ("MANIFOLD_FACE_A", f64::from(MANIFOLD_FACE_A)),
+        ("MANIFOLD_FACE_B", f64::from(MANIFOLD_FACE_B)),
+        ("MANIFOLD_EDGE", f64::from(MANIFOLD_EDGE)),
+        ("PARALLEL_EDGE_SIN_SQ", f64::from(tol::PARALLEL_EDGE_SIN_SQ)),
+        ("FACE_B_REL_TOL", f64::from(tol::FACE_B_REL_TOL)),
+        ("FACE_B_ABS_TOL", f64::from(tol::FACE_B_ABS_TOL)),
+        ("EDGE_REL_TOL", f64::from(tol::EDGE_REL_TOL)),
+        ("EDGE_ABS_TOL", f64::from(tol::EDGE_ABS_TOL)),
+        ("HYSTERESIS_REL_TOL", f64::from(tol::HYSTERESIS_REL_TOL)),
+        ("HYSTERESIS_ABS_TOL", f64::from(tol::HYSTERESIS_ABS_TOL)),
+        ("WITNESS_TOL", f64::from(tol::WITNESS_TOL)),
+        (
+            "SEGMENT_DEGENERATE_RATIO",
+            f64::from(SEGMENT_DEGENERATE_RATIO),
+        ),
+        (
+            "SEGMENT_PARALLEL_SIN_SQ",
+            f64::from(SEGMENT_PARALLEL_SIN_SQ),
+        ),
+        ("ID_KIND_FACE_A", f64::from(id::KIND_FACE_A)),
+        ("ID_KIND_FACE_B", f64::from(id::KIND_FACE_B)),
+        ("ID_KIND_EDGE", f64::from(id::KIND_EDGE)),
+        ("ID_KIND_VERTEX", f64::from(id::KIND_VERTEX)),
+        ("ID_KIND_SHIFT", f64::from(kind_shift)),
+        ("ID_REFERENCE_SHIFT", f64::from(reference_shift)),
+        ("ID_INCIDENT_SHIFT", f64::from(incident_shift)),
+        ("ID_FIELD_SHIFT", f64::from(field_shift)),
+        ("SIDE_LABEL_BASE", f64::from(id::SIDE_LABEL_BASE)),
+        ("EDGE_PAIR_COUNT", f64::from(tumble_narrow::EDGE_PAIR_COUNT)),
+        (
+            "VERTEX_OF_A_FEATURE",
+            f64::from(tumble_narrow::VERTEX_OF_A_FEATURE),
+        ),
+    ]
+}
+
+/// WGSL `const` declarations generated from Rust values, composed in front of every shader.
+///
+/// Only for values WGSL needs as const-expressions, which `override`s cannot be: the sizes of
+/// function-scope arrays, and lookup tables. Each line is a declaration written from the Rust
+/// constant; no shader text is ever edited.
+pub fn wgsl_const_prelude() -> String {
+    let faces: Vec<String> = tumble_geometry::CUBOID_FACES
+        .iter()
+        .map(|f| format!("vec4<u32>({}u, {}u, {}u, {}u)", f[0], f[1], f[2], f[3]))
+        .collect();
+    format!(
+        "// Generated from crates/tumble-gpu/src/constants.rs (wgsl_const_prelude).\n\
+         const MAX_MANIFOLD_POINTS: u32 = {}u;\n\
+         const MAX_CLIP_VERTICES: u32 = {}u;\n\
+         const CUBOID_FACES = array<vec4<u32>, 6>({});\n",
+        MAX_MANIFOLD_POINTS,
+        tumble_geometry::MAX_CLIP_VERTICES,
+        faces.join(", ")
+    )
+}
+
+/// Workgroup counts `(x, y)` covering `items` threads, folding into `y` past the per-dimension
+/// limit. Kernels rebuild the linear index with `linear_index` in `common/indexing.wgsl`.
+pub fn workgroups_for(items: u32) -> (u32, u32) {
+    let groups = items.div_ceil(WORKGROUP_SIZE);
+    if groups <= MAX_WORKGROUPS_PER_DIMENSION {
+        (groups, 1)
+    } else {
+        (
+            MAX_WORKGROUPS_PER_DIMENSION,
+            groups.div_ceil(MAX_WORKGROUPS_PER_DIMENSION),
+        )
+    }
+}

@@ -1,0 +1,206 @@
+//! The device every kernel runs on: adapter choice, device limits and optional features.
+
+use std::sync::OnceLock;
+
+use crate::GpuError;
+
+/// Environment variable naming the adapter to use: a case-insensitive substring of its name
+/// (e.g. `llvmpipe` for lavapipe, `nvidia`). Unset: the best adapter wins.
+pub const ADAPTER_ENV: &str = "TUMBLE_ADAPTER";
+
+/// Environment variable that turns "no GPU adapter" from a skipped test into a failed one.
+/// CI sets it to `1` (with lavapipe installed), so the GPU path can never silently not run.
+pub const REQUIRE_GPU_ENV: &str = "TUMBLE_REQUIRE_GPU";
+
+/// Storage buffers a single kernel may bind. The narrow phase binds the most (bodies, pairs,
+/// last step's pairs and manifolds, and its outputs); WebGPU's default of 8 is too few.
+pub const REQUIRED_STORAGE_BUFFERS_PER_STAGE: u32 = 10;
+
+/// Options for [`GpuContext::with_options`].
+#[derive(Clone, Debug, Default)]
+pub struct GpuOptions {
+    /// Case-insensitive substring of the adapter name to pick; `None` reads [`ADAPTER_ENV`].
+    pub adapter_name: Option<String>,
+    /// Request GPU timestamp queries when the adapter offers them (per-stage GPU timings).
+    pub timestamps: bool,
+}
+
+/// An opened GPU: device, queue and what they can do. Cheap to clone (handles are shared).
+#[derive(Clone, Debug)]
+pub struct GpuContext {
+    /// The adapter the device was opened on.
+    pub adapter: wgpu::Adapter,
+    /// The logical device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// The adapter's name, backend and kind, for reports.
+    pub info: wgpu::AdapterInfo,
+    /// True when per-pass timestamp queries were enabled.
+    pub has_timestamps: bool,
+}
+
+/// Lower is better: discrete GPUs first, software rasterizers last.
+fn device_rank(kind: wgpu::DeviceType) -> u8 {
+    match kind {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Cpu => 3,
+        wgpu::DeviceType::Other => 4,
+    }
+}
+
+impl GpuContext {
+    /// Opens the best adapter (or the one named by [`ADAPTER_ENV`]) with timestamps if offered.
+    pub fn new() -> Result<Self, GpuError> {
+        Self::with_options(&GpuOptions {
+            timestamps: true,
+            ..Default::default()
+        })
+    }
+
+    /// Opens a device as `options` ask.
+    pub fn with_options(options: &GpuOptions) -> Result<Self, GpuError> {
+        let wanted = options
+            .adapter_name
+            .clone()
+            .or_else(|| std::env::var(ADAPTER_ENV).ok())
+            .filter(|s| !s.is_empty());
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+        let adapter = adapters
+            .into_iter()
+            .filter(|a| {
+                a.get_downlevel_capabilities()
+                    .flags
+                    .contains(wgpu::DownlevelFlags::COMPUTE_SHADERS)
+            })
+            .filter(|a| match &wanted {
+                Some(name) => a
+                    .get_info()
+                    .name
+                    .to_lowercase()
+                    .contains(&name.to_lowercase()),
+                None => true,
+            })
+            // Vulkan, Metal and DX12 before GL: the GL backend lacks indirect compute on some drivers.
+            .min_by_key(|a| {
+                let info = a.get_info();
+                (
+                    device_rank(info.device_type),
+                    info.backend == wgpu::Backend::Gl,
+                )
+            })
+            .ok_or(GpuError::NoAdapter {
+                requested: wanted.clone(),
+            })?;
+        Self::from_adapter(adapter, options.timestamps)
+    }
+
+    /// Opens a device on a given adapter, checking the limits the kernels rely on.
+    pub fn from_adapter(adapter: wgpu::Adapter, timestamps: bool) -> Result<Self, GpuError> {
+        let info = adapter.get_info();
+        let limits = adapter.limits();
+        if limits.max_storage_buffers_per_shader_stage < REQUIRED_STORAGE_BUFFERS_PER_STAGE {
+            return Err(GpuError::LimitExceeded {
+                what: "kernels".into(),
+                value: REQUIRED_STORAGE_BUFFERS_PER_STAGE.into(),
+                limit_name: "max_storage_buffers_per_shader_stage",
+                limit: limits.max_storage_buffers_per_shader_stage.into(),
+            });
+        }
+        if limits.max_compute_invocations_per_workgroup < crate::WORKGROUP_SIZE {
+            return Err(GpuError::LimitExceeded {
+                what: "workgroup size".into(),
+                value: crate::WORKGROUP_SIZE.into(),
+                limit_name: "max_compute_invocations_per_workgroup",
+                limit: limits.max_compute_invocations_per_workgroup.into(),
+            });
+        }
+        let has_timestamps =
+            timestamps && adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let required_features = if has_timestamps {
+            wgpu::Features::TIMESTAMP_QUERY
+        } else {
+            wgpu::Features::empty()
+        };
+        // The adapter's own limits: large scenes need its full storage-binding size, not
+        // WebGPU's portable 128 MiB default.
+        let descriptor = wgpu::DeviceDescriptor {
+            label: Some("tumble"),
+            required_features,
+            required_limits: limits,
+            experimental_features: wgpu::ExperimentalFeatures::disabled(),
+            memory_hints: wgpu::MemoryHints::Performance,
+            trace: wgpu::Trace::Off,
+        };
+        let (device, queue) =
+            pollster::block_on(adapter.request_device(&descriptor)).map_err(|e| {
+                GpuError::DeviceRequest {
+                    adapter: info.name.clone(),
+                    reason: e.to_string(),
+                }
+            })?;
+        Ok(Self {
+            adapter,
+            device,
+            queue,
+            info,
+            has_timestamps,
+        })
+    }
+
+    /// The device for tests: `None` (after a loud "skipped" on stderr) when there is no
+    /// adapter, unless [`REQUIRE_GPU_ENV`]`=1`, where a missing adapter panics so CI fails.
+    /// One device is opened per test process and shared.
+    pub fn for_tests() -> Option<GpuContext> {
+        static SHARED: OnceLock<Result<GpuContext, String>> = OnceLock::new();
+        let opened = SHARED.get_or_init(|| GpuContext::new().map_err(|e| e.to_string()));
+        match opened {
+            Ok(ctx) => Some(ctx.clone()),
+            Err(message) => {
+                let required = std::env::var(REQUIRE_GPU_ENV).is_ok_and(|v| v == "1");
+                assert!(
+                    !required,
+                    "{REQUIRE_GPU_ENV}=1 but no usable GPU adapter: {message}"
+                );
+                eprintln!(
+                    "##### skipped: no GPU adapter ({message}); set {REQUIRE_GPU_ENV}=1 to fail instead #####"
+                );
+                None
+            }
+        }
+    }
+
+    /// The device's limits.
+    pub fn limits(&self) -> wgpu::Limits {
+        self.device.limits()
+    }
+
+    /// Errs when a buffer of `bytes` cannot be bound as one storage buffer on this device.
+    pub fn check_storage_size(&self, what: &str, bytes: u64) -> Result<(), GpuError> {
+        let limits = self.device.limits();
+        let limit = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        if bytes > limit {
+            return Err(GpuError::LimitExceeded {
+                what: what.to_string(),
+                value: bytes,
+                limit_name: "max_storage_buffer_binding_size",
+                limit,
+            });
+        }
+        Ok(())
+    }
+
+    /// Blocks until all submitted work is done.
+    pub fn wait_idle(&self) -> Result<(), GpuError> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| GpuError::Device(e.to_string()))
+    }
+}

@@ -1,0 +1,303 @@
+//! A stable LSD radix sort of `(key, value)` pairs of `u32` on the GPU, `RADIX_BITS` bits per
+//! pass, with the item count read on the GPU from a `WorkList` (so it can sort a list whose
+//! length only the GPU knows, dispatching indirectly).
+//!
+//! Each pass runs three kernels: `radix_histogram` (digit counts per tile), `radix_scan`
+//! (digit-major exclusive scan: every tile's first slot per digit) and `radix_scatter`
+//! (stable move to the sorted slots). Passes ping-pong between two copies of the key and
+//! value arrays. Several sorts can be chained with keys and values swapping roles, which is
+//! how pairs `(a, b)` are put in lexicographic order: sort by `b`, then stably by `a`.
+
+use wgpu::util::DeviceExt;
+
+use crate::kernel::{Kernel, KernelArgs, KernelSpec};
+use crate::layout::{RadixPassParams, WORK_LIST_GROUPS_OFFSET};
+use crate::shader::{Binding, ShaderSource, common, wgsl_file};
+use crate::{GpuContext, GpuError, RADIX, RADIX_BITS, WORKGROUP_SIZE};
+
+// The histogram kernel has one thread store each bucket's count.
+const _: () = assert!(RADIX <= WORKGROUP_SIZE);
+
+/// Kernel: per-tile digit counts.
+pub static RADIX_HISTOGRAM: KernelSpec = KernelSpec {
+    name: "radix_histogram",
+    source: ShaderSource {
+        common: &[common::CONSTANTS, common::INDEXING, common::LAYOUT],
+        kernel: wgsl_file!("radix_histogram.wgsl"),
+    },
+    bindings: &[
+        Binding::Uniform,
+        Binding::StorageRead,
+        Binding::StorageRead,
+        Binding::StorageReadWrite,
+    ],
+};
+
+/// Kernel: exclusive scan of the digit-major counts (single workgroup).
+pub static RADIX_SCAN: KernelSpec = KernelSpec {
+    name: "radix_scan",
+    source: ShaderSource {
+        common: &[common::CONSTANTS, common::LAYOUT],
+        kernel: wgsl_file!("radix_scan.wgsl"),
+    },
+    bindings: &[Binding::StorageRead, Binding::StorageReadWrite],
+};
+
+/// Kernel: stable scatter to the sorted slots.
+pub static RADIX_SCATTER: KernelSpec = KernelSpec {
+    name: "radix_scatter",
+    source: ShaderSource {
+        common: &[common::CONSTANTS, common::INDEXING, common::LAYOUT],
+        kernel: wgsl_file!("radix_scatter.wgsl"),
+    },
+    bindings: &[
+        Binding::Uniform,
+        Binding::StorageRead,
+        Binding::StorageRead,
+        Binding::StorageRead,
+        Binding::StorageRead,
+        Binding::StorageReadWrite,
+        Binding::StorageReadWrite,
+    ],
+};
+
+/// Buffers of [`RADIX_HISTOGRAM`].
+pub struct RadixHistogramArgs<'a> {
+    /// This pass's [`RadixPassParams`].
+    pub pass_params: &'a wgpu::Buffer,
+    /// The `WorkList` giving the item count.
+    pub work: &'a wgpu::Buffer,
+    /// Keys.
+    pub keys: &'a wgpu::Buffer,
+    /// Output counts, `RADIX * tiles` entries, digit-major.
+    pub tile_counts: &'a wgpu::Buffer,
+}
+
+impl KernelArgs for RadixHistogramArgs<'_> {
+    fn buffers(&self) -> Vec<&wgpu::Buffer> {
+        vec![self.pass_params, self.work, self.keys, self.tile_counts]
+    }
+}
+
+/// Buffers of [`RADIX_SCAN`].
+pub struct RadixScanArgs<'a> {
+    /// The `WorkList` giving the item count.
+    pub work: &'a wgpu::Buffer,
+    /// Counts in, first slots out (in place).
+    pub tile_counts: &'a wgpu::Buffer,
+}
+
+impl KernelArgs for RadixScanArgs<'_> {
+    fn buffers(&self) -> Vec<&wgpu::Buffer> {
+        vec![self.work, self.tile_counts]
+    }
+}
+
+/// Buffers of [`RADIX_SCATTER`].
+pub struct RadixScatterArgs<'a> {
+    /// This pass's [`RadixPassParams`].
+    pub pass_params: &'a wgpu::Buffer,
+    /// The `WorkList` giving the item count.
+    pub work: &'a wgpu::Buffer,
+    /// Keys in.
+    pub keys_in: &'a wgpu::Buffer,
+    /// Values in.
+    pub values_in: &'a wgpu::Buffer,
+    /// First slots from the scan.
+    pub tile_offsets: &'a wgpu::Buffer,
+    /// Keys out.
+    pub keys_out: &'a wgpu::Buffer,
+    /// Values out.
+    pub values_out: &'a wgpu::Buffer,
+}
+
+impl KernelArgs for RadixScatterArgs<'_> {
+    fn buffers(&self) -> Vec<&wgpu::Buffer> {
+        vec![
+            self.pass_params,
+            self.work,
+            self.keys_in,
+            self.values_in,
+            self.tile_offsets,
+            self.keys_out,
+            self.values_out,
+        ]
+    }
+}
+
+/// One pass of a chain of sorts over two arrays, `first` and `second`, each double-buffered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RadixPass {
+    /// Bit offset of the digit.
+    pub shift: u32,
+    /// True when `first` holds the keys (and `second` the values); false for the reverse.
+    pub key_is_first: bool,
+    /// Which copy (0 or 1) the pass reads; it writes the other.
+    pub source: usize,
+}
+
+/// The passes of a chain of stable sorts, each given as `(key_is_first, key_bits)`, applied
+/// in order (so the last sort is the primary order). Starts reading copy 0.
+pub fn plan_passes(sorts: &[(bool, u32)]) -> Vec<RadixPass> {
+    let mut passes = Vec::new();
+    let mut source = 0;
+    for &(key_is_first, bits) in sorts {
+        for digit in 0..bits.div_ceil(RADIX_BITS) {
+            passes.push(RadixPass {
+                shift: digit * RADIX_BITS,
+                key_is_first,
+                source,
+            });
+            source = 1 - source;
+        }
+    }
+    passes
+}
+
+/// The copy (0 or 1) holding the result after `passes`.
+pub fn result_copy(passes: &[RadixPass]) -> usize {
+    passes.len() % 2
+}
+
+/// Key bits needed to sort indices below `n`.
+pub fn index_bits(n: u32) -> u32 {
+    u32::BITS - n.saturating_sub(1).max(1).leading_zeros()
+}
+
+/// Entries of the tile-count buffer for up to `capacity` items.
+pub fn tile_count_len(capacity: u32) -> u64 {
+    u64::from(RADIX) * u64::from(capacity.div_ceil(WORKGROUP_SIZE))
+}
+
+/// The buffers a chain of sorts works on.
+pub struct RadixBuffers<'a> {
+    /// `WorkList` with the item count and the tile dispatch size.
+    pub work: &'a wgpu::Buffer,
+    /// The first array, two copies.
+    pub first: [&'a wgpu::Buffer; 2],
+    /// The second array, two copies.
+    pub second: [&'a wgpu::Buffer; 2],
+    /// Scratch of [`tile_count_len`] `u32`s.
+    pub tile_counts: &'a wgpu::Buffer,
+}
+
+/// Bind groups of a planned chain of passes over fixed buffers.
+#[derive(Debug)]
+pub struct RadixBindGroups {
+    passes: Vec<(wgpu::BindGroup, wgpu::BindGroup)>,
+    scan: wgpu::BindGroup,
+}
+
+/// The three kernels and one parameter block per digit position.
+#[derive(Debug)]
+pub struct RadixSort {
+    histogram: Kernel,
+    scan: Kernel,
+    scatter: Kernel,
+    shift_params: Vec<wgpu::Buffer>,
+}
+
+impl RadixSort {
+    /// Builds the kernels.
+    pub fn new(ctx: &GpuContext) -> Result<Self, GpuError> {
+        let shift_params = (0..u32::BITS.div_ceil(RADIX_BITS))
+            .map(|d| {
+                ctx.device
+                    .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("radix pass params"),
+                        contents: bytemuck::bytes_of(&RadixPassParams {
+                            shift: d * RADIX_BITS,
+                            ..Default::default()
+                        }),
+                        usage: wgpu::BufferUsages::UNIFORM,
+                    })
+            })
+            .collect();
+        Ok(Self {
+            histogram: Kernel::new(ctx, &RADIX_HISTOGRAM)?,
+            scan: Kernel::new(ctx, &RADIX_SCAN)?,
+            scatter: Kernel::new(ctx, &RADIX_SCATTER)?,
+            shift_params,
+        })
+    }
+
+    /// Bind groups for `passes` over `buffers`.
+    pub fn bind(
+        &self,
+        ctx: &GpuContext,
+        buffers: &RadixBuffers<'_>,
+        passes: &[RadixPass],
+    ) -> RadixBindGroups {
+        let passes = passes
+            .iter()
+            .map(|p| {
+                let (keys, values) = if p.key_is_first {
+                    (buffers.first, buffers.second)
+                } else {
+                    (buffers.second, buffers.first)
+                };
+                let params = &self.shift_params[(p.shift / RADIX_BITS) as usize];
+                let histogram = self.histogram.bind(
+                    ctx,
+                    &RadixHistogramArgs {
+                        pass_params: params,
+                        work: buffers.work,
+                        keys: keys[p.source],
+                        tile_counts: buffers.tile_counts,
+                    },
+                );
+                let scatter = self.scatter.bind(
+                    ctx,
+                    &RadixScatterArgs {
+                        pass_params: params,
+                        work: buffers.work,
+                        keys_in: keys[p.source],
+                        values_in: values[p.source],
+                        tile_offsets: buffers.tile_counts,
+                        keys_out: keys[1 - p.source],
+                        values_out: values[1 - p.source],
+                    },
+                );
+                (histogram, scatter)
+            })
+            .collect();
+        let scan = self.scan.bind(
+            ctx,
+            &RadixScanArgs {
+                work: buffers.work,
+                tile_counts: buffers.tile_counts,
+            },
+        );
+        RadixBindGroups { passes, scan }
+    }
+
+    /// Records every pass; tile dispatches read their size from `work` on the GPU.
+    pub fn record(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        groups: &RadixBindGroups,
+        work: &wgpu::Buffer,
+    ) {
+        for (histogram, scatter) in &groups.passes {
+            self.histogram
+                .dispatch_indirect(pass, histogram, work, WORK_LIST_GROUPS_OFFSET);
+            self.scan.dispatch_workgroups(pass, &groups.scan, 1, 1);
+            self.scatter
+                .dispatch_indirect(pass, scatter, work, WORK_LIST_GROUPS_OFFSET);
+        }
+    }
+}
+
+/// The CPU twin: a stable sort of `(key, value)` by the low `bits` bits of the key, which is
+/// what the passes of one sort compute.
+pub fn radix_sort_cpu(keys: &[u32], values: &[u32], bits: u32) -> (Vec<u32>, Vec<u32>) {
+    let digits_bits = bits.div_ceil(RADIX_BITS) * RADIX_BITS;
+    let mask = if digits_bits >= u32::BITS {
+        u32::MAX
+    } else {
+        (1 << digits_bits) - 1
+    };
+    let mut items: Vec<(u32, u32)> = keys.iter().copied().zip(values.iter().copied()).collect();
+    items.sort_by_key(|&(k, _)| k & mask);
+    items.into_iter().unzip()
+}

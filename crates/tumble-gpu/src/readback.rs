@@ -1,0 +1,176 @@
+//! Asynchronous, double-buffered readback of device buffers.
+//!
+//! A step's command stream ends with copies of what the caller asked for into one of two
+//! staging buffers; after the submit the staging buffer is mapped asynchronously. While the
+//! host reads one staging buffer, the next step can copy into the other, so reading step `n`
+//! never stalls recording step `n + 1`.
+
+use std::sync::{Arc, Mutex};
+
+use crate::{GpuContext, GpuError};
+
+/// Where a copied region landed in a staging buffer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Region {
+    /// Byte offset in the staging buffer.
+    pub offset: u64,
+    /// Length in bytes.
+    pub len: u64,
+}
+
+/// What the map callback reported.
+type MapResult = Arc<Mutex<Option<Result<(), String>>>>;
+
+#[derive(Debug)]
+struct Slot {
+    buffer: Option<wgpu::Buffer>,
+    used: u64,
+    mapped: Option<MapResult>,
+}
+
+/// A readback in flight: staging slot and the regions copied into it.
+#[derive(Debug)]
+#[must_use = "a readback must be waited for or polled"]
+pub struct Ticket {
+    slot: usize,
+}
+
+/// Two staging buffers used alternately.
+#[derive(Debug)]
+pub struct Readback {
+    ctx: GpuContext,
+    slots: [Slot; 2],
+    next: usize,
+}
+
+impl Readback {
+    /// Two empty staging slots on `ctx`'s device.
+    pub fn new(ctx: &GpuContext) -> Self {
+        let empty = || Slot {
+            buffer: None,
+            used: 0,
+            mapped: None,
+        };
+        Self {
+            ctx: ctx.clone(),
+            slots: [empty(), empty()],
+            next: 0,
+        }
+    }
+
+    /// Starts filling the next staging slot, sized for at least `bytes`. A slot still mapped
+    /// from an older readback that was never read is released first.
+    pub fn begin(&mut self, bytes: u64) -> Result<usize, GpuError> {
+        let index = self.next;
+        self.next = 1 - self.next;
+        let slot = &mut self.slots[index];
+        if slot.mapped.take().is_some()
+            && let Some(b) = &slot.buffer
+        {
+            // Wait for the pending map so unmap is legal, then drop the stale data.
+            self.ctx.wait_idle()?;
+            b.unmap();
+        }
+        let needed = bytes
+            .next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT)
+            .max(wgpu::COPY_BUFFER_ALIGNMENT);
+        if slot.buffer.as_ref().is_none_or(|b| b.size() < needed) {
+            slot.buffer = Some(self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("readback staging"),
+                size: needed.next_power_of_two(),
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }));
+        }
+        slot.used = 0;
+        Ok(index)
+    }
+
+    /// Records a copy of `len` bytes of `source` (from `offset`) into slot `slot`.
+    pub fn copy(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        slot: usize,
+        source: &wgpu::Buffer,
+        offset: u64,
+        len: u64,
+    ) -> Region {
+        let s = &mut self.slots[slot];
+        let staging = s.buffer.as_ref().expect("begin() allocates the slot");
+        let len = len.next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
+        assert!(
+            s.used + len <= staging.size(),
+            "readback slot sized too small in begin()"
+        );
+        let region = Region {
+            offset: s.used,
+            len,
+        };
+        if len > 0 {
+            encoder.copy_buffer_to_buffer(source, offset, staging, s.used, len);
+        }
+        // Keep regions 8-byte aligned so each can be viewed on its own (MAP_ALIGNMENT).
+        s.used = (s.used + len).next_multiple_of(wgpu::MAP_ALIGNMENT);
+        region
+    }
+
+    /// Starts mapping slot `slot`; call after the submit that holds its copies.
+    pub fn submitted(&mut self, slot: usize) -> Ticket {
+        let s = &mut self.slots[slot];
+        let result: MapResult = Arc::new(Mutex::new(None));
+        let sink = result.clone();
+        let staging = s.buffer.as_ref().expect("begin() allocates the slot");
+        let len = s.used.max(wgpu::MAP_ALIGNMENT).min(staging.size());
+        staging.map_async(wgpu::MapMode::Read, 0..len, move |r| {
+            *sink.lock().expect("map callback lock") = Some(r.map_err(|e| e.to_string()));
+        });
+        s.mapped = Some(result);
+        Ticket { slot }
+    }
+
+    /// The bytes of every region if the map has completed, without blocking.
+    pub fn try_read(
+        &mut self,
+        ticket: &Ticket,
+        regions: &[Region],
+    ) -> Option<Result<Vec<Vec<u8>>, GpuError>> {
+        // A non-blocking poll lets the map callback run.
+        let _ = self.ctx.device.poll(wgpu::PollType::Poll);
+        let done = self.slots[ticket.slot]
+            .mapped
+            .as_ref()
+            .is_some_and(|m| m.lock().expect("map lock").is_some());
+        done.then(|| self.take(ticket, regions))
+    }
+
+    /// Waits for the map and returns the bytes of every region.
+    pub fn wait(&mut self, ticket: Ticket, regions: &[Region]) -> Result<Vec<Vec<u8>>, GpuError> {
+        self.ctx.wait_idle()?;
+        self.take(&ticket, regions)
+    }
+
+    fn take(&mut self, ticket: &Ticket, regions: &[Region]) -> Result<Vec<Vec<u8>>, GpuError> {
+        let slot = &mut self.slots[ticket.slot];
+        let status = slot
+            .mapped
+            .take()
+            .and_then(|m| m.lock().expect("map lock").take())
+            .ok_or_else(|| GpuError::Device("readback was not mapped".into()))?;
+        status.map_err(GpuError::Device)?;
+        let staging = slot.buffer.as_ref().expect("mapped slot has a buffer");
+        let out = regions
+            .iter()
+            .map(|r| {
+                if r.len == 0 {
+                    return Ok(Vec::new());
+                }
+                staging
+                    .get_mapped_range(r.offset..r.offset + r.len)
+                    .map(|view| view.to_vec())
+                    .map_err(|e| GpuError::Device(e.to_string()))
+            })
+            .collect::<Result<Vec<_>, _>>();
+        staging.unmap();
+        out
+    }
+}

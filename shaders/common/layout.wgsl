@@ -1,0 +1,145 @@
+// Structs shared with the host. Each has a #[repr(C)] twin of the same name in
+// crates/tumble-gpu/src/layout.rs; the layout test compares sizes and field offsets with
+// naga's layouter. No vec3 in these structs: a vec3 is 16-byte aligned but 12 bytes long,
+// which host structs do not reproduce, so padding is always spelled out.
+
+// A body's pose. 32 bytes.
+struct GpuPose {
+    // World position of the centre of mass; w unused (0).
+    position: vec4<f32>,
+    // Unit quaternion (x, y, z, w), w the scalar part.
+    rotation: vec4<f32>,
+}
+
+// A body's velocity. 32 bytes.
+struct GpuVelocity {
+    // Linear velocity (m/s); w unused.
+    linear: vec4<f32>,
+    // Angular velocity (rad/s, world frame); w unused.
+    angular: vec4<f32>,
+}
+
+// A body's cuboid and flags. 16 bytes.
+struct GpuShape {
+    // Half extents along the local axes (m).
+    hx: f32,
+    hy: f32,
+    hz: f32,
+    // Bit set of BODY_* flags (see GpuShape in layout.rs).
+    flags: u32,
+}
+
+// A world-space AABB. 32 bytes.
+struct GpuAabb {
+    // Lower corner; w unused.
+    min: vec4<f32>,
+    // Upper corner; w unused.
+    max: vec4<f32>,
+}
+
+// Arguments of dispatch_workgroups_indirect, padded to 16 bytes.
+struct DispatchArgs {
+    x: u32,
+    y: u32,
+    z: u32,
+    _pad: u32,
+}
+
+// A GPU-side count of work items and the dispatch size that covers it. 32 bytes.
+struct WorkList {
+    // Items to process (an append count clamped to the capacity).
+    count: u32,
+    // Items the producer tried to append; greater than capacity means overflow.
+    requested: u32,
+    // Slots in the item buffer.
+    capacity: u32,
+    _pad: u32,
+    // Workgroups covering one thread per item (folded past the per-dimension limit), which
+    // is also one workgroup per tile of WORKGROUP_SIZE items.
+    groups: DispatchArgs,
+}
+
+// Parameters of update_aabbs. 16 bytes.
+struct UpdateAabbsParams {
+    // Bodies.
+    count: u32,
+    // Distance every AABB grows by on each side (m): the speculative contact margin.
+    margin: f32,
+    // Time step (s): AABBs also sweep by velocity * dt.
+    dt: f32,
+    _pad: u32,
+}
+
+// Parameters of one radix sort pass. 16 bytes.
+struct RadixPassParams {
+    // Bit offset of the digit this pass sorts on.
+    shift: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}
+
+// Parameters of sweep_pairs. 16 bytes.
+struct SweepParams {
+    // Bodies.
+    body_count: u32,
+    // Slots in the pair buffers.
+    pair_capacity: u32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+// The sweep axis and the statistics it was chosen from. 32 bytes.
+struct SweepAxis {
+    // 0, 1 or 2: the axis of largest centre variance.
+    axis: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+    // Centre variance along x, y, z (m^2); w unused.
+    variance: vec4<f32>,
+}
+
+// Parameters of collide_cuboids. 16 bytes.
+struct NarrowParams {
+    // Base speculative margin (m): points this far apart are still reported.
+    margin: f32,
+    // Time step (s): the margin grows by how far a pair can close in one step.
+    dt: f32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+// One contact point of a manifold. 48 bytes.
+struct GpuContact {
+    // World point midway between the surfaces; w unused.
+    position: vec4<f32>,
+    // Accumulated friction impulse (world, N s), carried between steps; w unused.
+    friction_impulse: vec4<f32>,
+    // Overlap along the normal (m): positive when overlapping.
+    depth: f32,
+    // Feature id: the same while the same features touch.
+    id: u32,
+    // Accumulated normal impulse (N s), carried between steps.
+    normal_impulse: f32,
+    _pad: u32,
+}
+
+// The manifold of candidate pair k; its points are contacts[k * MAX_MANIFOLD_POINTS ..]. 48 bytes.
+struct GpuManifold {
+    // Unit normal from A to B; w unused.
+    normal: vec4<f32>,
+    // The pair's bodies, body_a < body_b.
+    body_a: u32,
+    body_b: u32,
+    // MANIFOLD_FACE_A, MANIFOLD_FACE_B or MANIFOLD_EDGE.
+    kind: u32,
+    // Reference face, or packed edge pair (edge_a * 12 + edge_b), or vertex feature.
+    feature: u32,
+    // Valid points, 0 (no contact) to MAX_MANIFOLD_POINTS.
+    len: u32,
+    // Index of this pair's manifold last step, or NO_PREVIOUS.
+    previous: u32,
+    _pad0: u32,
+    _pad1: u32,
+}

@@ -1,0 +1,36 @@
+// The closest vertex pair of two separated boxes (port of tumble-narrow's
+// vertex_contact.rs): every vertex of each box against the other box, 16 clamps.
+
+struct VertexContact {
+    point_a: vec3<f32>,
+    point_b: vec3<f32>,
+    distance: f32,
+    vertex: u32,
+    on_a: bool,
+}
+
+fn closest_vertex(p: BoxPair) -> VertexContact {
+    var best = VertexContact(vec3<f32>(0.0), vec3<f32>(0.0), FLOAT_MAX, 0u, false);
+    for (var v = 0u; v < 8u; v++) {
+        // B's vertex against A, in A's frame.
+        let vb = b_to_a(p, box_vertex(p.hb, v));
+        let on_a = box_closest_point(p.ha, vb);
+        let db = length(vb - on_a);
+        if db < best.distance {
+            best = VertexContact(on_a, vb, db, v, false);
+        }
+        // A's vertex against B, in B's frame, brought back to A's.
+        let va = box_vertex(p.ha, v);
+        let va_in_b = a_to_b(p, va);
+        let on_b = box_closest_point(p.hb, va_in_b);
+        let da = length(va_in_b - on_b);
+        if da < best.distance {
+            best = VertexContact(va, b_to_a(p, on_b), da, v, true);
+        }
+    }
+    return best;
+}
+
+fn vertex_point_id(vertex: u32, on_a: bool) -> u32 {
+    return (ID_KIND_VERTEX << ID_KIND_SHIFT) | (u32(on_a) << ID_FIELD_SHIFT) | vertex;
+}

@@ -1,0 +1,31 @@
+// radix_histogram: one workgroup per tile of WORKGROUP_SIZE keys counts the keys per digit
+// of this pass and stores the counts digit-major (counts[digit * tiles + tile]), so that one
+// exclusive scan over the array yields each tile's first output slot for each digit.
+
+@group(0) @binding(0) var<uniform> pass_params: RadixPassParams;
+@group(0) @binding(1) var<storage, read> work: WorkList;
+@group(0) @binding(2) var<storage, read> keys: array<u32>;
+@group(0) @binding(3) var<storage, read_write> tile_counts: array<u32>;
+
+var<workgroup> counts: array<atomic<u32>, RADIX>;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn main(
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    // Counts start at zero: every workgroup's memory is zero-initialized (the pipelines are
+    // built with zero_initialize_workgroup_memory).
+    let tile = linear_group(workgroup, groups);
+    let tiles = (work.count + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE;
+    let i = tile * WORKGROUP_SIZE + local;
+    if tile < tiles && i < work.count {
+        let digit = (keys[i] >> pass_params.shift) & (RADIX - 1u);
+        atomicAdd(&counts[digit], 1u);
+    }
+    workgroupBarrier();
+    if tile < tiles && local < RADIX {
+        tile_counts[local * tiles + tile] = atomicLoad(&counts[local]);
+    }
+}

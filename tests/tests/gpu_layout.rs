@@ -1,0 +1,199 @@
+//! Shader checks that need no GPU: every WGSL file in `shaders/` is used, parses, validates
+//! (before and after specialization with the host's override values) and translates to
+//! SPIR-V; every kernel's declared bindings match its shader; and every struct shared with
+//! the host has the same size and field offsets in Rust and in WGSL (naga's layouter).
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+use tumble_gpu::kernels;
+use tumble_gpu::layout::shared_struct_layouts;
+use tumble_gpu::naga;
+use tumble_gpu::shader::{ShaderSource, common};
+
+fn shaders_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shaders")
+}
+
+/// Every `.wgsl` file under `dir`, as paths relative to `shaders/`.
+fn wgsl_files(dir: &Path, root: &Path, out: &mut BTreeSet<String>) {
+    for entry in std::fs::read_dir(dir).expect("shaders folder readable") {
+        let path = entry.expect("directory entry").path();
+        if path.is_dir() {
+            wgsl_files(&path, root, out);
+        } else if path.extension().is_some_and(|e| e == "wgsl") {
+            let rel = path.strip_prefix(root).expect("under shaders/");
+            out.insert(rel.to_string_lossy().replace('\\', "/"));
+        }
+    }
+}
+
+#[test]
+fn every_shader_file_is_registered_and_every_registration_is_a_file() {
+    let root = shaders_dir();
+    assert!(
+        root.is_dir(),
+        "shaders folder missing at {}",
+        root.display()
+    );
+    let mut on_disk = BTreeSet::new();
+    wgsl_files(&root, &root, &mut on_disk);
+    let registered: BTreeSet<String> = common::ALL
+        .iter()
+        .map(|f| f.path.to_string())
+        .chain(
+            kernels::all()
+                .iter()
+                .map(|k| k.source.kernel.path.to_string()),
+        )
+        .collect();
+    // A kernel file nobody registers would escape validation; a registered file that is not
+    // on disk could not have been embedded, so both sets must be equal.
+    assert_eq!(on_disk, registered);
+    // Guards against an empty or misplaced folder making the other tests vacuous.
+    assert!(
+        kernels::all().len() >= 8,
+        "expected the collision kernels, found {}",
+        kernels::all().len()
+    );
+    // The embedded text is the file on disk (no stale copy).
+    for spec in kernels::all() {
+        let disk = std::fs::read_to_string(root.join(spec.source.kernel.path)).unwrap();
+        assert_eq!(disk, spec.source.kernel.source, "{}", spec.name);
+    }
+}
+
+#[test]
+fn every_kernel_parses_validates_specializes_and_translates() {
+    for spec in kernels::all() {
+        let (module, info) = spec
+            .check_specialized(&[])
+            .unwrap_or_else(|e| panic!("{e}"));
+        // Specialization resolves every override to a value (none is left to the driver).
+        for (_, o) in module.overrides.iter() {
+            assert!(
+                o.init.is_some(),
+                "{}: override {:?} has no value",
+                spec.name,
+                o.name
+            );
+        }
+        assert_eq!(
+            module.entry_points.len(),
+            1,
+            "{}: one entry point",
+            spec.name
+        );
+        assert_eq!(module.entry_points[0].name, "main", "{}", spec.name);
+        let words = naga::back::spv::write_vec(
+            &module,
+            &info,
+            &naga::back::spv::Options::default(),
+            Some(&naga::back::spv::PipelineOptions {
+                shader_stage: naga::ShaderStage::Compute,
+                entry_point: "main".into(),
+            }),
+        )
+        .unwrap_or_else(|e| panic!("{}: SPIR-V: {e}", spec.name));
+        assert!(!words.is_empty(), "{}: empty SPIR-V", spec.name);
+    }
+}
+
+#[test]
+fn workgroup_size_comes_from_the_host_constant() {
+    // The shaders never spell the workgroup size: after specialization it must equal the
+    // Rust constant (single-thread planning kernels excepted).
+    for spec in kernels::all() {
+        let (module, _) = spec.check_specialized(&[]).unwrap();
+        let size = module.entry_points[0].workgroup_size;
+        assert!(
+            size == [tumble_gpu::WORKGROUP_SIZE, 1, 1] || size == [1, 1, 1],
+            "{}: workgroup size {size:?}",
+            spec.name
+        );
+    }
+}
+
+#[test]
+fn unknown_specialization_is_an_error_not_ignored() {
+    let spec = kernels::all()[0];
+    let err = spec
+        .check_specialized(&[("NO_SUCH_OVERRIDE", 1.0)])
+        .unwrap_err();
+    assert!(err.to_string().contains("NO_SUCH_OVERRIDE"), "{err}");
+}
+
+fn layout_module() -> naga::Module {
+    let source = ShaderSource {
+        common: &[common::CONSTANTS],
+        kernel: common::LAYOUT,
+    };
+    source.parse("layout").unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn shared_structs_have_the_same_layout_in_rust_and_wgsl() {
+    let module = layout_module();
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).expect("layout computable");
+    let host = shared_struct_layouts();
+    let mut wgsl_names = BTreeSet::new();
+    for (handle, ty) in module.types.iter() {
+        let (Some(name), naga::TypeInner::Struct { members, span }) = (&ty.name, &ty.inner) else {
+            continue;
+        };
+        wgsl_names.insert(name.clone());
+        let rust = host
+            .iter()
+            .find(|l| l.name == name)
+            .unwrap_or_else(|| panic!("WGSL struct {name} has no Rust twin in layout.rs"));
+        assert_eq!(rust.size, *span as usize, "{name}: size");
+        assert_eq!(
+            rust.size, layouter[handle].size as usize,
+            "{name}: layouter size"
+        );
+        let wgsl_fields: Vec<(String, usize)> = members
+            .iter()
+            .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+            .collect();
+        let rust_fields: Vec<(String, usize)> = rust
+            .fields
+            .iter()
+            .map(|&(n, o)| (n.to_string(), o))
+            .collect();
+        assert_eq!(rust_fields, wgsl_fields, "{name}: field names and offsets");
+    }
+    for l in &host {
+        assert!(
+            wgsl_names.contains(l.name),
+            "Rust struct {} has no WGSL twin",
+            l.name
+        );
+    }
+}
+
+#[test]
+fn storage_structs_hold_no_vec3() {
+    // A vec3 is 16-byte aligned but 12 bytes long: host structs cannot mirror it without
+    // hidden padding, so the shared structs spell padding out instead.
+    let module = layout_module();
+    for (_, ty) in module.types.iter() {
+        if let naga::TypeInner::Struct { members, .. } = &ty.inner {
+            for m in members {
+                let inner = &module.types[m.ty].inner;
+                assert!(
+                    !matches!(
+                        inner,
+                        naga::TypeInner::Vector {
+                            size: naga::VectorSize::Tri,
+                            ..
+                        }
+                    ),
+                    "{:?}.{:?} is a vec3",
+                    ty.name,
+                    m.name
+                );
+            }
+        }
+    }
+}

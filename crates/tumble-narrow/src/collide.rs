@@ -5,7 +5,9 @@ use crate::axis_choice::{deepest_axis, preferred_axis};
 use crate::edge_contact::edge_contact;
 use crate::face_contact::face_contact;
 use crate::feature_id::{KIND_FACE_A, KIND_FACE_B, edge_point_id, vertex_point_id};
-use crate::sat::{SatAxis, SatQuery, edge_axis};
+use crate::sat::{
+    SatAxis, SatQuery, axis_separation, edge_axis, face_a_separation, face_b_separation,
+};
 use crate::tolerance::WITNESS_TOL;
 use crate::vertex_contact::closest_vertex;
 use tumble_geometry::{
@@ -54,9 +56,11 @@ impl ContactPolygon {
     }
 }
 
-/// A contact built on one axis, and how far apart its closest pair is (`+inf` when it has none).
+/// A contact built on one axis: its separation along that axis, and how far apart its closest
+/// pair of surface points is (`+inf` when it has none).
 struct Candidate {
     polygon: ContactPolygon,
+    separation: Real,
     witness: Real,
 }
 
@@ -98,8 +102,8 @@ pub fn contact_polygon(
     let sat = SatQuery::new(&pair);
     let best = sat.max_separation();
     // The SAT separation never exceeds the distance, so past the margin nothing can touch.
-    // Written so that a NaN (from a NaN pose) also returns here.
-    if !(best <= margin) {
+    // A NaN (from a NaN pose) returns here too.
+    if best.is_nan() || best > margin {
         return None;
     }
     let chosen = preferred_axis(&pair, &sat, previous).axis;
@@ -116,35 +120,34 @@ pub fn contact_polygon(
         return (second.polygon.len > 0).then_some(second.polygon);
     }
 
-    // Apart: the contact is right when its closest pair is as far apart as the SAT separation
-    // (which is then the distance); otherwise the closest pair is elsewhere, look for it.
+    // Apart: a contact built on an SAT axis is right when its closest pair is no farther apart
+    // than the separation along that axis: the separation is a lower bound of the distance and
+    // the pair an upper bound, so both are the distance and the axis is its direction. If neither
+    // the preferred, the deepest nor the best edge axis carries the closest pair, that pair has a
+    // vertex on one side, and its own direction is the normal.
     let slack = WITNESS_TOL * pair.noise_scale();
-    if first.witness <= best + slack {
-        return (first.polygon.len > 0).then_some(first.polygon);
+    let exact = |c: &Candidate| c.witness <= c.separation + slack && c.polygon.len > 0;
+    if exact(&first) {
+        return Some(first.polygon);
+    }
+    let deepest = build(&pair, pose_a, pose_b, deepest, margin);
+    if exact(&deepest) {
+        return Some(deepest.polygon);
     }
     let (edge, _) = sat.best_edge();
-    let candidates = [
-        first,
-        build(&pair, pose_a, pose_b, deepest, margin),
-        build(&pair, pose_a, pose_b, SatAxis::Edge(edge), margin),
-        vertex_candidate(&pair, pose_a, slack),
-    ];
-    let distance = candidates
-        .iter()
-        .fold(Real::INFINITY, |d, c| d.min(c.witness));
-    if !(distance <= margin) {
-        return None;
+    let edge = build(&pair, pose_a, pose_b, SatAxis::Edge(edge), margin);
+    if exact(&edge) {
+        return Some(edge.polygon);
     }
-    candidates
-        .into_iter()
-        .find(|c| c.witness <= distance + slack && c.polygon.len > 0)
-        .map(|c| c.polygon)
+    let vertex = vertex_candidate(&pair, pose_a, slack);
+    (vertex.witness <= margin).then_some(vertex.polygon)
 }
 
 /// The contact on one SAT axis, in world space.
 fn build(pair: &BoxPair, pose_a: &Pose, pose_b: &Pose, axis: SatAxis, margin: Real) -> Candidate {
     let mut polygon = ContactPolygon::default();
     let mut witness = Real::INFINITY;
+    let mut separation = Real::NEG_INFINITY;
     match axis {
         SatAxis::FaceA(f) => {
             let c = face_contact(pair, f, margin, KIND_FACE_A);
@@ -161,6 +164,7 @@ fn build(pair: &BoxPair, pose_a: &Pose, pose_b: &Pose, axis: SatAxis, margin: Re
                 );
             }
             witness = c.min_separation;
+            separation = face_a_separation(pair, f);
         }
         SatAxis::FaceB(f) => {
             // The same construction seen from B, whose face is the reference; the contact
@@ -179,6 +183,7 @@ fn build(pair: &BoxPair, pose_a: &Pose, pose_b: &Pose, axis: SatAxis, margin: Re
                 );
             }
             witness = c.min_separation;
+            separation = face_b_separation(pair, f);
         }
         SatAxis::Edge(k) => {
             if let Some(n) = edge_axis(pair, k / 3, k % 3) {
@@ -196,16 +201,18 @@ fn build(pair: &BoxPair, pose_a: &Pose, pose_b: &Pose, axis: SatAxis, margin: Re
                         },
                     );
                 }
-                // Apart, the closest pair's length is a true distance; overlapping, the depth.
-                witness = if c.depth < 0.0 {
-                    c.closest.distance()
-                } else {
-                    -c.depth
-                };
+                // The closest pair of two surface segments: a true distance between the boxes'
+                // surfaces (used only when they are apart, where it bounds their distance).
+                witness = c.closest.distance();
+                separation = axis_separation(pair, &n);
             }
         }
     }
-    Candidate { polygon, witness }
+    Candidate {
+        polygon,
+        separation,
+        witness,
+    }
 }
 
 /// The closest vertex pair as a one-point contact along its own direction; none when the pair is
@@ -213,9 +220,10 @@ fn build(pair: &BoxPair, pose_a: &Pose, pose_b: &Pose, axis: SatAxis, margin: Re
 fn vertex_candidate(pair: &BoxPair, pose_a: &Pose, min_distance: Real) -> Candidate {
     let v = closest_vertex(pair);
     let mut polygon = ContactPolygon::default();
-    if !(v.distance > min_distance) {
+    if v.distance.is_nan() || v.distance <= min_distance {
         return Candidate {
             polygon,
+            separation: Real::NEG_INFINITY,
             witness: Real::INFINITY,
         };
     }
@@ -236,6 +244,7 @@ fn vertex_candidate(pair: &BoxPair, pose_a: &Pose, min_distance: Real) -> Candid
     );
     Candidate {
         polygon,
+        separation: v.distance,
         witness: v.distance,
     }
 }

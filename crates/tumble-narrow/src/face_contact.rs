@@ -38,7 +38,11 @@ impl FaceContact {
 /// `kind` is the id kind code (face of A or of B).
 pub fn face_contact(pair: &BoxPair, reference: usize, margin: Real, kind: u32) -> FaceContact {
     let axis = reference / 2;
-    let sign = if reference % 2 == 0 { 1.0 } else { -1.0 };
+    let sign = if reference.is_multiple_of(2) {
+        1.0
+    } else {
+        -1.0
+    };
     let normal = Vec3::ith(axis, sign);
     let height = pair.a.half_extents[axis];
 
@@ -49,8 +53,7 @@ pub fn face_contact(pair: &BoxPair, reference: usize, margin: Real, kind: u32) -
     let mut polygon = ClipPolygon::from_corners(&corners, &[0, 1, 2, 3]);
 
     // The four side planes, two per axis across the normal.
-    let mut slot = 0;
-    for side_axis in (0..3).filter(|&k| k != axis) {
+    for (slot, side_axis) in (0..3u32).zip((0..3).filter(|&k| k != axis)) {
         for (negative, side_sign) in [(0, 1.0), (1, -1.0)] {
             let plane = Plane {
                 normal: Vec3::ith(side_axis, side_sign),
@@ -58,7 +61,6 @@ pub fn face_contact(pair: &BoxPair, reference: usize, margin: Real, kind: u32) -
             };
             polygon = polygon.clip(&plane, SIDE_LABEL_BASE + 2 * slot + negative);
         }
-        slot += 1;
     }
 
     let mut contact = FaceContact {

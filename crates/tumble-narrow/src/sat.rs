@@ -37,7 +37,7 @@ pub enum SatAxis {
 /// B gets a very negative value, never chosen as the best).
 pub fn face_a_separation(pair: &BoxPair, face: usize) -> Real {
     let i = face / 2;
-    let sign = if face % 2 == 0 { 1.0 } else { -1.0 };
+    let sign = if face.is_multiple_of(2) { 1.0 } else { -1.0 };
     let radius_b = pair.abs_rot.row(i).transpose().dot(&pair.b.half_extents);
     sign * pair.offset[i] - pair.a.half_extents[i] - radius_b
 }
@@ -45,7 +45,7 @@ pub fn face_a_separation(pair: &BoxPair, face: usize) -> Real {
 /// Separation along B's face `face`, measured outward from B (towards A).
 pub fn face_b_separation(pair: &BoxPair, face: usize) -> Real {
     let j = face / 2;
-    let sign = if face % 2 == 0 { 1.0 } else { -1.0 };
+    let sign = if face.is_multiple_of(2) { 1.0 } else { -1.0 };
     let radius_a = pair.abs_rot.column(j).dot(&pair.a.half_extents);
     -sign * pair.rot.column(j).dot(&pair.offset) - pair.b.half_extents[j] - radius_a
 }

@@ -40,11 +40,12 @@ pub const HYSTERESIS_REL_TOL: Real = 0.05;
 /// (`sin(0.5 deg) = 0.87 %`), the order of jitter a resting stack sees between two steps.
 pub const HYSTERESIS_ABS_TOL: Real = 0.01;
 
-/// When the boxes are apart, a contact built on the SAT axis is exact when its closest pair is
-/// no farther apart than the SAT separation plus this (in units of the noise scale): the
-/// separation is a lower bound of the distance, equal to it when the axis is the closest pair's
-/// direction, up to rounding.
-pub const WITNESS_TOL: Real = 1e-5;
+/// When the boxes are apart, a contact built on an SAT axis is exact when its closest pair is
+/// no farther apart than the separation along that axis plus this (in units of the noise scale):
+/// the separation is a lower bound of the distance, equal to it when the axis is the closest
+/// pair's direction. Both are computed in A's frame from coordinates of the order of the noise
+/// scale, so 2e-6 is about 16 `f32` ulps: rounding, and nothing more, is forgiven.
+pub const WITNESS_TOL: Real = 2e-6;
 
 /// `rel * |separation| + abs * scale`: how much better an alternative must be to replace the
 /// preferred one.

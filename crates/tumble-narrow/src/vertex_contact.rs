@@ -48,15 +48,17 @@ pub fn closest_vertex(pair: &BoxPair) -> VertexContact {
                 on_a: false,
             };
         }
-        // A's vertex against B, in B's frame, brought back to A's.
+        // A's vertex against B, in B's frame; the gap vector is rotated back to A's frame rather
+        // than the point, so that it keeps the digits of a gap much shorter than the boxes.
         let va = pair.a.vertex(v);
         let va_in_b = pair.a_to_b(&va);
         let on_b = pair.b.local_closest_point(&va_in_b);
-        let d = (va_in_b - on_b).norm();
+        let gap = pair.rot * (on_b - va_in_b);
+        let d = gap.norm();
         if d < best.distance {
             best = VertexContact {
                 point_a: va,
-                point_b: pair.b_to_a(&on_b),
+                point_b: va + gap,
                 distance: d,
                 vertex: v,
                 on_a: true,

@@ -30,10 +30,8 @@ use rand_chacha::ChaCha8Rng;
 use tumble_geometry::{
     Cuboid, FeatureKind, Point3, Pose, Real, Rot, Vec3, nalgebra, nalgebra::Translation3,
 };
-use tumble_narrow::tolerance::{
-    EDGE_ABS_TOL, EDGE_REL_TOL, FACE_B_ABS_TOL, FACE_B_REL_TOL, WITNESS_TOL, tolerance,
-};
-use tumble_narrow::{BoxPair, SatQuery, collide_cuboids, contact_polygon};
+use tumble_narrow::tolerance::WITNESS_TOL;
+use tumble_narrow::{BoxPair, SatQuery, collide_cuboids, contact_polygon, preference_slack};
 
 /// Speculative margin of the test: a typical 2 cm.
 const MARGIN: Real = 0.02;
@@ -421,12 +419,7 @@ fn check(stats: &mut Stats, label: &str, a: &Cuboid, pose_a: &Pose, b: &Cuboid, 
             let parry_sep = separation64(&a64, &b64, &pn.cast::<f64>().normalize());
             let pair = BoxPair::new(a, pose_a, b, pose_b);
             let best = SatQuery::new(&pair).max_separation() as f64;
-            let slack = tolerance(
-                best as Real,
-                EDGE_REL_TOL.max(FACE_B_REL_TOL),
-                EDGE_ABS_TOL.max(FACE_B_ABS_TOL),
-                pair.noise_scale(),
-            ) as f64;
+            let slack = preference_slack(&pair, &SatQuery::new(&pair)) as f64;
             if ours_sep >= parry_sep - rounding {
                 stats.parry_direction_no_better += 1;
             } else if exact <= 0.0 && ours_sep >= best - slack - band {

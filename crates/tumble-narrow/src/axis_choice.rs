@@ -3,12 +3,12 @@
 //! stays close enough).
 
 use crate::BoxPair;
-use crate::sat::{SatAxis, SatQuery, face_a_separation, face_b_separation};
+use crate::sat::{SatAxis, SatQuery, edge_axis, face_a_separation, face_b_separation};
 use crate::tolerance::{
-    EDGE_ABS_TOL, EDGE_REL_TOL, FACE_B_ABS_TOL, FACE_B_REL_TOL, HYSTERESIS_ABS_TOL,
-    HYSTERESIS_REL_TOL, tolerance,
+    EDGE_ABS_TOL, EDGE_REL_TOL, FACE_B_ABS_TOL, FACE_B_REL_TOL, FACE_LIKE_EDGE_COS,
+    FACE_LIKE_MAX_DEPTH, HYSTERESIS_ABS_TOL, HYSTERESIS_REL_TOL, tolerance,
 };
-use tumble_geometry::{FeatureKind, Real};
+use tumble_geometry::{FeatureKind, Real, Vec3};
 
 /// An axis and its separation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -44,7 +44,8 @@ pub fn deepest_axis(pair: &BoxPair, sat: &SatQuery) -> AxisChoice {
 }
 
 /// The axis to build the contact on: B's face only when it beats A's by more than the face
-/// tolerance, an edge only when it beats both faces by more than the edge tolerance, and last
+/// tolerance, an edge only when it beats both faces by more than the edge tolerance (the
+/// hysteresis tolerance for an edge axis within 3 degrees of the face normal), and last
 /// step's reference face (`previous`, as stored in `Manifold::{kind, feature}`) while its
 /// separation stays within the hysteresis tolerance of the best.
 pub fn preferred_axis(
@@ -67,7 +68,17 @@ pub fn preferred_axis(
         };
     }
     let best_face = sa.max(sb);
-    if se > best_face + tolerance(best_face, EDGE_REL_TOL, EDGE_ABS_TOL, noise) {
+    let edge_slack = if is_face_like(pair, sat, e, choice.axis) {
+        tolerance(
+            best_face,
+            HYSTERESIS_REL_TOL,
+            HYSTERESIS_ABS_TOL,
+            pair.feature_scale(),
+        )
+    } else {
+        tolerance(best_face, EDGE_REL_TOL, EDGE_ABS_TOL, noise)
+    };
+    if se > best_face + edge_slack {
         choice = AxisChoice {
             axis: SatAxis::Edge(e),
             separation: se,
@@ -98,6 +109,49 @@ pub fn preferred_axis(
         }
     }
     choice
+}
+
+/// How far the axis [`preferred_axis`] picks without history may trail the deepest one: the
+/// largest of the tolerances it applied (A's face over B's, faces over the best edge).
+pub fn preference_slack(pair: &BoxPair, sat: &SatQuery) -> Real {
+    let noise = pair.noise_scale();
+    let (fa, sa) = sat.best_face_a(pair);
+    let (fb, sb) = sat.best_face_b(pair);
+    let (e, _) = sat.best_edge();
+    let best_face = sa.max(sb);
+    let face_like = is_face_like(pair, sat, e, SatAxis::FaceA(fa))
+        || is_face_like(pair, sat, e, SatAxis::FaceB(fb));
+    let edge_slack = if face_like {
+        tolerance(
+            best_face,
+            HYSTERESIS_REL_TOL,
+            HYSTERESIS_ABS_TOL,
+            pair.feature_scale(),
+        )
+    } else {
+        tolerance(best_face, EDGE_REL_TOL, EDGE_ABS_TOL, noise)
+    };
+    tolerance(sa, FACE_B_REL_TOL, FACE_B_ABS_TOL, noise).max(edge_slack)
+}
+
+/// True when edge axis `edge` is within [`FACE_LIKE_EDGE_COS`] of the normal of `face`, and the
+/// contact is shallow (see [`FACE_LIKE_MAX_DEPTH`]).
+fn is_face_like(pair: &BoxPair, sat: &SatQuery, edge: usize, face: SatAxis) -> bool {
+    let face_separation = match face {
+        SatAxis::FaceA(f) => face_a_separation(pair, f),
+        SatAxis::FaceB(f) => face_b_separation(pair, f),
+        SatAxis::Edge(_) => return false,
+    };
+    if sat.max_separation().min(face_separation) < -FACE_LIKE_MAX_DEPTH * pair.feature_scale() {
+        return false;
+    }
+    let face_normal = match face {
+        SatAxis::FaceA(f) => Vec3::ith(f / 2, 1.0),
+        SatAxis::FaceB(f) => pair.rot.column(f / 2).into_owned(),
+        SatAxis::Edge(_) => return false,
+    };
+    edge_axis(pair, edge / 3, edge % 3)
+        .is_some_and(|n| n.dot(&face_normal).abs() >= FACE_LIKE_EDGE_COS)
 }
 
 #[cfg(test)]

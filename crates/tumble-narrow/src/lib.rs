@@ -25,7 +25,7 @@ mod sat;
 pub mod tolerance;
 mod vertex_contact;
 
-pub use axis_choice::{AxisChoice, deepest_axis, preferred_axis};
+pub use axis_choice::{AxisChoice, deepest_axis, preference_slack, preferred_axis};
 pub use box_pair::BoxPair;
 pub use collide::{
     ContactPolygon, EDGE_PAIR_COUNT, VERTEX_OF_A_FEATURE, collide_cuboids, collide_cuboids_cached,

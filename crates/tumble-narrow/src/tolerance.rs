@@ -30,6 +30,17 @@ pub const EDGE_REL_TOL: Real = 2e-3;
 /// Absolute part of the face-over-edge preference, in units of the noise scale.
 pub const EDGE_ABS_TOL: Real = 2e-5;
 
+/// An edge axis within this angle (3 degrees, as a cosine) of the best face's normal is a face
+/// contact seen through a slight tilt: a box resting almost flat on an edge of the other (or
+/// overhanging it) has its deepest point on an edge crossing, yet the clipped face gives the
+/// four points a resting box needs. Such an edge must beat the face by the hysteresis tolerance.
+pub const FACE_LIKE_EDGE_COS: Real = 0.998_629_5;
+
+/// The face-like edge rule applies only to contacts shallower than this fraction of the feature
+/// scale (5 %): resting and landing contacts, where a one-point edge manifold would rock the
+/// box, not deep overlaps, where the deepest axis is what pushes the boxes apart best.
+pub const FACE_LIKE_MAX_DEPTH: Real = 0.05;
+
 /// Last step's reference face is kept while its separation stays within this fraction of the
 /// best separation (plus [`HYSTERESIS_ABS_TOL`]): a box resting on an equal box sees the two
 /// faces trade places on every small tilt, and each swap renames every contact point.

@@ -36,13 +36,20 @@ fn pair_margin(a: u32, b: u32) -> f32 {
     return params.margin + closing * params.dt;
 }
 
-// The contact on one axis, in world space, into `out`; returns how far apart its closest
-// pair is (FLOAT_MAX when it has none).
-fn build(p: BoxPair, pose_a: GpuPose, pose_b: GpuPose, axis: AxisChoice, margin: f32, out: ptr<function, ContactPolygon>) -> f32 {
+// How good a contact built on one axis is: its separation along that axis, and how far
+// apart its closest pair of surface points is (FLOAT_MAX when it has none).
+struct Candidate {
+    separation: f32,
+    witness: f32,
+}
+
+// The contact on one axis, in world space, into `out`.
+fn build(p: BoxPair, pose_a: GpuPose, pose_b: GpuPose, axis: AxisChoice, margin: f32, out: ptr<function, ContactPolygon>) -> Candidate {
     *out = empty_contact();
-    var witness = FLOAT_MAX;
+    var c = Candidate(-FLOAT_MAX, FLOAT_MAX);
     if axis.kind == AXIS_FACE_A {
-        witness = face_contact(p, axis.index, margin, ID_KIND_FACE_A, out);
+        c.witness = face_contact(p, axis.index, margin, ID_KIND_FACE_A, out);
+        c.separation = face_a_separation(p, axis.index);
         let sign = select(-1.0, 1.0, axis.index % 2u == 0u);
         (*out).normal = quat_rotate(pose_a.rotation, unit_axis(axis.index / 2u) * sign);
         (*out).kind = MANIFOLD_FACE_A;
@@ -53,7 +60,8 @@ fn build(p: BoxPair, pose_a: GpuPose, pose_b: GpuPose, axis: AxisChoice, margin:
     } else if axis.kind == AXIS_FACE_B {
         // The same construction seen from B; the normal points from A to B, against B's
         // outward face normal.
-        witness = face_contact(swapped(p), axis.index, margin, ID_KIND_FACE_B, out);
+        c.witness = face_contact(swapped(p), axis.index, margin, ID_KIND_FACE_B, out);
+        c.separation = face_b_separation(p, axis.index);
         let sign = select(-1.0, 1.0, axis.index % 2u == 0u);
         (*out).normal = -quat_rotate(pose_b.rotation, unit_axis(axis.index / 2u) * sign);
         (*out).kind = MANIFOLD_FACE_B;
@@ -64,58 +72,37 @@ fn build(p: BoxPair, pose_a: GpuPose, pose_b: GpuPose, axis: AxisChoice, margin:
     } else {
         let n = edge_axis(p, axis.index / 3u, axis.index % 3u);
         if n.w > 0.0 {
-            let c = edge_contact(p, axis.index / 3u, axis.index % 3u, n.xyz);
+            let e = edge_contact(p, axis.index / 3u, axis.index % 3u, n.xyz);
             (*out).normal = quat_rotate(pose_a.rotation, n.xyz);
             (*out).kind = MANIFOLD_EDGE;
-            (*out).feature = c.edge_a * 12u + c.edge_b;
-            if c.depth >= -margin {
-                let mid = 0.5 * (c.closest.point_a + c.closest.point_b);
-                push_point(out, PolygonPoint(transform_point(pose_a, mid), c.depth, edge_point_id(c.edge_a, c.edge_b)));
+            (*out).feature = e.edge_a * 12u + e.edge_b;
+            if e.depth >= -margin {
+                let mid = 0.5 * (e.closest.point_a + e.closest.point_b);
+                push_point(out, PolygonPoint(transform_point(pose_a, mid), e.depth, edge_point_id(e.edge_a, e.edge_b)));
             }
-            // Apart, the closest pair's length is a true distance; overlapping, the depth.
-            if c.depth < 0.0 {
-                witness = length(c.closest.point_b - c.closest.point_a);
-            } else {
-                witness = -c.depth;
-            }
+            // The closest pair of two surface segments: a true distance between the surfaces
+            // (used only when the boxes are apart, where it bounds their distance).
+            c.witness = length(e.closest.point_b - e.closest.point_a);
+            c.separation = axis_separation(p, n.xyz);
         }
     }
-    return witness;
+    return c;
 }
 
 // The closest vertex pair as a one-point contact along its own direction; none when the
 // pair is too close for that direction to be defined.
-fn vertex_candidate(p: BoxPair, pose_a: GpuPose, min_distance: f32, out: ptr<function, ContactPolygon>) -> f32 {
+fn vertex_candidate(p: BoxPair, pose_a: GpuPose, min_distance: f32, out: ptr<function, ContactPolygon>) -> Candidate {
     *out = empty_contact();
     let v = closest_vertex(p);
     if !(v.distance > min_distance) {
-        return FLOAT_MAX;
+        return Candidate(-FLOAT_MAX, FLOAT_MAX);
     }
     (*out).normal = quat_rotate(pose_a.rotation, (v.point_b - v.point_a) / v.distance);
     (*out).kind = MANIFOLD_EDGE;
     (*out).feature = select(EDGE_PAIR_COUNT, VERTEX_OF_A_FEATURE, v.on_a) + v.vertex;
     let mid = 0.5 * (v.point_a + v.point_b);
     push_point(out, PolygonPoint(transform_point(pose_a, mid), -v.distance, vertex_point_id(v.vertex, v.on_a)));
-    return v.distance;
-}
-
-// Candidate c of the apart case: 0 the preferred axis, 1 the deepest, 2 the best edge,
-// 3 the closest vertex pair.
-fn build_candidate(c: u32, p: BoxPair, pose_a: GpuPose, pose_b: GpuPose, chosen: AxisChoice, deepest: AxisChoice, edge: AxisChoice, margin: f32, slack: f32, out: ptr<function, ContactPolygon>) -> f32 {
-    switch c {
-        case 0u: {
-            return build(p, pose_a, pose_b, chosen, margin, out);
-        }
-        case 1u: {
-            return build(p, pose_a, pose_b, deepest, margin, out);
-        }
-        case 2u: {
-            return build(p, pose_a, pose_b, edge, margin, out);
-        }
-        default: {
-            return vertex_candidate(p, pose_a, slack, out);
-        }
-    }
+    return Candidate(v.distance, v.distance);
 }
 
 // The contact polygon of pair k (len 0: no contact).
@@ -140,7 +127,7 @@ fn contact_for_pair(k: u32, a: u32, b: u32, out: ptr<function, ContactPolygon>) 
     }
     let chosen = preferred_axis(p, q, previous_kind, previous_feature);
     let deepest = deepest_axis(p, q);
-    let first_witness = build(p, pose_a, pose_b, chosen, margin, out);
+    let first = build(p, pose_a, pose_b, chosen, margin, out);
 
     if best <= 0.0 {
         // Overlap: the deepest axis always has points; a preferred one almost always does.
@@ -149,35 +136,25 @@ fn contact_for_pair(k: u32, a: u32, b: u32, out: ptr<function, ContactPolygon>) 
         }
         return;
     }
-    // Apart: the contact is right when its closest pair is as far apart as the separation.
+    // Apart: a contact built on an SAT axis is right when its closest pair is no farther
+    // apart than the separation along that axis (then both are the distance). Try the
+    // preferred, the deepest and the best edge axis; otherwise the closest pair has a vertex
+    // on one side and its own direction is the normal.
     let slack = WITNESS_TOL * noise_scale(p);
-    if first_witness <= best + slack {
+    if first.witness <= first.separation + slack && (*out).len > 0u {
         return;
     }
-    // Otherwise the closest pair is elsewhere: measure every candidate, keep the first whose
-    // witness is (within slack) the distance, and rebuild it.
-    let edge = best_edge(q);
-    var witness = array<f32, 4>(first_witness, 0.0, 0.0, 0.0);
-    var count = array<u32, 4>((*out).len, 0u, 0u, 0u);
-    var scratch: ContactPolygon;
-    for (var c = 1u; c < 4u; c++) {
-        witness[c] = build_candidate(c, p, pose_a, pose_b, chosen, deepest, edge, margin, slack, &scratch);
-        count[c] = scratch.len;
+    let second = build(p, pose_a, pose_b, deepest, margin, out);
+    if second.witness <= second.separation + slack && (*out).len > 0u {
+        return;
     }
-    let distance = min(min(witness[0], witness[1]), min(witness[2], witness[3]));
-    var pick = 4u;
-    if distance <= margin {
-        for (var c = 0u; c < 4u; c++) {
-            if witness[c] <= distance + slack && count[c] > 0u {
-                pick = c;
-                break;
-            }
-        }
+    let third = build(p, pose_a, pose_b, best_edge(q), margin, out);
+    if third.witness <= third.separation + slack && (*out).len > 0u {
+        return;
     }
-    if pick == 4u {
+    let vertex = vertex_candidate(p, pose_a, slack, out);
+    if !(vertex.witness <= margin) {
         *out = empty_contact();
-    } else if pick != 0u {
-        build_candidate(pick, p, pose_a, pose_b, chosen, deepest, edge, margin, slack, out);
     }
 }
 

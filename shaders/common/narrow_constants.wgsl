@@ -7,6 +7,8 @@ override FACE_B_REL_TOL: f32;
 override FACE_B_ABS_TOL: f32;
 override EDGE_REL_TOL: f32;
 override EDGE_ABS_TOL: f32;
+override FACE_LIKE_EDGE_COS: f32;
+override FACE_LIKE_MAX_DEPTH: f32;
 override HYSTERESIS_REL_TOL: f32;
 override HYSTERESIS_ABS_TOL: f32;
 override WITNESS_TOL: f32;

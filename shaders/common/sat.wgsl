@@ -148,10 +148,32 @@ fn deepest_axis(p: BoxPair, q: SatQuery) -> AxisChoice {
     return choice;
 }
 
+// True when edge axis `edge` is within FACE_LIKE_EDGE_COS of the normal of `face` (a face
+// axis choice) and the contact is shallow: a face contact seen through a slight tilt.
+fn is_face_like(p: BoxPair, q: SatQuery, edge: u32, face: AxisChoice) -> bool {
+    var face_separation = 0.0;
+    var face_normal = vec3<f32>(0.0);
+    if face.kind == AXIS_FACE_A {
+        face_separation = face_a_separation(p, face.index);
+        face_normal = unit_axis(face.index / 2u);
+    } else if face.kind == AXIS_FACE_B {
+        face_separation = face_b_separation(p, face.index);
+        face_normal = p.rot[face.index / 2u];
+    } else {
+        return false;
+    }
+    if min(max_separation(q), face_separation) < -FACE_LIKE_MAX_DEPTH * feature_scale(p) {
+        return false;
+    }
+    let n = edge_axis(p, edge / 3u, edge % 3u);
+    return n.w > 0.0 && abs(dot(n.xyz, face_normal)) >= FACE_LIKE_EDGE_COS;
+}
+
 // The axis to build the contact on: B's face only when it beats A's by the face tolerance,
-// an edge only when it beats both faces by the edge tolerance, and last step's reference
-// face (previous_kind, previous_feature; kind NO_PREVIOUS for none) while its separation
-// stays within the hysteresis tolerance of the best.
+// an edge only when it beats both faces by the edge tolerance (the hysteresis tolerance for
+// an edge axis within 3 degrees of the face normal), and last step's reference face
+// (previous_kind, previous_feature; kind NO_PREVIOUS for none) while its separation stays
+// within the hysteresis tolerance of the best.
 fn preferred_axis(p: BoxPair, q: SatQuery, previous_kind: u32, previous_feature: u32) -> AxisChoice {
     let noise = noise_scale(p);
     let fa = best_face_a(p, q);
@@ -162,7 +184,11 @@ fn preferred_axis(p: BoxPair, q: SatQuery, previous_kind: u32, previous_feature:
         choice = fb;
     }
     let best_face = max(fa.separation, fb.separation);
-    if e.separation > best_face + tolerance(best_face, EDGE_REL_TOL, EDGE_ABS_TOL, noise) {
+    var edge_slack = tolerance(best_face, EDGE_REL_TOL, EDGE_ABS_TOL, noise);
+    if is_face_like(p, q, e.index, choice) {
+        edge_slack = tolerance(best_face, HYSTERESIS_REL_TOL, HYSTERESIS_ABS_TOL, feature_scale(p));
+    }
+    if e.separation > best_face + edge_slack {
         choice = e;
     }
     var kept = AxisChoice(AXIS_EDGE, 0u, 0.0);

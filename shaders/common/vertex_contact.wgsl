@@ -19,13 +19,14 @@ fn closest_vertex(p: BoxPair) -> VertexContact {
         if db < best.distance {
             best = VertexContact(on_a, vb, db, v, false);
         }
-        // A's vertex against B, in B's frame, brought back to A's.
+        // A's vertex against B, in B's frame; the gap vector is rotated back to A's frame
+        // rather than the point, so it keeps the digits of a gap much shorter than the boxes.
         let va = box_vertex(p.ha, v);
         let va_in_b = a_to_b(p, va);
-        let on_b = box_closest_point(p.hb, va_in_b);
-        let da = length(va_in_b - on_b);
+        let gap = p.rot * (box_closest_point(p.hb, va_in_b) - va_in_b);
+        let da = length(gap);
         if da < best.distance {
-            best = VertexContact(va, b_to_a(p, on_b), da, v, true);
+            best = VertexContact(va, va + gap, da, v, true);
         }
     }
     return best;

@@ -6,10 +6,9 @@
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
-use tumble_gpu::kernels;
-use tumble_gpu::layout::shared_struct_layouts;
 use tumble_gpu::naga;
-use tumble_gpu::shader::{ShaderSource, common};
+use tumble_gpu::registry::{all_common_files, all_kernels, all_struct_layouts, host_shared_files};
+use tumble_gpu::shader::ShaderSource;
 
 fn shaders_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../shaders")
@@ -38,36 +37,43 @@ fn every_shader_file_is_registered_and_every_registration_is_a_file() {
     );
     let mut on_disk = BTreeSet::new();
     wgsl_files(&root, &root, &mut on_disk);
-    let registered: BTreeSet<String> = common::ALL
+    let registered: BTreeSet<String> = all_common_files()
         .iter()
         .map(|f| f.path.to_string())
         .chain(
-            kernels::all()
+            all_kernels()
                 .iter()
-                .map(|k| k.source.kernel.path.to_string()),
+                .map(|k| k.spec.source.kernel.path.to_string()),
         )
         .collect();
-    // A kernel file nobody registers would escape validation; a registered file that is not
-    // on disk could not have been embedded, so both sets must be equal.
-    assert_eq!(on_disk, registered);
-    // Guards against an empty or misplaced folder making the other tests vacuous.
+    // A file nobody registers would escape validation; a registered file that is not on disk
+    // could not have been embedded.
+    let unregistered: Vec<&String> = on_disk.difference(&registered).collect();
     assert!(
-        kernels::all().len() >= 8,
-        "expected the collision kernels, found {}",
-        kernels::all().len()
+        unregistered.is_empty(),
+        "WGSL files not listed in tumble_gpu::registry (all_kernels or all_common_files): {unregistered:?}"
+    );
+    assert_eq!(on_disk, registered);
+    // Guards against an empty or misplaced folder making the other tests vacuous: the
+    // collision stages alone have 11 kernels.
+    assert!(
+        all_kernels().len() >= 11,
+        "found {} kernels",
+        all_kernels().len()
     );
     // The embedded text is the file on disk (no stale copy).
-    for spec in kernels::all() {
-        let disk = std::fs::read_to_string(root.join(spec.source.kernel.path)).unwrap();
-        assert_eq!(disk, spec.source.kernel.source, "{}", spec.name);
+    for k in all_kernels() {
+        let disk = std::fs::read_to_string(root.join(k.spec.source.kernel.path)).unwrap();
+        assert_eq!(disk, k.spec.source.kernel.source, "{}", k.spec.name);
     }
 }
 
 #[test]
 fn every_kernel_parses_validates_specializes_and_translates() {
-    for spec in kernels::all() {
+    for k in all_kernels() {
+        let spec = k.spec;
         let (module, info) = spec
-            .check_specialized(&[])
+            .check_specialized(&k.overrides)
             .unwrap_or_else(|e| panic!("{e}"));
         // Specialization resolves every override to a value (none is left to the driver).
         for (_, o) in module.overrides.iter() {
@@ -103,8 +109,9 @@ fn every_kernel_parses_validates_specializes_and_translates() {
 fn workgroup_size_comes_from_the_host_constant() {
     // The shaders never spell the workgroup size: after specialization it must equal the
     // Rust constant (single-thread planning kernels excepted).
-    for spec in kernels::all() {
-        let (module, _) = spec.check_specialized(&[]).unwrap();
+    for k in all_kernels() {
+        let spec = k.spec;
+        let (module, _) = spec.check_specialized(&k.overrides).unwrap();
         let size = module.entry_points[0].workgroup_size;
         assert!(
             size == [tumble_gpu::WORKGROUP_SIZE, 1, 1] || size == [1, 1, 1],
@@ -116,52 +123,74 @@ fn workgroup_size_comes_from_the_host_constant() {
 
 #[test]
 fn unknown_specialization_is_an_error_not_ignored() {
-    let spec = kernels::all()[0];
+    let spec = all_kernels()[0].spec;
     let err = spec
         .check_specialized(&[("NO_SUCH_OVERRIDE", 1.0)])
         .unwrap_err();
     assert!(err.to_string().contains("NO_SUCH_OVERRIDE"), "{err}");
 }
 
-fn layout_module() -> naga::Module {
-    let source = ShaderSource {
-        common: &[common::CONSTANTS],
-        kernel: common::LAYOUT,
-    };
-    source.parse("layout").unwrap_or_else(|e| panic!("{e}"))
+/// Each host-shared WGSL file parsed with the common files it needs.
+fn shared_modules() -> Vec<(&'static str, naga::Module)> {
+    host_shared_files()
+        .into_iter()
+        .map(|(file, needs)| {
+            let needs: &'static [_] = Vec::leak(needs);
+            let source = ShaderSource {
+                common: needs,
+                kernel: file,
+            };
+            (
+                file.path,
+                source.parse("layout").unwrap_or_else(|e| panic!("{e}")),
+            )
+        })
+        .collect()
 }
 
 #[test]
 fn shared_structs_have_the_same_layout_in_rust_and_wgsl() {
-    let module = layout_module();
-    let mut layouter = naga::proc::Layouter::default();
-    layouter.update(module.to_ctx()).expect("layout computable");
-    let host = shared_struct_layouts();
+    let host = all_struct_layouts();
     let mut wgsl_names = BTreeSet::new();
-    for (handle, ty) in module.types.iter() {
-        let (Some(name), naga::TypeInner::Struct { members, span }) = (&ty.name, &ty.inner) else {
-            continue;
-        };
-        wgsl_names.insert(name.clone());
-        let rust = host
-            .iter()
-            .find(|l| l.name == name)
-            .unwrap_or_else(|| panic!("WGSL struct {name} has no Rust twin in layout.rs"));
-        assert_eq!(rust.size, *span as usize, "{name}: size");
-        assert_eq!(
-            rust.size, layouter[handle].size as usize,
-            "{name}: layouter size"
-        );
-        let wgsl_fields: Vec<(String, usize)> = members
-            .iter()
-            .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+    for (path, module) in shared_modules() {
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(module.to_ctx()).expect("layout computable");
+        // Only the structs this file declares (its prelude and needs are checked elsewhere).
+        let declared: BTreeSet<String> = std::fs::read_to_string(shaders_dir().join(path))
+            .unwrap()
+            .lines()
+            .filter_map(|l| l.trim().strip_prefix("struct "))
+            .map(|l| l.trim_end_matches(['{', ' ']).to_string())
             .collect();
-        let rust_fields: Vec<(String, usize)> = rust
-            .fields
-            .iter()
-            .map(|&(n, o)| (n.to_string(), o))
-            .collect();
-        assert_eq!(rust_fields, wgsl_fields, "{name}: field names and offsets");
+        for (handle, ty) in module.types.iter() {
+            let (Some(name), naga::TypeInner::Struct { members, span }) = (&ty.name, &ty.inner)
+            else {
+                continue;
+            };
+            if !declared.contains(name) {
+                continue;
+            }
+            wgsl_names.insert(name.clone());
+            let rust = host
+                .iter()
+                .find(|l| l.name == name)
+                .unwrap_or_else(|| panic!("WGSL struct {name} ({path}) has no Rust twin"));
+            assert_eq!(rust.size, *span as usize, "{name}: size");
+            assert_eq!(
+                rust.size, layouter[handle].size as usize,
+                "{name}: layouter size"
+            );
+            let wgsl_fields: Vec<(String, usize)> = members
+                .iter()
+                .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+                .collect();
+            let rust_fields: Vec<(String, usize)> = rust
+                .fields
+                .iter()
+                .map(|&(n, o)| (n.to_string(), o))
+                .collect();
+            assert_eq!(rust_fields, wgsl_fields, "{name}: field names and offsets");
+        }
     }
     for l in &host {
         assert!(
@@ -170,29 +199,36 @@ fn shared_structs_have_the_same_layout_in_rust_and_wgsl() {
             l.name
         );
     }
+    // The collision stages' own structs are all there.
+    assert!(
+        wgsl_names.len() >= 13,
+        "only {} shared structs found",
+        wgsl_names.len()
+    );
 }
 
 #[test]
 fn storage_structs_hold_no_vec3() {
     // A vec3 is 16-byte aligned but 12 bytes long: host structs cannot mirror it without
     // hidden padding, so the shared structs spell padding out instead.
-    let module = layout_module();
-    for (_, ty) in module.types.iter() {
-        if let naga::TypeInner::Struct { members, .. } = &ty.inner {
-            for m in members {
-                let inner = &module.types[m.ty].inner;
-                assert!(
-                    !matches!(
-                        inner,
-                        naga::TypeInner::Vector {
-                            size: naga::VectorSize::Tri,
-                            ..
-                        }
-                    ),
-                    "{:?}.{:?} is a vec3",
-                    ty.name,
-                    m.name
-                );
+    for (path, module) in shared_modules() {
+        for (_, ty) in module.types.iter() {
+            if let naga::TypeInner::Struct { members, .. } = &ty.inner {
+                for m in members {
+                    let inner = &module.types[m.ty].inner;
+                    assert!(
+                        !matches!(
+                            inner,
+                            naga::TypeInner::Vector {
+                                size: naga::VectorSize::Tri,
+                                ..
+                            }
+                        ),
+                        "{path}: {:?}.{:?} is a vec3",
+                        ty.name,
+                        m.name
+                    );
+                }
             }
         }
     }

@@ -81,6 +81,8 @@ pub fn shader_constants() -> Vec<(&'static str, f64)> {
         ("FACE_B_ABS_TOL", f64::from(tol::FACE_B_ABS_TOL)),
         ("EDGE_REL_TOL", f64::from(tol::EDGE_REL_TOL)),
         ("EDGE_ABS_TOL", f64::from(tol::EDGE_ABS_TOL)),
+        ("FACE_LIKE_EDGE_COS", f64::from(tol::FACE_LIKE_EDGE_COS)),
+        ("FACE_LIKE_MAX_DEPTH", f64::from(tol::FACE_LIKE_MAX_DEPTH)),
         ("HYSTERESIS_REL_TOL", f64::from(tol::HYSTERESIS_REL_TOL)),
         ("HYSTERESIS_ABS_TOL", f64::from(tol::HYSTERESIS_ABS_TOL)),
         ("WITNESS_TOL", f64::from(tol::WITNESS_TOL)),

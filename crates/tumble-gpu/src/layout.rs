@@ -41,6 +41,46 @@ pub struct GpuShape {
 /// Flag bit of [`GpuShape::flags`]: the body never moves (two static bodies never pair).
 pub const BODY_STATIC: u32 = 1;
 
+impl GpuPose {
+    /// The GPU form of a pose.
+    pub fn from_pose(pose: &tumble_geometry::Pose) -> Self {
+        let t = pose.translation.vector;
+        let q = pose.rotation.coords;
+        Self {
+            position: [t.x, t.y, t.z, 0.0],
+            rotation: [q.x, q.y, q.z, q.w],
+        }
+    }
+}
+
+impl GpuVelocity {
+    /// The GPU form of a linear and an angular velocity.
+    pub fn new(linear: tumble_geometry::Vec3, angular: tumble_geometry::Vec3) -> Self {
+        Self {
+            linear: [linear.x, linear.y, linear.z, 0.0],
+            angular: [angular.x, angular.y, angular.z, 0.0],
+        }
+    }
+}
+
+impl GpuShape {
+    /// A cuboid body's shape, flagged static when it never moves.
+    pub fn cuboid(cuboid: &tumble_geometry::Cuboid, is_static: bool) -> Self {
+        let h = cuboid.half_extents;
+        Self {
+            hx: h.x,
+            hy: h.y,
+            hz: h.z,
+            flags: if is_static { BODY_STATIC } else { 0 },
+        }
+    }
+
+    /// True when the static flag is set.
+    pub fn is_static(&self) -> bool {
+        self.flags & BODY_STATIC != 0
+    }
+}
+
 /// A world-space AABB. 32 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]

@@ -7,6 +7,7 @@
 #![warn(missing_docs)]
 
 pub mod buffer_pool;
+pub mod collision;
 pub mod constants;
 pub mod context;
 pub mod error;
@@ -14,10 +15,14 @@ pub mod kernel;
 pub mod kernels;
 pub mod layout;
 pub mod readback;
+pub mod registry;
 pub mod shader;
+pub mod solver;
 pub mod stage_timer;
+mod transfer;
 
 pub use buffer_pool::BufferPool;
+pub use collision::{CollisionConfig, CollisionSnapshot, GpuCollision, ReadbackRequest};
 pub use constants::{MAX_BODIES, MAX_MANIFOLD_POINTS, RADIX, RADIX_BITS, WORKGROUP_SIZE};
 pub use context::{GpuContext, GpuOptions};
 pub use error::GpuError;

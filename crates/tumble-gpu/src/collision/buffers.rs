@@ -1,0 +1,155 @@
+//! The collision stages' device buffers, by name, and their sizes.
+//!
+//! Pair lists, manifolds and contacts exist once per step parity: step `n` writes the set
+//! `n % 2` while the other set still holds step `n - 1`, whose sorted pairs `match_pairs`
+//! searches and whose impulses `carry_impulses` reads. Each parity's pair arrays have two
+//! copies, the radix sort's ping-pong; the sorted result lands in copy
+//! [`PAIR_RESULT_COPY`] (the pair sort always runs an even number of passes).
+
+use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE};
+use crate::kernels::radix_sort::tile_count_len;
+use crate::layout::{
+    GpuAabb, GpuContact, GpuManifold, GpuPose, GpuShape, GpuVelocity, SweepAxis, WorkList,
+};
+use crate::{GpuError, MAX_MANIFOLD_POINTS};
+
+/// Copy of a parity's pair arrays that holds the sorted list.
+pub const PAIR_RESULT_COPY: usize = 0;
+/// Copy of the body sort arrays that holds the sorted order (8 passes over 32-bit keys).
+pub const BODY_RESULT_COPY: usize = 0;
+
+/// Per-body inputs.
+pub const POSES: &str = "poses";
+/// Per-body velocities.
+pub const VELOCITIES: &str = "velocities";
+/// Per-body shapes and flags.
+pub const SHAPES: &str = "shapes";
+/// Per-body AABBs.
+pub const AABBS: &str = "aabbs";
+/// The bodies' `WorkList` (written by the host).
+pub const BODY_WORK: &str = "body work list";
+/// `SweepAxis`.
+pub const SWEEP_AXIS: &str = "sweep axis";
+/// Body sort keys, two copies.
+pub const SORT_KEYS: [&str; 2] = ["sort keys 0", "sort keys 1"];
+/// Body sort values (body indices), two copies.
+pub const SORT_BODIES: [&str; 2] = ["sorted bodies 0", "sorted bodies 1"];
+/// Tile counts of the body sort.
+pub const BODY_TILES: &str = "body sort tiles";
+/// The sweep's append counter.
+pub const PAIR_COUNTER: &str = "pair counter";
+/// First bodies of the pairs, `[parity][copy]`.
+pub const PAIR_A: [[&str; 2]; 2] = [["pair a 0.0", "pair a 0.1"], ["pair a 1.0", "pair a 1.1"]];
+/// Second bodies of the pairs, `[parity][copy]`.
+pub const PAIR_B: [[&str; 2]; 2] = [["pair b 0.0", "pair b 0.1"], ["pair b 1.0", "pair b 1.1"]];
+/// The pairs' `WorkList`, per parity.
+pub const PAIR_WORK: [&str; 2] = ["pair work list 0", "pair work list 1"];
+/// Tile counts of the pair sort.
+pub const PAIR_TILES: &str = "pair sort tiles";
+/// Last step's index of each pair.
+pub const PREVIOUS_INDEX: &str = "previous pair index";
+/// Manifolds, per parity.
+pub const MANIFOLDS: [&str; 2] = ["manifolds 0", "manifolds 1"];
+/// Contact points, per parity.
+pub const CONTACTS: [&str; 2] = ["contacts 0", "contacts 1"];
+/// `UpdateAabbsParams`.
+pub const UPDATE_PARAMS: &str = "update_aabbs params";
+/// `SweepParams`.
+pub const SWEEP_PARAMS: &str = "sweep params";
+/// `NarrowParams`.
+pub const NARROW_PARAMS: &str = "narrow params";
+
+fn bytes_of<T>(count: u64) -> u64 {
+    count * std::mem::size_of::<T>() as u64
+}
+
+/// Makes every body-sized buffer hold `bodies`; true when any was reallocated.
+pub fn ensure_body_buffers(pool: &mut BufferPool, bodies: u32) -> Result<bool, GpuError> {
+    let n = u64::from(bodies);
+    let mut grew = false;
+    grew |= pool.ensure(POSES, bytes_of::<GpuPose>(n), STORAGE_USAGE)?;
+    grew |= pool.ensure(VELOCITIES, bytes_of::<GpuVelocity>(n), STORAGE_USAGE)?;
+    grew |= pool.ensure(SHAPES, bytes_of::<GpuShape>(n), STORAGE_USAGE)?;
+    grew |= pool.ensure(AABBS, bytes_of::<GpuAabb>(n), STORAGE_USAGE)?;
+    grew |= pool.ensure(BODY_WORK, bytes_of::<WorkList>(1), STORAGE_USAGE)?;
+    grew |= pool.ensure(SWEEP_AXIS, bytes_of::<SweepAxis>(1), STORAGE_USAGE)?;
+    for name in SORT_KEYS.iter().chain(&SORT_BODIES) {
+        grew |= pool.ensure(name, bytes_of::<u32>(n), STORAGE_USAGE)?;
+    }
+    grew |= pool.ensure(
+        BODY_TILES,
+        bytes_of::<u32>(tile_count_len(bodies)),
+        STORAGE_USAGE,
+    )?;
+    for name in [UPDATE_PARAMS, SWEEP_PARAMS, NARROW_PARAMS] {
+        grew |= pool.ensure(name, 16, UNIFORM_USAGE)?;
+    }
+    Ok(grew)
+}
+
+/// Makes every pair-sized buffer hold `capacity` pairs; true when any was reallocated.
+pub fn ensure_pair_buffers(pool: &mut BufferPool, capacity: u32) -> Result<bool, GpuError> {
+    let n = u64::from(capacity);
+    let mut grew = false;
+    grew |= pool.ensure(PAIR_COUNTER, bytes_of::<u32>(1), STORAGE_USAGE)?;
+    for parity in 0..2 {
+        for copy in 0..2 {
+            grew |= pool.ensure(PAIR_A[parity][copy], bytes_of::<u32>(n), STORAGE_USAGE)?;
+            grew |= pool.ensure(PAIR_B[parity][copy], bytes_of::<u32>(n), STORAGE_USAGE)?;
+        }
+        grew |= pool.ensure(PAIR_WORK[parity], bytes_of::<WorkList>(1), STORAGE_USAGE)?;
+        grew |= pool.ensure(MANIFOLDS[parity], bytes_of::<GpuManifold>(n), STORAGE_USAGE)?;
+        let points = n * u64::from(MAX_MANIFOLD_POINTS);
+        grew |= pool.ensure(
+            CONTACTS[parity],
+            bytes_of::<GpuContact>(points),
+            STORAGE_USAGE,
+        )?;
+    }
+    grew |= pool.ensure(
+        PAIR_TILES,
+        bytes_of::<u32>(tile_count_len(capacity)),
+        STORAGE_USAGE,
+    )?;
+    grew |= pool.ensure(PREVIOUS_INDEX, bytes_of::<u32>(n), STORAGE_USAGE)?;
+    Ok(grew)
+}
+
+/// The buffers the collision stages read and write, for stages recorded after them (the GPU
+/// solver reads pairs and manifolds, and writes poses, velocities and contact impulses).
+#[derive(Clone, Copy, Debug)]
+pub struct CollisionBuffers<'a> {
+    /// `array<GpuPose>`, one per body.
+    pub poses: &'a wgpu::Buffer,
+    /// `array<GpuVelocity>`, one per body.
+    pub velocities: &'a wgpu::Buffer,
+    /// `array<GpuShape>`, one per body.
+    pub shapes: &'a wgpu::Buffer,
+    /// `array<GpuAabb>`, one per body.
+    pub aabbs: &'a wgpu::Buffer,
+    /// The last recorded step's pair `WorkList` (count and indirect dispatch size).
+    pub pair_work: &'a wgpu::Buffer,
+    /// Its sorted pairs, first bodies.
+    pub pair_a: &'a wgpu::Buffer,
+    /// Its sorted pairs, second bodies.
+    pub pair_b: &'a wgpu::Buffer,
+    /// Its manifolds (one per pair; `len == 0` for pairs not in contact).
+    pub manifolds: &'a wgpu::Buffer,
+    /// Its contact points, `MAX_MANIFOLD_POINTS` per manifold, with carried impulses.
+    pub contacts: &'a wgpu::Buffer,
+}
+
+/// The buffers of the step recorded with `parity`.
+pub fn collision_buffers(pool: &BufferPool, parity: usize) -> CollisionBuffers<'_> {
+    CollisionBuffers {
+        poses: pool.get(POSES),
+        velocities: pool.get(VELOCITIES),
+        shapes: pool.get(SHAPES),
+        aabbs: pool.get(AABBS),
+        pair_work: pool.get(PAIR_WORK[parity]),
+        pair_a: pool.get(PAIR_A[parity][PAIR_RESULT_COPY]),
+        pair_b: pool.get(PAIR_B[parity][PAIR_RESULT_COPY]),
+        manifolds: pool.get(MANIFOLDS[parity]),
+        contacts: pool.get(CONTACTS[parity]),
+    }
+}

@@ -1,0 +1,230 @@
+//! The pipelines of the collision stages and their bind groups over the collision buffers.
+
+use super::buffers::*;
+use crate::buffer_pool::BufferPool;
+use crate::kernel::Kernel;
+use crate::kernels::carry_impulses::{CARRY_IMPULSES, CarryImpulsesArgs};
+use crate::kernels::choose_axis::{CHOOSE_AXIS, ChooseAxisArgs};
+use crate::kernels::collide_cuboids::{COLLIDE_CUBOIDS, CollideCuboidsArgs};
+use crate::kernels::match_pairs::{MATCH_PAIRS, MatchPairsArgs};
+use crate::kernels::plan_dispatch::{PLAN_DISPATCH, PlanDispatchArgs};
+use crate::kernels::radix_sort::{
+    RadixBindGroups, RadixBuffers, RadixSort, index_bits, plan_passes, result_copy,
+};
+use crate::kernels::sweep_pairs::{SWEEP_PAIRS, SweepPairsArgs};
+use crate::kernels::update_aabbs::{UPDATE_AABBS, UpdateAabbsArgs};
+use crate::kernels::write_sort_keys::{WRITE_SORT_KEYS, WriteSortKeysArgs};
+use crate::{GpuContext, GpuError};
+
+/// Every pipeline the collision stages dispatch.
+#[derive(Debug)]
+pub struct CollisionKernels {
+    /// `update_aabbs`.
+    pub update_aabbs: Kernel,
+    /// `choose_axis`.
+    pub choose_axis: Kernel,
+    /// `write_sort_keys`.
+    pub write_sort_keys: Kernel,
+    /// The radix sort (three kernels).
+    pub radix: RadixSort,
+    /// `sweep_pairs`.
+    pub sweep_pairs: Kernel,
+    /// `plan_dispatch`.
+    pub plan_dispatch: Kernel,
+    /// `match_pairs`.
+    pub match_pairs: Kernel,
+    /// `collide_cuboids`.
+    pub collide_cuboids: Kernel,
+    /// `carry_impulses`.
+    pub carry_impulses: Kernel,
+}
+
+impl CollisionKernels {
+    /// Builds every pipeline.
+    pub fn new(ctx: &GpuContext) -> Result<Self, GpuError> {
+        Ok(Self {
+            update_aabbs: Kernel::new(ctx, &UPDATE_AABBS)?,
+            choose_axis: Kernel::new(ctx, &CHOOSE_AXIS)?,
+            write_sort_keys: Kernel::new(ctx, &WRITE_SORT_KEYS)?,
+            radix: RadixSort::new(ctx)?,
+            sweep_pairs: Kernel::new(ctx, &SWEEP_PAIRS)?,
+            plan_dispatch: Kernel::new(ctx, &PLAN_DISPATCH)?,
+            match_pairs: Kernel::new(ctx, &MATCH_PAIRS)?,
+            collide_cuboids: Kernel::new(ctx, &COLLIDE_CUBOIDS)?,
+            carry_impulses: Kernel::new(ctx, &CARRY_IMPULSES)?,
+        })
+    }
+}
+
+/// Bind groups of one step parity (what depends on which pair set is current).
+#[derive(Debug)]
+pub struct ParityGroups {
+    /// `sweep_pairs`, appending into this parity's copy 0.
+    pub sweep: wgpu::BindGroup,
+    /// `plan_dispatch` into this parity's work list.
+    pub plan: wgpu::BindGroup,
+    /// The canonical pair sort.
+    pub pair_sort: RadixBindGroups,
+    /// `match_pairs` against the other parity.
+    pub match_pairs: wgpu::BindGroup,
+    /// `collide_cuboids`.
+    pub collide: wgpu::BindGroup,
+    /// `carry_impulses` from the other parity.
+    pub carry: wgpu::BindGroup,
+}
+
+/// All bind groups, valid for one buffer-pool generation and body count.
+#[derive(Debug)]
+pub struct CollisionGroups {
+    /// Pool generation they were built at.
+    pub generation: u64,
+    /// Key bits of the pair sort (from the body count) they were built for.
+    pub pair_bits: u32,
+    /// `update_aabbs`.
+    pub update_aabbs: wgpu::BindGroup,
+    /// `choose_axis`.
+    pub choose_axis: wgpu::BindGroup,
+    /// `write_sort_keys`.
+    pub write_sort_keys: wgpu::BindGroup,
+    /// The body sort.
+    pub body_sort: RadixBindGroups,
+    /// Per parity.
+    pub parity: [ParityGroups; 2],
+}
+
+/// Bind groups over `pool` for `bodies` bodies.
+pub fn build_groups(
+    ctx: &GpuContext,
+    kernels: &CollisionKernels,
+    pool: &BufferPool,
+    bodies: u32,
+) -> CollisionGroups {
+    let b = |name: &'static str| pool.get(name);
+    let update_aabbs = kernels.update_aabbs.bind(
+        ctx,
+        &UpdateAabbsArgs {
+            params: b(UPDATE_PARAMS),
+            poses: b(POSES),
+            velocities: b(VELOCITIES),
+            shapes: b(SHAPES),
+            aabbs: b(AABBS),
+        },
+    );
+    let choose_axis = kernels.choose_axis.bind(
+        ctx,
+        &ChooseAxisArgs {
+            bodies: b(BODY_WORK),
+            aabbs: b(AABBS),
+            sweep_axis: b(SWEEP_AXIS),
+        },
+    );
+    let write_sort_keys = kernels.write_sort_keys.bind(
+        ctx,
+        &WriteSortKeysArgs {
+            bodies: b(BODY_WORK),
+            sweep_axis: b(SWEEP_AXIS),
+            aabbs: b(AABBS),
+            keys: b(SORT_KEYS[0]),
+            values: b(SORT_BODIES[0]),
+        },
+    );
+    let body_passes = plan_passes(&[(true, u32::BITS)]);
+    assert_eq!(result_copy(&body_passes), BODY_RESULT_COPY);
+    let body_sort = kernels.radix.bind(
+        ctx,
+        &RadixBuffers {
+            work: b(BODY_WORK),
+            first: [b(SORT_KEYS[0]), b(SORT_KEYS[1])],
+            second: [b(SORT_BODIES[0]), b(SORT_BODIES[1])],
+            tile_counts: b(BODY_TILES),
+        },
+        &body_passes,
+    );
+    // Pairs sort by b, then stably by a: lexicographic (a, b), the CPU's order.
+    let pair_bits = index_bits(bodies);
+    let pair_passes = plan_passes(&[(false, pair_bits), (true, pair_bits)]);
+    assert_eq!(result_copy(&pair_passes), PAIR_RESULT_COPY);
+    let parity = [0, 1].map(|p| {
+        let q = 1 - p;
+        let r = PAIR_RESULT_COPY;
+        ParityGroups {
+            sweep: kernels.sweep_pairs.bind(
+                ctx,
+                &SweepPairsArgs {
+                    params: b(SWEEP_PARAMS),
+                    sweep_axis: b(SWEEP_AXIS),
+                    aabbs: b(AABBS),
+                    shapes: b(SHAPES),
+                    sorted_bodies: b(SORT_BODIES[BODY_RESULT_COPY]),
+                    counter: b(PAIR_COUNTER),
+                    pair_a: b(PAIR_A[p][0]),
+                    pair_b: b(PAIR_B[p][0]),
+                },
+            ),
+            plan: kernels.plan_dispatch.bind(
+                ctx,
+                &PlanDispatchArgs {
+                    counter: b(PAIR_COUNTER),
+                    work: b(PAIR_WORK[p]),
+                },
+            ),
+            pair_sort: kernels.radix.bind(
+                ctx,
+                &RadixBuffers {
+                    work: b(PAIR_WORK[p]),
+                    first: [b(PAIR_A[p][0]), b(PAIR_A[p][1])],
+                    second: [b(PAIR_B[p][0]), b(PAIR_B[p][1])],
+                    tile_counts: b(PAIR_TILES),
+                },
+                &pair_passes,
+            ),
+            match_pairs: kernels.match_pairs.bind(
+                ctx,
+                &MatchPairsArgs {
+                    work: b(PAIR_WORK[p]),
+                    pair_a: b(PAIR_A[p][r]),
+                    pair_b: b(PAIR_B[p][r]),
+                    previous_work: b(PAIR_WORK[q]),
+                    previous_a: b(PAIR_A[q][r]),
+                    previous_b: b(PAIR_B[q][r]),
+                    previous_index: b(PREVIOUS_INDEX),
+                },
+            ),
+            collide: kernels.collide_cuboids.bind(
+                ctx,
+                &CollideCuboidsArgs {
+                    params: b(NARROW_PARAMS),
+                    work: b(PAIR_WORK[p]),
+                    pair_a: b(PAIR_A[p][r]),
+                    pair_b: b(PAIR_B[p][r]),
+                    poses: b(POSES),
+                    velocities: b(VELOCITIES),
+                    shapes: b(SHAPES),
+                    previous_index: b(PREVIOUS_INDEX),
+                    previous_manifolds: b(MANIFOLDS[q]),
+                    manifolds: b(MANIFOLDS[p]),
+                    contacts: b(CONTACTS[p]),
+                },
+            ),
+            carry: kernels.carry_impulses.bind(
+                ctx,
+                &CarryImpulsesArgs {
+                    work: b(PAIR_WORK[p]),
+                    manifolds: b(MANIFOLDS[p]),
+                    previous_manifolds: b(MANIFOLDS[q]),
+                    previous_contacts: b(CONTACTS[q]),
+                    contacts: b(CONTACTS[p]),
+                },
+            ),
+        }
+    });
+    CollisionGroups {
+        generation: pool.generation(),
+        pair_bits,
+        update_aabbs,
+        choose_axis,
+        write_sort_keys,
+        body_sort,
+        parity,
+    }
+}

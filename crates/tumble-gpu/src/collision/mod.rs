@@ -1,0 +1,613 @@
+//! The collision stages on the GPU: `update_aabbs`, `broad_phase` and `narrow_phase`,
+//! recorded into a caller's command encoder with no host round trip in between.
+//!
+//! ```text
+//! update_aabbs   poses, velocities, shapes -> aabbs
+//! broad_phase    choose_axis -> write_sort_keys -> radix sort (bodies, 32-bit keys)
+//!                -> sweep_pairs (atomic append) -> plan_dispatch (count -> work list)
+//!                -> radix sort (pairs by b, then by a: canonical order, indirect)
+//! narrow_phase   match_pairs (last step's index) -> collide_cuboids -> carry_impulses
+//!                (all three dispatched indirectly from the pair work list)
+//! ```
+
+pub mod buffers;
+pub mod kernels;
+pub mod snapshot;
+pub mod validate;
+
+use buffers::*;
+use kernels::{CollisionGroups, CollisionKernels, build_groups};
+pub use snapshot::{CollisionSnapshot, ReadbackRequest};
+
+use crate::buffer_pool::BufferPool;
+use crate::layout::{
+    GpuAabb, GpuContact, GpuManifold, GpuPose, GpuShape, GpuVelocity, NarrowParams, SweepAxis,
+    SweepParams, UpdateAabbsParams, WORK_LIST_GROUPS_OFFSET, WorkList,
+};
+use crate::readback::{Readback, Region, Ticket};
+use crate::{GpuContext, GpuError, MAX_BODIES, MAX_MANIFOLD_POINTS, StageTimer};
+
+/// Settings of the collision stages.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CollisionConfig {
+    /// Speculative margin (m): AABBs grow by it, and points this far apart are reported.
+    pub margin: f32,
+    /// Time step (s): AABBs sweep by velocity times `dt`, margins grow by closing speed.
+    pub dt: f32,
+    /// Pair slots allocated per body; a denser scene overflows and is reported (or grows,
+    /// with `auto_grow`).
+    pub pairs_per_body: u32,
+    /// Pair slots allocated at least, so small scenes never start too tight.
+    pub min_pair_capacity: u32,
+    /// Let [`GpuCollision::step_and_read`] grow the pair buffers and redo the step on overflow.
+    pub auto_grow: bool,
+}
+
+impl Default for CollisionConfig {
+    fn default() -> Self {
+        Self {
+            // The facade's default speculative margin (2 cm) and 60 Hz step.
+            margin: 0.02,
+            dt: 1.0 / 60.0,
+            // A box in a dense pile touches about 6 neighbours (faces of a grid); 8 leaves room
+            // for the extra pairs the margin and velocity sweep add.
+            pairs_per_body: 8,
+            min_pair_capacity: 4096,
+            auto_grow: true,
+        }
+    }
+}
+
+/// Pair slots added on top of what an overflow asked for when growing, as a fraction, so a
+/// scene that is still getting denser does not overflow again on the next step.
+const GROWTH_HEADROOM: f32 = 0.25;
+
+/// Readback sizing: pairs copied speculatively beyond last step's count, as a fraction and
+/// a floor (a second, blocking copy fetches the rest when a step has more).
+const READBACK_HEADROOM: f32 = 0.25;
+const READBACK_MIN_PAIRS: u32 = 1024;
+
+/// A readback recorded into a command stream, not yet submitted.
+#[derive(Debug)]
+pub struct ReadbackPlan {
+    slot: usize,
+    request: ReadbackRequest,
+    parity: usize,
+    step: u64,
+    copied_pairs: u32,
+    regions: Vec<Region>,
+}
+
+/// A submitted readback; turn it into data with [`GpuCollision::receive`].
+#[derive(Debug)]
+pub struct PendingReadback {
+    ticket: Ticket,
+    plan: ReadbackPlan,
+}
+
+/// The GPU collision pipeline and its buffers.
+#[derive(Debug)]
+pub struct GpuCollision {
+    ctx: GpuContext,
+    config: CollisionConfig,
+    kernels: CollisionKernels,
+    pool: BufferPool,
+    body_count: u32,
+    pair_capacity: u32,
+    groups: Option<CollisionGroups>,
+    steps: u64,
+    readback: Readback,
+    readback_pairs: u32,
+}
+
+impl GpuCollision {
+    /// Builds the pipelines; bodies come with [`Self::set_bodies`].
+    pub fn new(ctx: &GpuContext, config: CollisionConfig) -> Result<Self, GpuError> {
+        validate::check_at_least("config.margin", config.margin, 0.0)?;
+        validate::check_at_least("config.dt", config.dt, 0.0)?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            config,
+            kernels: CollisionKernels::new(ctx)?,
+            pool: BufferPool::new(ctx),
+            body_count: 0,
+            pair_capacity: 0,
+            groups: None,
+            steps: 0,
+            readback: Readback::new(ctx),
+            readback_pairs: READBACK_MIN_PAIRS,
+        })
+    }
+
+    /// The settings.
+    pub fn config(&self) -> &CollisionConfig {
+        &self.config
+    }
+
+    /// Bodies uploaded.
+    pub fn body_count(&self) -> u32 {
+        self.body_count
+    }
+
+    /// Pair slots currently allocated.
+    pub fn pair_capacity(&self) -> u32 {
+        self.pair_capacity
+    }
+
+    /// Steps recorded so far.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// Uploads every body. Body `i` must stay the same body from call to call for warm
+    /// starting to match pairs; a different count starts without history.
+    pub fn set_bodies(
+        &mut self,
+        poses: &[GpuPose],
+        velocities: &[GpuVelocity],
+        shapes: &[GpuShape],
+    ) -> Result<(), GpuError> {
+        let n = poses.len();
+        validate::check_count("velocities", velocities.len(), n)?;
+        validate::check_count("shapes", shapes.len(), n)?;
+        if n > MAX_BODIES as usize {
+            return Err(GpuError::LimitExceeded {
+                what: "bodies".into(),
+                value: n as u64,
+                limit_name: "tumble_gpu::MAX_BODIES",
+                limit: MAX_BODIES.into(),
+            });
+        }
+        validate::check_shapes(shapes)?;
+        validate::check_poses(poses)?;
+        validate::check_velocities(velocities)?;
+        let n = n as u32;
+        let wanted = n
+            .saturating_mul(self.config.pairs_per_body)
+            .max(self.config.min_pair_capacity)
+            .max(self.pair_capacity);
+        self.allocate(n, wanted)?;
+        let queue = &self.ctx.queue;
+        queue.write_buffer(self.pool.get(SHAPES), 0, bytemuck::cast_slice(shapes));
+        queue.write_buffer(self.pool.get(POSES), 0, bytemuck::cast_slice(poses));
+        queue.write_buffer(
+            self.pool.get(VELOCITIES),
+            0,
+            bytemuck::cast_slice(velocities),
+        );
+        Ok(())
+    }
+
+    /// Uploads new poses and velocities for the same bodies (shapes unchanged).
+    pub fn set_motion(
+        &mut self,
+        poses: &[GpuPose],
+        velocities: &[GpuVelocity],
+    ) -> Result<(), GpuError> {
+        let n = self.body_count as usize;
+        validate::check_count("poses", poses.len(), n)?;
+        validate::check_count("velocities", velocities.len(), n)?;
+        validate::check_poses(poses)?;
+        validate::check_velocities(velocities)?;
+        let queue = &self.ctx.queue;
+        queue.write_buffer(self.pool.get(POSES), 0, bytemuck::cast_slice(poses));
+        queue.write_buffer(
+            self.pool.get(VELOCITIES),
+            0,
+            bytemuck::cast_slice(velocities),
+        );
+        Ok(())
+    }
+
+    /// Sizes every buffer for `bodies` bodies and `capacity` pairs and writes the parameters.
+    fn allocate(&mut self, bodies: u32, capacity: u32) -> Result<(), GpuError> {
+        let mut reset = bodies != self.body_count;
+        reset |= ensure_body_buffers(&mut self.pool, bodies)?;
+        reset |= ensure_pair_buffers(&mut self.pool, capacity)?;
+        self.body_count = bodies;
+        self.pair_capacity = capacity;
+        let queue = &self.ctx.queue;
+        let c = &self.config;
+        let write =
+            |name: &'static str, bytes: &[u8]| queue.write_buffer(self.pool.get(name), 0, bytes);
+        write(BODY_WORK, bytemuck::bytes_of(&WorkList::for_count(bodies)));
+        write(
+            UPDATE_PARAMS,
+            bytemuck::bytes_of(&UpdateAabbsParams {
+                count: bodies,
+                margin: c.margin,
+                dt: c.dt,
+                _pad: 0,
+            }),
+        );
+        write(
+            SWEEP_PARAMS,
+            bytemuck::bytes_of(&SweepParams {
+                body_count: bodies,
+                pair_capacity: capacity,
+                ..Default::default()
+            }),
+        );
+        write(
+            NARROW_PARAMS,
+            bytemuck::bytes_of(&NarrowParams {
+                margin: c.margin,
+                dt: c.dt,
+                ..Default::default()
+            }),
+        );
+        if reset {
+            self.forget_history();
+        }
+        Ok(())
+    }
+
+    /// Drops last step's pairs, so the next step carries no impulses and no hysteresis (for
+    /// when body indices were reassigned).
+    pub fn forget_history(&mut self) {
+        let empty = WorkList {
+            capacity: self.pair_capacity,
+            ..Default::default()
+        };
+        for name in PAIR_WORK {
+            self.ctx
+                .queue
+                .write_buffer(self.pool.get(name), 0, bytemuck::bytes_of(&empty));
+        }
+    }
+
+    /// Makes room for at least `capacity` pairs (history is dropped if buffers move).
+    pub fn reserve_pairs(&mut self, capacity: u32) -> Result<(), GpuError> {
+        if capacity > self.pair_capacity {
+            self.allocate(self.body_count, capacity)?;
+        }
+        Ok(())
+    }
+
+    fn ensure_groups(&mut self) {
+        let fresh = self.groups.as_ref().is_some_and(|g| {
+            g.generation == self.pool.generation()
+                && g.pair_bits == crate::kernels::radix_sort::index_bits(self.body_count)
+        });
+        if !fresh {
+            self.groups = Some(build_groups(
+                &self.ctx,
+                &self.kernels,
+                &self.pool,
+                self.body_count,
+            ));
+        }
+    }
+
+    /// The parity (pair set) of the last recorded step.
+    fn last_parity(&self) -> usize {
+        (self.steps.wrapping_sub(1) % 2) as usize
+    }
+
+    /// Records the three collision stages, each in its own compute pass (timed when `timer`
+    /// has timestamps). Nothing is read back; dispatch sizes that depend on the pair count
+    /// are read by the GPU from the pair work list.
+    pub fn record(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut StageTimer,
+    ) -> Result<(), GpuError> {
+        if self.body_count == 0 {
+            return Err(GpuError::InvalidInput {
+                field: "bodies".into(),
+                value: "none uploaded (call set_bodies first)".into(),
+            });
+        }
+        self.ensure_groups();
+        let g = self.groups.as_ref().expect("built above");
+        let k = &self.kernels;
+        let p = (self.steps % 2) as usize;
+        let n = self.body_count;
+        let pair_work = self.pool.get(PAIR_WORK[p]);
+        encoder.clear_buffer(self.pool.get(PAIR_COUNTER), 0, None);
+        {
+            let mut pass = timer.begin_pass(encoder, "update_aabbs");
+            k.update_aabbs.dispatch(&mut pass, &g.update_aabbs, n);
+        }
+        {
+            let mut pass = timer.begin_pass(encoder, "broad_phase");
+            k.choose_axis
+                .dispatch_workgroups(&mut pass, &g.choose_axis, 1, 1);
+            k.write_sort_keys.dispatch(&mut pass, &g.write_sort_keys, n);
+            k.radix
+                .record(&mut pass, &g.body_sort, self.pool.get(BODY_WORK));
+            k.sweep_pairs.dispatch(&mut pass, &g.parity[p].sweep, n);
+            k.plan_dispatch
+                .dispatch_workgroups(&mut pass, &g.parity[p].plan, 1, 1);
+            k.radix.record(&mut pass, &g.parity[p].pair_sort, pair_work);
+        }
+        {
+            let mut pass = timer.begin_pass(encoder, "narrow_phase");
+            let groups = &g.parity[p];
+            k.match_pairs.dispatch_indirect(
+                &mut pass,
+                &groups.match_pairs,
+                pair_work,
+                WORK_LIST_GROUPS_OFFSET,
+            );
+            k.collide_cuboids.dispatch_indirect(
+                &mut pass,
+                &groups.collide,
+                pair_work,
+                WORK_LIST_GROUPS_OFFSET,
+            );
+            k.carry_impulses.dispatch_indirect(
+                &mut pass,
+                &groups.carry,
+                pair_work,
+                WORK_LIST_GROUPS_OFFSET,
+            );
+        }
+        self.steps += 1;
+        Ok(())
+    }
+
+    /// Records and submits one step (no readback).
+    pub fn step(&mut self) -> Result<(), GpuError> {
+        let mut encoder = self.encoder();
+        self.record(&mut encoder, &mut StageTimer::disabled(&self.ctx))?;
+        self.ctx.queue.submit([encoder.finish()]);
+        Ok(())
+    }
+
+    fn encoder(&self) -> wgpu::CommandEncoder {
+        self.ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("collision step"),
+            })
+    }
+
+    /// The buffers of the last recorded step, for stages recorded after it.
+    pub fn buffers(&self) -> CollisionBuffers<'_> {
+        collision_buffers(&self.pool, self.last_parity())
+    }
+
+    /// Records copies of what `request` asks for from the last recorded step into a staging
+    /// buffer; pair-sized data is copied for last time's count plus headroom.
+    pub fn record_readback(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        request: ReadbackRequest,
+    ) -> Result<ReadbackPlan, GpuError> {
+        let parity = self.last_parity();
+        let pairs = if request.pairs || request.manifolds {
+            self.readback_pairs.min(self.pair_capacity)
+        } else {
+            0
+        };
+        let per_pair = 2 * 4
+            + std::mem::size_of::<GpuManifold>() as u64
+            + u64::from(MAX_MANIFOLD_POINTS) * std::mem::size_of::<GpuContact>() as u64;
+        let aabb_bytes = u64::from(self.body_count) * std::mem::size_of::<GpuAabb>() as u64;
+        let bytes = 64 + u64::from(pairs) * per_pair + aabb_bytes + 64;
+        let slot = self.readback.begin(bytes)?;
+        let mut regions = Vec::new();
+        let pool = &self.pool;
+        let rb = &mut self.readback;
+        let mut copy = |name: &'static str, element: usize, count: u64| {
+            regions.push(rb.copy(encoder, slot, pool.get(name), 0, count * element as u64));
+        };
+        copy(PAIR_WORK[parity], std::mem::size_of::<WorkList>(), 1);
+        let n = u64::from(pairs);
+        if request.pairs {
+            copy(PAIR_A[parity][PAIR_RESULT_COPY], 4, n);
+            copy(PAIR_B[parity][PAIR_RESULT_COPY], 4, n);
+        }
+        if request.manifolds {
+            copy(MANIFOLDS[parity], std::mem::size_of::<GpuManifold>(), n);
+            copy(
+                CONTACTS[parity],
+                std::mem::size_of::<GpuContact>(),
+                n * u64::from(MAX_MANIFOLD_POINTS),
+            );
+        }
+        if request.aabbs {
+            copy(
+                AABBS,
+                std::mem::size_of::<GpuAabb>(),
+                u64::from(self.body_count),
+            );
+        }
+        Ok(ReadbackPlan {
+            slot,
+            request,
+            parity,
+            step: self.steps,
+            copied_pairs: pairs,
+            regions,
+        })
+    }
+
+    /// Starts mapping a readback; call right after submitting the encoder it was recorded in.
+    pub fn submit_readback(&mut self, plan: ReadbackPlan) -> PendingReadback {
+        PendingReadback {
+            ticket: self.readback.submitted(plan.slot),
+            plan,
+        }
+    }
+
+    /// The snapshot if the GPU has finished, without waiting.
+    pub fn try_receive(
+        &mut self,
+        pending: &PendingReadback,
+    ) -> Option<Result<CollisionSnapshot, GpuError>> {
+        let bytes = self
+            .readback
+            .try_read(&pending.ticket, &pending.plan.regions)?;
+        Some(bytes.and_then(|b| self.decode(&pending.plan, b)))
+    }
+
+    /// Waits for a readback and returns its snapshot.
+    pub fn receive(&mut self, pending: PendingReadback) -> Result<CollisionSnapshot, GpuError> {
+        let bytes = self.readback.wait(pending.ticket, &pending.plan.regions)?;
+        self.decode(&pending.plan, bytes)
+    }
+
+    fn decode(
+        &mut self,
+        plan: &ReadbackPlan,
+        bytes: Vec<Vec<u8>>,
+    ) -> Result<CollisionSnapshot, GpuError> {
+        let mut parts = bytes.into_iter();
+        let mut next = || parts.next().unwrap_or_default();
+        let work: WorkList = bytemuck::pod_read_unaligned(&next());
+        let mut snap = CollisionSnapshot {
+            work,
+            ..Default::default()
+        };
+        let count = work.count;
+        let r = &plan.request;
+        if r.pairs {
+            let a: Vec<u32> = bytemuck::pod_collect_to_vec(&next());
+            let b: Vec<u32> = bytemuck::pod_collect_to_vec(&next());
+            snap.pairs = a.into_iter().zip(b).collect();
+        }
+        if r.manifolds {
+            snap.manifolds = bytemuck::pod_collect_to_vec(&next());
+            snap.contacts = bytemuck::pod_collect_to_vec(&next());
+        }
+        if r.aabbs {
+            snap.aabbs = bytemuck::pod_collect_to_vec(&next());
+        }
+        // Size the next speculative copy from this count.
+        let headroom = (count as f32 * READBACK_HEADROOM) as u32;
+        self.readback_pairs = count.saturating_add(headroom).max(READBACK_MIN_PAIRS);
+        if count > plan.copied_pairs && (r.pairs || r.manifolds) {
+            self.fetch_rest(plan, &mut snap)?;
+        }
+        let n = count as usize;
+        snap.pairs.truncate(n);
+        snap.manifolds.truncate(n);
+        snap.contacts.truncate(n * MAX_MANIFOLD_POINTS as usize);
+        Ok(snap)
+    }
+
+    /// Blocking copy of the pairs a speculative readback did not cover. Only valid while the
+    /// step's pair set has not been overwritten (fewer than two steps recorded since).
+    fn fetch_rest(
+        &self,
+        plan: &ReadbackPlan,
+        snap: &mut CollisionSnapshot,
+    ) -> Result<(), GpuError> {
+        if self.steps >= plan.step + 2 {
+            return Err(GpuError::Device(format!(
+                "readback of step {} received after its pair buffers were reused",
+                plan.step
+            )));
+        }
+        let (from, to) = (u64::from(plan.copied_pairs), u64::from(snap.work.count));
+        let p = plan.parity;
+        let pool = &self.pool;
+        if plan.request.pairs {
+            let a: Vec<u32> =
+                self.ctx
+                    .read_buffer(pool.get(PAIR_A[p][PAIR_RESULT_COPY]), from, to - from)?;
+            let b: Vec<u32> =
+                self.ctx
+                    .read_buffer(pool.get(PAIR_B[p][PAIR_RESULT_COPY]), from, to - from)?;
+            snap.pairs.extend(a.into_iter().zip(b));
+        }
+        if plan.request.manifolds {
+            let m: Vec<GpuManifold> =
+                self.ctx
+                    .read_buffer(pool.get(MANIFOLDS[p]), from, to - from)?;
+            snap.manifolds.extend(m);
+            let per = u64::from(MAX_MANIFOLD_POINTS);
+            let c: Vec<GpuContact> =
+                self.ctx
+                    .read_buffer(pool.get(CONTACTS[p]), from * per, (to - from) * per)?;
+            snap.contacts.extend(c);
+        }
+        Ok(())
+    }
+
+    /// Runs one step and waits for `request`'s outputs. On a pair overflow with
+    /// `auto_grow`, grows the pair buffers and runs the step again (without history).
+    pub fn step_and_read(
+        &mut self,
+        request: ReadbackRequest,
+    ) -> Result<CollisionSnapshot, GpuError> {
+        let snap = self.step_and_read_once(request)?;
+        if let Err(overflow) = snap.check_overflow() {
+            if !self.config.auto_grow {
+                return Err(overflow);
+            }
+            let requested = snap.work.requested;
+            let grown = requested.saturating_add((requested as f32 * GROWTH_HEADROOM) as u32);
+            // Redo the same step in the same pair set: roll the step counter back.
+            self.steps -= 1;
+            self.reserve_pairs(grown)?;
+            let again = self.step_and_read_once(request)?;
+            again.check_overflow()?;
+            return Ok(again);
+        }
+        Ok(snap)
+    }
+
+    fn step_and_read_once(
+        &mut self,
+        request: ReadbackRequest,
+    ) -> Result<CollisionSnapshot, GpuError> {
+        let mut encoder = self.encoder();
+        self.record(&mut encoder, &mut StageTimer::disabled(&self.ctx))?;
+        let plan = self.record_readback(&mut encoder, request)?;
+        self.ctx.queue.submit([encoder.finish()]);
+        let pending = self.submit_readback(plan);
+        self.receive(pending)
+    }
+
+    /// Overwrites the last step's contact points from point `first_point` on (point index
+    /// `pair * MAX_MANIFOLD_POINTS + slot`), typically to store a CPU solver's impulses so
+    /// that the next step carries them over.
+    pub fn store_contacts(
+        &mut self,
+        first_point: u32,
+        points: &[GpuContact],
+    ) -> Result<(), GpuError> {
+        let capacity = u64::from(self.pair_capacity) * u64::from(MAX_MANIFOLD_POINTS);
+        if u64::from(first_point) + points.len() as u64 > capacity {
+            return Err(GpuError::InvalidInput {
+                field: "store_contacts.first_point".into(),
+                value: format!(
+                    "{first_point} + {} points past {capacity} slots",
+                    points.len()
+                ),
+            });
+        }
+        let offset = u64::from(first_point) * std::mem::size_of::<GpuContact>() as u64;
+        self.ctx.queue.write_buffer(
+            self.pool.get(CONTACTS[self.last_parity()]),
+            offset,
+            bytemuck::cast_slice(points),
+        );
+        Ok(())
+    }
+
+    /// Blocking read of the last step's AABBs (tests and tools).
+    pub fn read_aabbs(&self) -> Result<Vec<GpuAabb>, GpuError> {
+        self.ctx
+            .read_buffer(self.pool.get(AABBS), 0, u64::from(self.body_count))
+    }
+
+    /// Blocking read of the last step's sweep axis (tests and tools).
+    pub fn read_sweep_axis(&self) -> Result<SweepAxis, GpuError> {
+        Ok(self.ctx.read_buffer(self.pool.get(SWEEP_AXIS), 0, 1)?[0])
+    }
+
+    /// Blocking read of the last step's body order along the sweep axis (tests and tools).
+    pub fn read_sorted_bodies(&self) -> Result<(Vec<u32>, Vec<u32>), GpuError> {
+        let n = u64::from(self.body_count);
+        Ok((
+            self.ctx
+                .read_buffer(self.pool.get(SORT_KEYS[BODY_RESULT_COPY]), 0, n)?,
+            self.ctx
+                .read_buffer(self.pool.get(SORT_BODIES[BODY_RESULT_COPY]), 0, n)?,
+        ))
+    }
+}

@@ -1,0 +1,81 @@
+//! Checks of host input before it reaches the GPU: a NaN pose would not crash a kernel, it
+//! would silently poison the sort and every pair after it, so bad input is refused here with
+//! the field and value named.
+
+use crate::GpuError;
+use crate::layout::{GpuPose, GpuShape, GpuVelocity};
+
+/// How far a rotation quaternion's norm may be from 1. Poses integrated in `f32` drift by a
+/// few ulps per step before renormalisation; 1e-3 leaves room for that while catching
+/// quaternions that were never normalised (which would scale the box).
+pub const UNIT_QUATERNION_TOLERANCE: f32 = 1e-3;
+
+fn invalid(field: String, value: impl std::fmt::Debug) -> GpuError {
+    GpuError::InvalidInput {
+        field,
+        value: format!("{value:?}"),
+    }
+}
+
+fn all_finite(v: &[f32]) -> bool {
+    v.iter().all(|x| x.is_finite())
+}
+
+/// Errs on a non-finite position or a non-unit rotation.
+pub fn check_poses(poses: &[GpuPose]) -> Result<(), GpuError> {
+    for (i, p) in poses.iter().enumerate() {
+        if !all_finite(&p.position[..3]) {
+            return Err(invalid(format!("poses[{i}].position"), p.position));
+        }
+        let q = p.rotation;
+        let norm = q.iter().map(|x| x * x).sum::<f32>().sqrt();
+        if !(norm - 1.0).abs().le(&UNIT_QUATERNION_TOLERANCE) {
+            return Err(invalid(format!("poses[{i}].rotation"), q));
+        }
+    }
+    Ok(())
+}
+
+/// Errs on a non-finite velocity.
+pub fn check_velocities(velocities: &[GpuVelocity]) -> Result<(), GpuError> {
+    for (i, v) in velocities.iter().enumerate() {
+        if !all_finite(&v.linear[..3]) {
+            return Err(invalid(format!("velocities[{i}].linear"), v.linear));
+        }
+        if !all_finite(&v.angular[..3]) {
+            return Err(invalid(format!("velocities[{i}].angular"), v.angular));
+        }
+    }
+    Ok(())
+}
+
+/// Errs on a half extent that is not a positive finite number.
+pub fn check_shapes(shapes: &[GpuShape]) -> Result<(), GpuError> {
+    for (i, s) in shapes.iter().enumerate() {
+        for (name, h) in [("hx", s.hx), ("hy", s.hy), ("hz", s.hz)] {
+            if !(h.is_finite() && h > 0.0) {
+                return Err(invalid(format!("shapes[{i}].{name}"), h));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Errs unless every per-body slice has `expected` entries.
+pub fn check_count(field: &str, len: usize, expected: usize) -> Result<(), GpuError> {
+    if len != expected {
+        return Err(GpuError::InvalidInput {
+            field: format!("{field}.len()"),
+            value: format!("{len} (expected {expected}, one per body)"),
+        });
+    }
+    Ok(())
+}
+
+/// Errs unless `value` is finite and at least `min`.
+pub fn check_at_least(field: &str, value: f32, min: f32) -> Result<(), GpuError> {
+    if !(value.is_finite() && value >= min) {
+        return Err(invalid(field.to_string(), value));
+    }
+    Ok(())
+}

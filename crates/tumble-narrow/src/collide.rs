@@ -255,3 +255,116 @@ fn push(polygon: &mut ContactPolygon, p: ContactPoint) {
         polygon.len += 1;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tumble_geometry::{Rot, nalgebra::Translation3};
+
+    const MARGIN: Real = 0.02;
+
+    fn cube(h: Real) -> Cuboid {
+        Cuboid::new(Vec3::repeat(h))
+    }
+
+    #[test]
+    fn a_box_resting_on_a_slab_gets_four_points_on_the_slab_face() {
+        let slab = Cuboid::new(Vec3::new(5.0, 0.5, 5.0));
+        // Cube bottom 2 mm below the slab top (y = 0.5).
+        let m = collide_cuboids(
+            &slab,
+            &Pose::identity(),
+            &cube(0.5),
+            &Pose::translation(1.0, 0.998, 0.0),
+            MARGIN,
+        )
+        .expect("overlapping boxes touch");
+        assert_eq!((m.kind, m.feature, m.len), (FeatureKind::FaceA, 2, 4));
+        assert_eq!(m.normal, Vec3::y());
+        for p in m.points() {
+            // Depth 2 mm, midpoint 1 mm below the slab top; f32 rounding of 0.998 - 0.5.
+            assert!((p.depth - 0.002).abs() < 1e-6 && (p.position.y - 0.499).abs() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn the_normal_points_from_a_to_b_when_b_holds_the_reference_face() {
+        // A small box under a big one: the big box (B) has the better face.
+        let small = cube(0.5);
+        let big = Cuboid::new(Vec3::new(5.0, 0.5, 5.0));
+        let m = collide_cuboids(
+            &small,
+            &Pose::translation(0.0, -0.998, 0.0),
+            &big,
+            &Pose::identity(),
+            MARGIN,
+        )
+        .expect("overlapping boxes touch");
+        // Both faces tie on depth; A's face wins ties, and either way the normal is +y (A to B).
+        assert!((m.normal - Vec3::y()).norm() < 1e-6);
+        let tilted = Pose::from_parts(
+            Translation3::new(0.0, -1.02, 0.0),
+            Rot::from_euler_angles(0.0, 0.0, 0.05),
+        );
+        let m = collide_cuboids(&small, &tilted, &big, &Pose::identity(), MARGIN)
+            .expect("the tilted corner dips in");
+        // Tilted A: B's bottom face is now the reference, the normal still runs from A to B.
+        assert_eq!(m.kind, FeatureKind::FaceB);
+        assert!((m.normal - Vec3::y()).norm() < 1e-6);
+        assert!(m.points().iter().all(|p| p.depth >= -MARGIN));
+    }
+
+    #[test]
+    fn crossed_edges_give_one_point_with_the_overlap_as_depth() {
+        let q = std::f32::consts::FRAC_PI_4;
+        let pose_a = Pose::from_parts(
+            Translation3::identity(),
+            Rot::from_euler_angles(0.0, 0.0, q),
+        );
+        let pose_b = Pose::from_parts(
+            Translation3::new(0.0, 2f32.sqrt() - 0.01, 0.0),
+            Rot::from_euler_angles(q, 0.0, 0.0),
+        );
+        let m = collide_cuboids(&cube(0.5), &pose_a, &cube(0.5), &pose_b, MARGIN)
+            .expect("the edges cross 1 cm deep");
+        assert_eq!((m.kind, m.len), (FeatureKind::Edge, 1));
+        assert!((m.normal - Vec3::y()).norm() < 1e-5);
+        assert!((m.points()[0].depth - 0.01).abs() < 1e-5);
+    }
+
+    #[test]
+    fn corners_apart_diagonally_get_the_euclidean_gap_and_direction() {
+        // Gap vector (0.006, 0.008, 0): 1 cm, though every SAT axis sees at most 8 mm.
+        let m = collide_cuboids(
+            &cube(0.5),
+            &Pose::identity(),
+            &cube(0.5),
+            &Pose::translation(1.006, 1.008, 0.0),
+            MARGIN,
+        )
+        .expect("1 cm apart is within the 2 cm margin");
+        assert_eq!(m.len, 1);
+        assert!((m.points()[0].depth + 0.01).abs() < 1e-6);
+        assert!((m.normal - Vec3::new(0.6, 0.8, 0.0)).norm() < 1e-4);
+        // 2.5 cm apart diagonally: the SAT axes see 2 cm at most, but the boxes are beyond the margin.
+        let far = Pose::translation(1.015, 1.02, 0.0);
+        assert!(collide_cuboids(&cube(0.5), &Pose::identity(), &cube(0.5), &far, MARGIN).is_none());
+    }
+
+    #[test]
+    fn last_steps_reference_face_is_kept_and_renames_nothing() {
+        let a = cube(0.5);
+        let rot = Rot::from_euler_angles(0.0, 0.0, 0.004);
+        let pose_b = Pose::from_parts(Translation3::new(0.25, 0.999, 0.25), rot);
+        let fresh = collide_cuboids(&a, &Pose::identity(), &a, &pose_b, MARGIN).expect("touching");
+        let other = if fresh.kind == FeatureKind::FaceA {
+            (FeatureKind::FaceB, 3)
+        } else {
+            (FeatureKind::FaceA, 2)
+        };
+        let kept = collide_cuboids_cached(&a, &Pose::identity(), &a, &pose_b, MARGIN, Some(other))
+            .expect("touching");
+        assert_eq!((kept.kind, kept.feature), other);
+        assert!((kept.normal - Vec3::y()).norm() < 0.01);
+    }
+}

@@ -763,3 +763,50 @@ fn second_step_keeps_features_by_hysteresis_and_carries_impulses_by_id() {
     );
     let _ = MAX_MANIFOLD_POINTS;
 }
+
+#[test]
+fn bad_input_and_oversized_buffers_are_errors_naming_the_field() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let mut scene = random_scene(10, 10);
+    let mut gpu = collision(&ctx, &scene, CollisionConfig::default());
+    scene.poses[3].position[1] = f32::NAN;
+    let err = gpu.set_motion(&scene.poses, &scene.velocities).unwrap_err();
+    assert!(err.to_string().contains("poses[3].position"), "{err}");
+    scene.poses[3].position[1] = 0.0;
+    scene.poses[4].rotation = [0.0, 0.0, 0.0, 2.0];
+    let err = gpu
+        .set_bodies(&scene.poses, &scene.velocities, &scene.shapes)
+        .unwrap_err();
+    assert!(err.to_string().contains("poses[4].rotation"), "{err}");
+    scene.poses[4].rotation = [0.0, 0.0, 0.0, 1.0];
+    scene.shapes[5].hy = -1.0;
+    let err = gpu
+        .set_bodies(&scene.poses, &scene.velocities, &scene.shapes)
+        .unwrap_err();
+    assert!(err.to_string().contains("shapes[5].hy"), "{err}");
+    let err = gpu
+        .set_bodies(&scene.poses[..9], &scene.velocities, &scene.shapes)
+        .unwrap_err();
+    assert!(err.to_string().contains("velocities.len()"), "{err}");
+    // Four points of 48 bytes per pair slot: a billion slots is far past any device's
+    // largest storage binding, and the error names the buffer and the limit.
+    let err = gpu.reserve_pairs(1 << 30).unwrap_err();
+    let GpuError::LimitExceeded {
+        what, limit_name, ..
+    } = &err
+    else {
+        panic!("{err}")
+    };
+    assert_eq!(*limit_name, "max_storage_buffer_binding_size");
+    assert!(
+        what.contains("pair") || what.contains("contacts") || what.contains("manifolds"),
+        "{what}"
+    );
+    // The collision object is still usable after refused input.
+    scene.shapes[5].hy = 0.3;
+    gpu.set_bodies(&scene.poses, &scene.velocities, &scene.shapes)
+        .unwrap();
+    gpu.step_and_read(ReadbackRequest::CONTACTS).unwrap();
+}

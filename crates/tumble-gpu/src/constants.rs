@@ -145,3 +145,49 @@ pub fn workgroups_for(items: u32) -> (u32, u32) {
         )
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dispatches_fold_past_the_dimension_limit_and_cover_every_item() {
+        assert_eq!(workgroups_for(0), (0, 1));
+        assert_eq!(workgroups_for(1), (1, 1));
+        assert_eq!(workgroups_for(WORKGROUP_SIZE + 1), (2, 1));
+        let items = (MAX_WORKGROUPS_PER_DIMENSION + 5) * WORKGROUP_SIZE;
+        let (x, y) = workgroups_for(items);
+        assert_eq!(x, MAX_WORKGROUPS_PER_DIMENSION);
+        assert!(u64::from(x) * u64::from(y) * u64::from(WORKGROUP_SIZE) >= u64::from(items));
+        assert_eq!(y, 2);
+    }
+
+    #[test]
+    fn id_shifts_reproduce_the_cpu_id_packing() {
+        use tumble_narrow::feature_id::{edge_point_id, face_point_id, vertex_point_id};
+        let [kind, reference, incident, field] = id_shifts();
+        for (k, r, i, a, b) in [(0, 2, 3, 1, 6), (1, 5, 0, 7, 4)] {
+            let gpu = (k << kind) | (r << reference) | (i << incident) | (a << field) | b;
+            assert_eq!(gpu, face_point_id(k, r, i, a, b));
+        }
+        let edge = tumble_narrow::feature_id::KIND_EDGE;
+        assert_eq!((edge << kind) | (7 << field) | 3, edge_point_id(7, 3));
+        let vertex = tumble_narrow::feature_id::KIND_VERTEX;
+        assert_eq!(
+            (vertex << kind) | (1 << field) | 5,
+            vertex_point_id(5, true)
+        );
+    }
+
+    #[test]
+    fn const_prelude_declares_the_rust_values() {
+        let prelude = wgsl_const_prelude();
+        assert!(prelude.contains(&format!(
+            "const MAX_MANIFOLD_POINTS: u32 = {MAX_MANIFOLD_POINTS}u;"
+        )));
+        assert!(
+            prelude.contains("vec4<u32>(1u, 3u, 7u, 5u)"),
+            "first face of CUBOID_FACES"
+        );
+    }
+}

@@ -201,6 +201,11 @@ impl GpuCollision {
 
     /// Sizes every buffer for `bodies` bodies and `capacity` pairs and writes the parameters.
     fn allocate(&mut self, bodies: u32, capacity: u32) -> Result<(), GpuError> {
+        // The largest buffer first, so a refused size leaves every buffer as it was.
+        let contact_bytes = u64::from(capacity)
+            * u64::from(MAX_MANIFOLD_POINTS)
+            * std::mem::size_of::<GpuContact>() as u64;
+        self.ctx.check_storage_size(CONTACTS[0], contact_bytes)?;
         let mut reset = bodies != self.body_count;
         reset |= ensure_body_buffers(&mut self.pool, bodies)?;
         reset |= ensure_pair_buffers(&mut self.pool, capacity)?;

@@ -75,3 +75,52 @@ pub fn carry_impulses_cpu(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn manifold(kind: u32, feature: u32, len: u32, previous: u32) -> GpuManifold {
+        GpuManifold {
+            kind,
+            feature,
+            len,
+            previous,
+            ..Default::default()
+        }
+    }
+
+    fn point(id: u32, impulse: f32) -> GpuContact {
+        GpuContact {
+            id,
+            normal_impulse: impulse,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn impulses_follow_ids_under_the_same_feature_only() {
+        let per = MAX_MANIFOLD_POINTS as usize;
+        let mut before = vec![GpuContact::default(); 2 * per];
+        before[0] = point(10, 1.0);
+        before[1] = point(11, 2.0);
+        before[per] = point(10, 5.0);
+        let old = [
+            manifold(0, 2, 2, NO_PREVIOUS),
+            manifold(0, 3, 1, NO_PREVIOUS),
+        ];
+        // Manifold 0 continues old 0 (same face 2), points reordered plus a new one; manifold
+        // 1 continues old 1 but on another face: its ids mean other features, nothing carries.
+        let now = [manifold(0, 2, 3, 0), manifold(0, 4, 1, 1)];
+        let mut contacts = vec![GpuContact::default(); 2 * per];
+        contacts[0] = point(11, 0.0);
+        contacts[1] = point(99, 0.0);
+        contacts[2] = point(10, 0.0);
+        contacts[per] = point(10, 0.0);
+        carry_impulses_cpu(&now, &mut contacts, &old, &before);
+        assert_eq!(contacts[0].normal_impulse, 2.0);
+        assert_eq!(contacts[1].normal_impulse, 0.0);
+        assert_eq!(contacts[2].normal_impulse, 1.0);
+        assert_eq!(contacts[per].normal_impulse, 0.0);
+    }
+}

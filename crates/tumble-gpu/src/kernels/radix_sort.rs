@@ -301,3 +301,38 @@ pub fn radix_sort_cpu(keys: &[u32], values: &[u32], bits: u32) -> (Vec<u32>, Vec
     items.sort_by_key(|&(k, _)| k & mask);
     items.into_iter().unzip()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn passes_cover_the_key_bits_and_alternate_copies() {
+        // 32-bit keys: 8 four-bit digits, ending back in copy 0.
+        let body = plan_passes(&[(true, 32)]);
+        assert_eq!(body.len(), 8);
+        assert_eq!(result_copy(&body), 0);
+        assert_eq!(body.last().unwrap().shift, 28);
+        // Pairs of 20,000 bodies: indices below 2^15 need 15 bits, 4 digits per sort, and the
+        // second sort reads where the first left off.
+        assert_eq!(index_bits(20_000), 15);
+        let pairs = plan_passes(&[(false, 15), (true, 15)]);
+        assert_eq!(pairs.len(), 8);
+        assert!(pairs[..4].iter().all(|p| !p.key_is_first));
+        assert_eq!(pairs[4].source, 0);
+        assert_eq!(pairs[3].source, 1);
+        assert_eq!(index_bits(1), 1);
+        assert_eq!(index_bits(2), 1);
+        assert_eq!(index_bits(3), 2);
+    }
+
+    #[test]
+    fn cpu_twin_sorts_only_on_the_low_digits_and_keeps_equal_keys_in_order() {
+        let keys = [0x1_05, 0x2_03, 0x0_05, 0x3_01];
+        let values = [0, 1, 2, 3];
+        // 8 bits: the high nibble past bit 8 is ignored, ties keep input order.
+        let (k, v) = radix_sort_cpu(&keys, &values, 8);
+        assert_eq!(v, vec![3, 1, 0, 2]);
+        assert_eq!(k, vec![0x3_01, 0x2_03, 0x1_05, 0x0_05]);
+    }
+}

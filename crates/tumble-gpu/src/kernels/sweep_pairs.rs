@@ -91,3 +91,51 @@ pub fn sweep_pairs_cpu(
     pairs.sort_unstable();
     pairs
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernels::radix_sort::radix_sort_cpu;
+    use crate::kernels::write_sort_keys::write_sort_keys_cpu;
+    use rand::{Rng, SeedableRng};
+    use tumble_geometry::{Aabb, Point3};
+
+    #[test]
+    fn cpu_twin_equals_the_brute_force_reference() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2);
+        let n = 500;
+        let aabbs: Vec<GpuAabb> = (0..n)
+            .map(|_| {
+                let c: [f32; 3] = std::array::from_fn(|_| rng.random_range(0.0..10.0));
+                let h: [f32; 3] = std::array::from_fn(|_| rng.random_range(0.1..0.8));
+                GpuAabb {
+                    min: [c[0] - h[0], c[1] - h[1], c[2] - h[2], 0.0],
+                    max: [c[0] + h[0], c[1] + h[1], c[2] + h[2], 0.0],
+                }
+            })
+            .collect();
+        let shapes: Vec<GpuShape> = (0..n)
+            .map(|i| GpuShape {
+                flags: if i % 7 == 0 { BODY_STATIC } else { 0 },
+                ..Default::default()
+            })
+            .collect();
+        let statics: Vec<bool> = shapes.iter().map(GpuShape::is_static).collect();
+        let boxes: Vec<Aabb> = aabbs
+            .iter()
+            .map(|b| {
+                Aabb::new(
+                    Point3::new(b.min[0], b.min[1], b.min[2]),
+                    Point3::new(b.max[0], b.max[1], b.max[2]),
+                )
+            })
+            .collect();
+        let want = tumble_broad::brute_force_pairs_filtered(&boxes, &statics).unwrap();
+        assert!(want.len() > n / 2, "a scene with pairs");
+        for axis in 0..3 {
+            let (keys, values) = write_sort_keys_cpu(&aabbs, axis);
+            let (_, order) = radix_sort_cpu(&keys, &values, 32);
+            assert_eq!(sweep_pairs_cpu(&aabbs, &shapes, &order, axis), want);
+        }
+    }
+}

@@ -92,3 +92,37 @@ pub fn update_aabbs_cpu(
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn at_rest_the_box_is_the_geometry_layers_box_and_motion_only_grows_it() {
+        let pose = Pose::from_parts(
+            tumble_geometry::nalgebra::Translation3::new(1.0, -2.0, 3.0),
+            Rot::from_euler_angles(0.3, -0.2, 1.1),
+        );
+        let cuboid = Cuboid::new(Vec3::new(0.5, 0.2, 0.9));
+        let shape = [crate::layout::GpuShape::cuboid(&cuboid, false)];
+        let poses = [GpuPose::from_pose(&pose)];
+        let rest = update_aabbs_cpu(&poses, &[GpuVelocity::default()], &shape, 0.02, 0.1)[0];
+        let tight = Aabb::from_cuboid(&cuboid, &pose, 0.02);
+        for k in 0..3 {
+            assert_eq!(rest.min[k], tight.min[k]);
+            assert_eq!(rest.max[k], tight.max[k]);
+        }
+        // Moving at +3 m/s along x for 0.1 s stretches the box 0.3 m on the +x side only.
+        let moving = GpuVelocity::new(Vec3::new(3.0, 0.0, 0.0), Vec3::zeros());
+        let swept = update_aabbs_cpu(&poses, &[moving], &shape, 0.02, 0.1)[0];
+        assert!((swept.max[0] - rest.max[0] - 0.3).abs() < 1e-6);
+        assert_eq!(swept.min[0], rest.min[0]);
+        // Spinning at 2 rad/s grows every side by |w| |h| dt.
+        let spinning = GpuVelocity::new(Vec3::zeros(), Vec3::new(0.0, 2.0, 0.0));
+        let spun = update_aabbs_cpu(&poses, &[spinning], &shape, 0.02, 0.1)[0];
+        let grow = 2.0 * cuboid.half_extents.norm() * 0.1;
+        for k in 0..3 {
+            assert!((rest.min[k] - spun.min[k] - grow).abs() < 1e-5);
+        }
+    }
+}

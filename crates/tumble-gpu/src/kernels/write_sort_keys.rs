@@ -67,3 +67,31 @@ pub fn write_sort_keys_cpu(aabbs: &[GpuAabb], axis: u32) -> (Vec<u32>, Vec<u32>)
     let values = (0..aabbs.len() as u32).collect();
     (keys, values)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    #[test]
+    fn order_keys_sort_like_the_floats() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+        let mut xs: Vec<f32> = (0..2000)
+            .map(|_| rng.random_range(-1e3f32..1e3) * 10f32.powi(rng.random_range(-30..30)))
+            .collect();
+        xs.extend([
+            0.0,
+            -0.0,
+            f32::MIN_POSITIVE,
+            -f32::MIN_POSITIVE,
+            f32::MAX,
+            f32::MIN,
+        ]);
+        for a in &xs {
+            for b in xs.iter().take(200) {
+                // Same order as the floats, equal keys exactly for equal floats (-0 == +0).
+                assert_eq!(order_key(*a).cmp(&order_key(*b)), a.partial_cmp(b).unwrap());
+            }
+        }
+    }
+}

@@ -26,7 +26,8 @@ pub enum FeatureKind {
     FaceA,
     /// Face `0..6` of box B is the reference face.
     FaceB,
-    /// An edge of A against an edge of B: a single point.
+    /// An edge of A against an edge of B: a single point. Also used, with the boxes apart, for a
+    /// vertex of one box against the nearest point of the other (see `Manifold::feature`).
     Edge,
 }
 
@@ -38,7 +39,9 @@ pub struct Manifold {
     /// Which kind of feature pair made the manifold.
     pub kind: FeatureKind,
     /// Reference face index for `FaceA`/`FaceB`; for `Edge`, the packed edge pair
-    /// (`edge_a * 12 + edge_b`); used as the hysteresis key from step to step.
+    /// (`edge_a * 12 + edge_b`, below 144), or for a vertex contact of separated boxes
+    /// `144 + v` (B's vertex `v`) or `152 + v` (A's vertex `v`); used as the hysteresis key from
+    /// step to step.
     pub feature: u32,
     /// Storage for the points; only the first `len` are valid.
     pub contacts: [ContactPoint; MAX_MANIFOLD_POINTS],

@@ -25,21 +25,31 @@ pub fn all_kernels() -> Vec<RegisteredKernel> {
             spec,
             overrides: Vec::new(),
         })
+        .chain(crate::solver::registered_kernels())
         .collect()
 }
 
 /// Every WGSL file that is not a kernel (composed in front of kernels).
 pub fn all_common_files() -> Vec<WgslFile> {
-    common::ALL.to_vec()
+    common::ALL
+        .iter()
+        .chain(crate::solver::shaders::ALL_COMMON)
+        .copied()
+        .collect()
 }
 
 /// The WGSL files whose every struct has a host twin in [`all_struct_layouts`], each with the
 /// common files it needs in front to parse.
 pub fn host_shared_files() -> Vec<(WgslFile, Vec<WgslFile>)> {
-    vec![(common::LAYOUT, vec![common::CONSTANTS])]
+    vec![
+        (common::LAYOUT, vec![common::CONSTANTS]),
+        (crate::solver::shaders::SOLVER_TYPES, vec![common::LAYOUT]),
+    ]
 }
 
 /// Every host struct shared with WGSL.
 pub fn all_struct_layouts() -> Vec<StructLayout> {
-    shared_struct_layouts()
+    let mut layouts = shared_struct_layouts();
+    layouts.extend(crate::solver::layout::solver_struct_layouts());
+    layouts
 }

@@ -1,0 +1,93 @@
+//! Constants of the solver stages, defined once here and handed to the solver pipelines as
+//! WGSL `override` values (declared without defaults in `shaders/solver/common/solver_constants.wgsl`).
+
+/// Graph colors (tumble-solver's `GRAPH_COLOR_COUNT`, Box2D v3's 24).
+pub const GRAPH_COLOR_COUNT: u32 = tumble_solver::GRAPH_COLOR_COUNT as u32;
+
+/// The color of the overflow set (tumble-solver's `OVERFLOW_COLOR`).
+pub const OVERFLOW_COLOR: u32 = tumble_solver::OVERFLOW_COLOR;
+
+/// Colors plus the overflow set: the per-color passes dispatched per sweep.
+pub const COLOR_SLOTS: u32 = GRAPH_COLOR_COUNT + 1;
+
+/// Entries of the color offsets buffer: `offsets[c]..offsets[c + 1]` for every slot.
+pub const COLOR_OFFSETS_LEN: u32 = COLOR_SLOTS + 1;
+
+/// Color and proposal of a constraint not decided yet.
+pub const NO_COLOR: u32 = u32::MAX;
+
+/// The color of a manifold without points (a candidate pair not in contact): it is no
+/// constraint, sorts after the overflow set and lies in no color's range.
+pub const EMPTY_COLOR: u32 = COLOR_SLOTS;
+
+/// Coloring rounds per step, on every path; constraints still undecided after them overflow.
+/// Every round decides at least the undecided constraint of highest priority. Around a
+/// dynamic body touching many others (a star) every round decides one of its constraints, so
+/// it fills its 24 colors in 24 rounds and overflows on the 25th; the 8 rounds on top absorb
+/// chains of lost claims in dense piles. After the seeded first round a settled scene has
+/// almost nothing left to decide, and the finishing kernel stops at the first empty round.
+pub const COLOR_ROUNDS: u32 = GRAPH_COLOR_COUNT + 8;
+
+/// `GpuBody::kind` of a fixed body.
+pub const BODY_FIXED: u32 = 0;
+/// `GpuBody::kind` of a dynamic body.
+pub const BODY_DYNAMIC: u32 = 1;
+/// `GpuBody::kind` of a kinematic body.
+pub const BODY_KINEMATIC: u32 = 2;
+
+/// `GpuBody::locks`: bit `k` locks translation along world axis `k`, bit
+/// `k + LOCK_ROTATION_SHIFT` rotation about it.
+pub const LOCK_ROTATION_SHIFT: u32 = 3;
+
+/// `GpuConstraint::flags`: body A is dynamic (the solver writes its velocity).
+pub const CONSTRAINT_DYNAMIC_A: u32 = 1;
+/// `GpuConstraint::flags`: body B is dynamic.
+pub const CONSTRAINT_DYNAMIC_B: u32 = 2;
+
+/// Newton iterations of the gyroscopic midpoint rule. tumble-solver keeps its own count
+/// private (3, "the residual shrinks quadratically, so three reach f32 round-off"); the
+/// GPU-versus-CPU spin test fails if the two drift apart.
+pub const GYROSCOPIC_NEWTON_ITERATIONS: u32 = 3;
+
+/// What a per-color pass does: re-apply the accumulated impulses.
+pub const PASS_WARM_START: u32 = 0;
+/// Biased solve (position feedback on).
+pub const PASS_SOLVE: u32 = 1;
+/// Relax (position feedback off).
+pub const PASS_RELAX: u32 = 2;
+/// Restitution after the substeps.
+pub const PASS_RESTITUTION: u32 = 3;
+
+/// Every solver override value, by WGSL name (the shared ones of
+/// [`crate::constants::shader_constants`] come on top).
+pub fn solver_constants() -> Vec<(&'static str, f64)> {
+    vec![
+        ("GRAPH_COLOR_COUNT", f64::from(GRAPH_COLOR_COUNT)),
+        ("OVERFLOW_COLOR", f64::from(OVERFLOW_COLOR)),
+        ("NO_COLOR", f64::from(NO_COLOR)),
+        ("COLOR_ROUNDS", f64::from(COLOR_ROUNDS)),
+        ("EMPTY_COLOR", f64::from(EMPTY_COLOR)),
+        ("BODY_FIXED", f64::from(BODY_FIXED)),
+        ("BODY_DYNAMIC", f64::from(BODY_DYNAMIC)),
+        ("BODY_KINEMATIC", f64::from(BODY_KINEMATIC)),
+        ("LOCK_ROTATION_SHIFT", f64::from(LOCK_ROTATION_SHIFT)),
+        ("CONSTRAINT_DYNAMIC_A", f64::from(CONSTRAINT_DYNAMIC_A)),
+        ("CONSTRAINT_DYNAMIC_B", f64::from(CONSTRAINT_DYNAMIC_B)),
+        (
+            "MAX_ROTATION_PER_SUBSTEP",
+            f64::from(tumble_solver::MAX_ROTATION_PER_SUBSTEP),
+        ),
+        (
+            "MAX_LINEAR_SPEED",
+            f64::from(tumble_solver::MAX_LINEAR_SPEED),
+        ),
+        ("PASS_WARM_START", f64::from(PASS_WARM_START)),
+        ("PASS_SOLVE", f64::from(PASS_SOLVE)),
+        ("PASS_RELAX", f64::from(PASS_RELAX)),
+        ("PASS_RESTITUTION", f64::from(PASS_RESTITUTION)),
+        (
+            "GYROSCOPIC_NEWTON_ITERATIONS",
+            f64::from(GYROSCOPIC_NEWTON_ITERATIONS),
+        ),
+    ]
+}

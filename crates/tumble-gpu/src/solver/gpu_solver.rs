@@ -1,0 +1,530 @@
+//! The color and solve stages on the GPU: buffers, bind groups, and the recording of one
+//! step's solver work into a command encoder (no CPU read anywhere inside).
+
+use std::sync::Arc;
+
+use wgpu::util::DeviceExt;
+
+use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE};
+use crate::kernel::Kernel;
+use crate::kernels::radix_sort::{
+    RadixBindGroups, RadixBuffers, RadixPass, index_bits, plan_passes, result_copy, tile_count_len,
+};
+use crate::layout::{DispatchArgs, WORK_LIST_GROUPS_OFFSET};
+use crate::{GpuContext, GpuError, StageTimer};
+
+use super::color::{ColorFinishArgs, ColorRoundArgs};
+use super::constants::{COLOR_OFFSETS_LEN, COLOR_SLOTS, GRAPH_COLOR_COUNT};
+use super::effects::Effects;
+use super::fused::SolveFusedArgs;
+use super::integrate::{FinalizeBodiesArgs, IntegratePositionsArgs, IntegrateVelocitiesArgs};
+use super::layout::{ColorPass, ColorSlot, GpuConstraint, GpuSolverBody, SolverParams};
+use super::path::SolvePath;
+use super::pipelines::SolverPipelines;
+use super::prepare::{PrepareBodiesArgs, PrepareContactsArgs};
+use super::solve_color::{PassKind, SolveColorArgs};
+use super::store::StoreImpulsesArgs;
+
+const SOLVER_BODIES: &str = "solver_bodies";
+const CONSTRAINTS: &str = "constraints";
+const COLOR_STATE: [&str; 2] = ["color_state_0", "color_state_1"];
+const COLOR_MARKS: &str = "color_marks";
+const COLOR_SCRATCH: &str = "color_scratch";
+const COLOR_OFFSETS: &str = "color_offsets";
+const COLOR_ARGS: &str = "color_args";
+const SORT_KEYS: [&str; 2] = ["color_sort_keys_0", "color_sort_keys_1"];
+const SORT_VALUES: [&str; 2] = ["color_sort_values_0", "color_sort_values_1"];
+const SORT_TILES: &str = "color_sort_tiles";
+
+/// The buffers of the solver stage that belong to the caller (the world's bodies and the
+/// collision stage's contacts).
+#[derive(Clone, Copy, Debug)]
+pub struct SolverInputs<'a> {
+    /// `array<GpuBody>`.
+    pub bodies: &'a wgpu::Buffer,
+    /// `array<GpuPose>`: read at the start of the step, written at its end.
+    pub poses: &'a wgpu::Buffer,
+    /// `array<GpuVelocity>`: read and written.
+    pub velocities: &'a wgpu::Buffer,
+    /// `array<GpuManifold>`: one per candidate pair (`len == 0` when not in contact).
+    pub manifolds: &'a wgpu::Buffer,
+    /// `array<GpuContact>`, `MAX_MANIFOLD_POINTS` per manifold: warm-start impulses in,
+    /// solved impulses out.
+    pub contacts: &'a wgpu::Buffer,
+    /// The manifolds' `WorkList` (count and dispatch size, produced on the GPU).
+    pub contact_work: &'a wgpu::Buffer,
+    /// Bodies in the step.
+    pub body_count: u32,
+    /// Slots of the contact buffers: the most manifolds a step can have.
+    pub contact_capacity: u32,
+}
+
+/// What the cached bind groups were made from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct BindKey {
+    generation: u64,
+    pipelines: usize,
+    inputs: [wgpu::Buffer; 6],
+}
+
+#[derive(Debug)]
+struct BindGroups {
+    color_propose: [wgpu::BindGroup; 2],
+    color_resolve: [wgpu::BindGroup; 2],
+    color_finish: [wgpu::BindGroup; 2],
+    radix: RadixBindGroups,
+    prepare_bodies: wgpu::BindGroup,
+    prepare_contacts: wgpu::BindGroup,
+    integrate_velocities: wgpu::BindGroup,
+    integrate_positions: wgpu::BindGroup,
+    finalize_bodies: wgpu::BindGroup,
+    store_impulses: wgpu::BindGroup,
+    /// `[pass][color slot]`.
+    passes: Vec<Vec<wgpu::BindGroup>>,
+    solve_fused: [wgpu::BindGroup; 2],
+}
+
+/// The GPU solver stage: owns its pipelines (shared per device and effects), its buffers
+/// (constraints, coloring state, per-step body state) and the bind groups over them.
+#[derive(Debug)]
+pub struct GpuSolver {
+    ctx: GpuContext,
+    pipelines: Arc<SolverPipelines>,
+    pool: BufferPool,
+    params: wgpu::Buffer,
+    last_params: Option<SolverParams>,
+    pass_colors: Vec<wgpu::Buffer>,
+    sort_passes: Vec<RadixPass>,
+    parity: usize,
+    bind: Option<(BindKey, BindGroups)>,
+}
+
+impl GpuSolver {
+    /// A solver with `effects` compiled in.
+    pub fn new(ctx: &GpuContext, effects: Effects) -> Result<Self, GpuError> {
+        let pipelines = SolverPipelines::shared(ctx, effects)?;
+        let params = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("solver params"),
+            size: std::mem::size_of::<SolverParams>() as u64,
+            usage: UNIFORM_USAGE,
+            mapped_at_creation: false,
+        });
+        let pass_colors = (0..COLOR_SLOTS)
+            .map(|color| {
+                ctx.device
+                    .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("color pass"),
+                        contents: bytemuck::bytes_of(&ColorPass {
+                            color,
+                            ..Default::default()
+                        }),
+                        usage: wgpu::BufferUsages::UNIFORM,
+                    })
+            })
+            .collect();
+        Ok(Self {
+            ctx: ctx.clone(),
+            pipelines,
+            pool: BufferPool::new(ctx),
+            params,
+            last_params: None,
+            pass_colors,
+            sort_passes: plan_passes(&[(true, index_bits(COLOR_SLOTS))]),
+            parity: 0,
+            bind: None,
+        })
+    }
+
+    /// The effects compiled in.
+    pub fn effects(&self) -> Effects {
+        self.pipelines.effects
+    }
+
+    /// Switches to pipelines with `effects` (bind groups are rebuilt on the next record).
+    pub fn set_effects(&mut self, effects: Effects) -> Result<(), GpuError> {
+        if effects != self.pipelines.effects {
+            self.pipelines = SolverPipelines::shared(&self.ctx, effects)?;
+            self.bind = None;
+        }
+        Ok(())
+    }
+
+    /// Forgets last step's colors, so the next step's coloring is not seeded (after the
+    /// contact list was rebuilt on the host and `previous` indices no longer apply).
+    pub fn forget_colors(&mut self) {
+        self.parity = 0;
+    }
+
+    /// Grows the solver's buffers for `bodies` bodies and `capacity` contacts.
+    fn ensure(&mut self, bodies: u32, capacity: u32) -> Result<(), GpuError> {
+        let (n, cap) = (u64::from(bodies.max(1)), u64::from(capacity.max(1)));
+        let u32_bytes = 4u64;
+        let sizes: [(&'static str, u64); 8] = [
+            (
+                SOLVER_BODIES,
+                n * std::mem::size_of::<GpuSolverBody>() as u64,
+            ),
+            (
+                CONSTRAINTS,
+                cap * std::mem::size_of::<GpuConstraint>() as u64,
+            ),
+            (
+                COLOR_STATE[0],
+                cap * std::mem::size_of::<ColorSlot>() as u64,
+            ),
+            (
+                COLOR_STATE[1],
+                cap * std::mem::size_of::<ColorSlot>() as u64,
+            ),
+            // Per body its used-color mask, then one claim per (body, color).
+            (
+                COLOR_MARKS,
+                n * u64::from(1 + GRAPH_COLOR_COUNT) * u32_bytes,
+            ),
+            (COLOR_SCRATCH, 2 * cap * u32_bytes),
+            (COLOR_OFFSETS, u64::from(COLOR_OFFSETS_LEN) * u32_bytes),
+            (
+                COLOR_ARGS,
+                u64::from(COLOR_SLOTS) * std::mem::size_of::<DispatchArgs>() as u64,
+            ),
+        ];
+        for (name, bytes) in sizes {
+            self.pool.ensure(name, bytes, STORAGE_USAGE)?;
+        }
+        for name in SORT_KEYS.into_iter().chain(SORT_VALUES) {
+            self.pool.ensure(name, cap * u32_bytes, STORAGE_USAGE)?;
+        }
+        self.pool.ensure(
+            SORT_TILES,
+            tile_count_len(capacity.max(1)) * u32_bytes,
+            STORAGE_USAGE,
+        )?;
+        Ok(())
+    }
+
+    /// This step's coloring state (`array<ColorSlot>`) after the last recorded step.
+    pub fn colors(&self) -> &wgpu::Buffer {
+        self.pool.get(COLOR_STATE[1 - self.parity])
+    }
+
+    /// Constraint indices grouped by color (ascending color, ascending index within a color).
+    pub fn color_order(&self) -> &wgpu::Buffer {
+        self.pool.get(SORT_VALUES[result_copy(&self.sort_passes)])
+    }
+
+    /// `COLOR_OFFSETS_LEN` offsets into [`Self::color_order`], as tumble-solver's
+    /// `Coloring::offsets`.
+    pub fn color_offsets(&self) -> &wgpu::Buffer {
+        self.pool.get(COLOR_OFFSETS)
+    }
+
+    /// The prepared constraints (`array<GpuConstraint>`) with their final impulses.
+    pub fn constraints(&self) -> &wgpu::Buffer {
+        self.pool.get(CONSTRAINTS)
+    }
+
+    /// The per-step body state (`array<GpuSolverBody>`).
+    pub fn solver_bodies(&self) -> &wgpu::Buffer {
+        self.pool.get(SOLVER_BODIES)
+    }
+
+    /// Records one step of the color and solve stages (and the pose update of `finish`)
+    /// into `encoder`, along `path`. Nothing is read back; the next record continues from
+    /// the GPU state this one leaves (colors seed the next step's coloring).
+    pub fn record(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut StageTimer,
+        inputs: &SolverInputs<'_>,
+        params: &SolverParams,
+        path: SolvePath,
+    ) -> Result<(), GpuError> {
+        self.ensure(inputs.body_count, inputs.contact_capacity)?;
+        if self.last_params != Some(*params) {
+            // Through the encoder, not the queue, so steps recorded back to back each see
+            // their own values.
+            let staging = self
+                .ctx
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("solver params upload"),
+                    contents: bytemuck::bytes_of(params),
+                    usage: wgpu::BufferUsages::COPY_SRC,
+                });
+            encoder.copy_buffer_to_buffer(&staging, 0, &self.params, 0, staging.size());
+            self.last_params = Some(*params);
+        }
+        self.rebind(inputs);
+        encoder.clear_buffer(self.pool.get(COLOR_MARKS), 0, None);
+        let (_, groups) = self.bind.as_ref().expect("bound above");
+        let k = &*self.pipelines;
+        let p = self.parity;
+        match path {
+            SolvePath::Fused => {
+                let mut pass = timer.begin_pass(encoder, "solve_fused");
+                k.solve_fused
+                    .dispatch_workgroups(&mut pass, &groups.solve_fused[p], 1, 1);
+            }
+            SolvePath::Wide => {
+                let work = inputs.contact_work;
+                {
+                    let mut pass = timer.begin_pass(encoder, "color");
+                    k.color_propose.dispatch_indirect(
+                        &mut pass,
+                        &groups.color_propose[p],
+                        work,
+                        WORK_LIST_GROUPS_OFFSET,
+                    );
+                    k.color_resolve.dispatch_indirect(
+                        &mut pass,
+                        &groups.color_resolve[p],
+                        work,
+                        WORK_LIST_GROUPS_OFFSET,
+                    );
+                    k.color_finish
+                        .dispatch_workgroups(&mut pass, &groups.color_finish[p], 1, 1);
+                    k.radix.record(&mut pass, &groups.radix, work);
+                }
+                {
+                    let mut pass = timer.begin_pass(encoder, "prepare");
+                    k.prepare_bodies
+                        .dispatch(&mut pass, &groups.prepare_bodies, inputs.body_count);
+                    k.prepare_contacts.dispatch_indirect(
+                        &mut pass,
+                        &groups.prepare_contacts,
+                        work,
+                        WORK_LIST_GROUPS_OFFSET,
+                    );
+                }
+                {
+                    let mut pass = timer.begin_pass(encoder, "solve");
+                    let args = self.pool.get(COLOR_ARGS);
+                    let sweep = |pass: &mut wgpu::ComputePass<'_>, kind: PassKind| {
+                        sweep_colors(pass, k.pass(kind), &groups.passes[kind.index()], args);
+                    };
+                    for _ in 0..params.substeps {
+                        k.integrate_velocities.dispatch(
+                            &mut pass,
+                            &groups.integrate_velocities,
+                            inputs.body_count,
+                        );
+                        sweep(&mut pass, PassKind::WarmStart);
+                        for _ in 0..params.iterations {
+                            sweep(&mut pass, PassKind::Solve);
+                        }
+                        k.integrate_positions.dispatch(
+                            &mut pass,
+                            &groups.integrate_positions,
+                            inputs.body_count,
+                        );
+                        for _ in 0..params.relax_iterations {
+                            sweep(&mut pass, PassKind::Relax);
+                        }
+                    }
+                    if params.restitution != 0 {
+                        sweep(&mut pass, PassKind::Restitution);
+                    }
+                }
+                {
+                    let mut pass = timer.begin_pass(encoder, "finish");
+                    k.store_impulses.dispatch_indirect(
+                        &mut pass,
+                        &groups.store_impulses,
+                        work,
+                        WORK_LIST_GROUPS_OFFSET,
+                    );
+                    k.finalize_bodies.dispatch(
+                        &mut pass,
+                        &groups.finalize_bodies,
+                        inputs.body_count,
+                    );
+                }
+            }
+        }
+        self.parity = 1 - self.parity;
+        Ok(())
+    }
+
+    /// Rebuilds the bind groups when a buffer or the pipelines changed.
+    fn rebind(&mut self, inputs: &SolverInputs<'_>) {
+        let key = BindKey {
+            generation: self.pool.generation(),
+            pipelines: Arc::as_ptr(&self.pipelines) as usize,
+            inputs: [
+                inputs.bodies.clone(),
+                inputs.poses.clone(),
+                inputs.velocities.clone(),
+                inputs.manifolds.clone(),
+                inputs.contacts.clone(),
+                inputs.contact_work.clone(),
+            ],
+        };
+        if self.bind.as_ref().is_some_and(|(k, _)| *k == key) {
+            return;
+        }
+        let groups = self.make_bind_groups(inputs);
+        self.bind = Some((key, groups));
+    }
+
+    fn make_bind_groups(&self, inputs: &SolverInputs<'_>) -> BindGroups {
+        let ctx = &self.ctx;
+        let k = &*self.pipelines;
+        let get = |name| self.pool.get(name);
+        let order = get(SORT_VALUES[result_copy(&self.sort_passes)]);
+        let round = |p: usize| ColorRoundArgs {
+            params: &self.params,
+            contact_work: inputs.contact_work,
+            manifolds: inputs.manifolds,
+            bodies: inputs.bodies,
+            previous_colors: get(COLOR_STATE[1 - p]),
+            color_state: get(COLOR_STATE[p]),
+            color_marks: get(COLOR_MARKS),
+        };
+        let both = |f: &dyn Fn(usize) -> wgpu::BindGroup| [f(0), f(1)];
+        let radix = k.radix.bind(
+            ctx,
+            &RadixBuffers {
+                work: inputs.contact_work,
+                first: [get(SORT_KEYS[0]), get(SORT_KEYS[1])],
+                second: [get(SORT_VALUES[0]), get(SORT_VALUES[1])],
+                tile_counts: get(SORT_TILES),
+            },
+            &self.sort_passes,
+        );
+        let passes = PassKind::ALL
+            .iter()
+            .map(|&kind| {
+                self.pass_colors
+                    .iter()
+                    .map(|pass_color| {
+                        k.pass(kind).bind(
+                            ctx,
+                            &SolveColorArgs {
+                                params: &self.params,
+                                pass_color,
+                                color_offsets: get(COLOR_OFFSETS),
+                                color_order: order,
+                                solver_bodies: get(SOLVER_BODIES),
+                                velocities: inputs.velocities,
+                                constraints: get(CONSTRAINTS),
+                            },
+                        )
+                    })
+                    .collect()
+            })
+            .collect();
+        BindGroups {
+            color_propose: both(&|p| k.color_propose.bind(ctx, &round(p))),
+            color_resolve: both(&|p| k.color_resolve.bind(ctx, &round(p))),
+            color_finish: both(&|p| {
+                k.color_finish.bind(
+                    ctx,
+                    &ColorFinishArgs {
+                        round: round(p),
+                        color_scratch: get(COLOR_SCRATCH),
+                        color_offsets: get(COLOR_OFFSETS),
+                        color_args: get(COLOR_ARGS),
+                        sort_keys: get(SORT_KEYS[0]),
+                        sort_values: get(SORT_VALUES[0]),
+                    },
+                )
+            }),
+            radix,
+            prepare_bodies: k.prepare_bodies.bind(
+                ctx,
+                &PrepareBodiesArgs {
+                    params: &self.params,
+                    bodies: inputs.bodies,
+                    poses: inputs.poses,
+                    solver_bodies: get(SOLVER_BODIES),
+                },
+            ),
+            prepare_contacts: k.prepare_contacts.bind(
+                ctx,
+                &PrepareContactsArgs {
+                    params: &self.params,
+                    contact_work: inputs.contact_work,
+                    manifolds: inputs.manifolds,
+                    contacts: inputs.contacts,
+                    bodies: inputs.bodies,
+                    poses: inputs.poses,
+                    velocities: inputs.velocities,
+                    solver_bodies: get(SOLVER_BODIES),
+                    constraints: get(CONSTRAINTS),
+                },
+            ),
+            integrate_velocities: k.integrate_velocities.bind(
+                ctx,
+                &IntegrateVelocitiesArgs {
+                    params: &self.params,
+                    bodies: inputs.bodies,
+                    poses: inputs.poses,
+                    solver_bodies: get(SOLVER_BODIES),
+                    velocities: inputs.velocities,
+                },
+            ),
+            integrate_positions: k.integrate_positions.bind(
+                ctx,
+                &IntegratePositionsArgs {
+                    params: &self.params,
+                    bodies: inputs.bodies,
+                    velocities: inputs.velocities,
+                    solver_bodies: get(SOLVER_BODIES),
+                },
+            ),
+            finalize_bodies: k.finalize_bodies.bind(
+                ctx,
+                &FinalizeBodiesArgs {
+                    params: &self.params,
+                    bodies: inputs.bodies,
+                    solver_bodies: get(SOLVER_BODIES),
+                    poses: inputs.poses,
+                },
+            ),
+            store_impulses: k.store_impulses.bind(
+                ctx,
+                &StoreImpulsesArgs {
+                    contact_work: inputs.contact_work,
+                    constraints: get(CONSTRAINTS),
+                    contacts: inputs.contacts,
+                },
+            ),
+            passes,
+            solve_fused: both(&|p| {
+                k.solve_fused.bind(
+                    ctx,
+                    &SolveFusedArgs {
+                        params: &self.params,
+                        contact_work: inputs.contact_work,
+                        manifolds: inputs.manifolds,
+                        contacts: inputs.contacts,
+                        bodies: inputs.bodies,
+                        previous_colors: get(COLOR_STATE[1 - p]),
+                        color_state: get(COLOR_STATE[p]),
+                        color_marks: get(COLOR_MARKS),
+                        color_scratch: get(COLOR_SCRATCH),
+                        color_offsets: get(COLOR_OFFSETS),
+                        color_order: order,
+                        poses: inputs.poses,
+                        velocities: inputs.velocities,
+                        solver_bodies: get(SOLVER_BODIES),
+                        constraints: get(CONSTRAINTS),
+                    },
+                )
+            }),
+        }
+    }
+}
+
+/// One pass over every color slot, each dispatch sized on the GPU by `color_finish`.
+fn sweep_colors(
+    pass: &mut wgpu::ComputePass<'_>,
+    kernel: &Kernel,
+    groups: &[wgpu::BindGroup],
+    args: &wgpu::Buffer,
+) {
+    let stride = std::mem::size_of::<DispatchArgs>() as u64;
+    for (slot, group) in groups.iter().enumerate() {
+        kernel.dispatch_indirect(pass, group, args, slot as u64 * stride);
+    }
+}

@@ -1,0 +1,93 @@
+//! The step-wide solver values, computed on the host from a `SolverConfig` exactly as
+//! tumble-solver's `solve` computes them, for the GPU (`SolverParams`) and for the CPU twins
+//! (`PrepareContext`).
+
+use tumble_geometry::{Real, Vec3};
+use tumble_solver::{PrepareContext, Softness, SolverConfig, SolverKind};
+
+use super::layout::SolverParams;
+
+/// tumble-solver caps the contact stiffness at a quarter of the substep rate (Box2D v3): a
+/// stiffer spring would not be resolved by the substep. Mirrors its private constant; the
+/// GPU-versus-CPU solve test catches a drift.
+pub const MAX_HERTZ_PER_SUBSTEP_RATE: Real = 0.25;
+
+/// tumble-solver makes contacts against fixed and kinematic bodies twice as stiff (Box2D v3).
+/// Mirrors its private constant, like [`MAX_HERTZ_PER_SUBSTEP_RATE`].
+pub const STATIC_STIFFNESS_FACTOR: Real = 2.0;
+
+/// One step's solver values in both forms.
+#[derive(Clone, Copy, Debug)]
+pub struct StepParams {
+    /// The uniform block of the GPU kernels.
+    pub params: SolverParams,
+    /// The same values as tumble-solver's `prepare_contact` takes them.
+    pub prepare: PrepareContext,
+}
+
+fn softness_vec(s: &Softness) -> [f32; 4] {
+    [s.bias_rate, s.mass_scale, s.impulse_scale, 0.0]
+}
+
+impl StepParams {
+    /// The values of a step of length `dt` under `gravity` with `body_count` bodies;
+    /// `restitution` says whether some material bounces (the restitution pass runs).
+    pub fn new(
+        config: &SolverConfig,
+        dt: Real,
+        gravity: &Vec3,
+        body_count: u32,
+        restitution: bool,
+    ) -> Self {
+        let substeps = config.substeps.max(1);
+        let h = dt / substeps as Real;
+        let inv_h = 1.0 / h;
+        let (contact_softness, static_softness) = match config.kind {
+            SolverKind::SoftStep => {
+                let hertz = config.contact_hertz.min(MAX_HERTZ_PER_SUBSTEP_RATE * inv_h);
+                (
+                    Softness::new(hertz, config.damping_ratio, h),
+                    Softness::new(STATIC_STIFFNESS_FACTOR * hertz, config.damping_ratio, h),
+                )
+            }
+            SolverKind::Baumgarte => {
+                let rigid = Softness {
+                    bias_rate: config.baumgarte * inv_h,
+                    ..Softness::RIGID
+                };
+                (rigid, rigid)
+            }
+        };
+        let slop = match config.kind {
+            SolverKind::Baumgarte => config.slop,
+            SolverKind::SoftStep => 0.0,
+        };
+        let warm_start_scale = if config.warm_start { 1.0 } else { 0.0 };
+        let params = SolverParams {
+            gravity: [gravity.x, gravity.y, gravity.z, 0.0],
+            contact_softness: softness_vec(&contact_softness),
+            static_softness: softness_vec(&static_softness),
+            h,
+            inv_h,
+            max_push_out: config.max_push_out,
+            restitution_threshold: config.restitution_threshold,
+            slop,
+            warm_start_scale,
+            body_count,
+            substeps,
+            iterations: config.iterations,
+            relax_iterations: config.relax_iterations,
+            restitution: u32::from(restitution),
+            _pad: 0,
+        };
+        let prepare = PrepareContext {
+            kind: config.kind,
+            h,
+            contact_softness,
+            static_softness,
+            slop: config.slop,
+            warm_start_scale,
+        };
+        Self { params, prepare }
+    }
+}

@@ -1,0 +1,29 @@
+// One constraint pass on one constraint: load it and its two bodies, apply the pass, store
+// the constraint and the dynamic bodies' velocities (fixed and kinematic bodies are shared by
+// many constraints of a color and are never written). Used by solve_color and solve_fused.
+//
+// Expects the including kernel to declare: params: SolverParams (uniform),
+// solver_bodies: array<GpuSolverBody>, velocities: array<GpuVelocity> (read_write),
+// constraints: array<GpuConstraint> (read_write).
+
+fn visit_constraint(i: u32, kind: u32) {
+    var c = constraints[i];
+    var a = body_sim(velocities[c.body_a], solver_bodies[c.body_a]);
+    var b = body_sim(velocities[c.body_b], solver_bodies[c.body_b]);
+    if kind == PASS_WARM_START {
+        warm_start_points(&c, &a, &b);
+    } else if kind == PASS_SOLVE {
+        solve_points(&c, &a, &b, true, params.inv_h, params.max_push_out);
+    } else if kind == PASS_RELAX {
+        solve_points(&c, &a, &b, false, params.inv_h, params.max_push_out);
+    } else {
+        restitution_points(&c, &a, &b, params.restitution_threshold);
+    }
+    constraints[i] = c;
+    if (c.flags & CONSTRAINT_DYNAMIC_A) != 0u {
+        velocities[c.body_a] = sim_velocity(a);
+    }
+    if (c.flags & CONSTRAINT_DYNAMIC_B) != 0u {
+        velocities[c.body_b] = sim_velocity(b);
+    }
+}

@@ -1,0 +1,248 @@
+// The per-constraint math of the solve stage as functions on function-local copies, mirroring
+// crates/tumble-solver (constraint.rs, contact_solver.rs, tangent_basis.rs) step for step, so
+// the GPU and the CPU solver pass the same stability suite.
+
+// A body as the constraint passes see it.
+struct BodySim {
+    linear_velocity: vec3<f32>,
+    angular_velocity: vec3<f32>,
+    delta_position: vec3<f32>,
+    delta_rotation: vec4<f32>,
+    inverse_mass: vec3<f32>,
+    inverse_inertia: mat3x3<f32>,
+}
+
+fn body_sim(velocity: GpuVelocity, state: GpuSolverBody) -> BodySim {
+    return BodySim(
+        velocity.linear.xyz,
+        velocity.angular.xyz,
+        state.delta_position.xyz,
+        state.delta_rotation,
+        state.inverse_mass.xyz,
+        mat3x3<f32>(state.inverse_inertia_x.xyz, state.inverse_inertia_y.xyz, state.inverse_inertia_z.xyz),
+    );
+}
+
+// The velocity of a body as stored between passes.
+fn sim_velocity(b: BodySim) -> GpuVelocity {
+    return GpuVelocity(vec4<f32>(b.linear_velocity, 0.0), vec4<f32>(b.angular_velocity, 0.0));
+}
+
+struct TangentBasis {
+    t1: vec3<f32>,
+    t2: vec3<f32>,
+}
+
+// An orthonormal pair (t1, t2) with t1 x t2 = n (Duff et al., JCGT 2017), as on the CPU.
+fn tangent_basis(n: vec3<f32>) -> TangentBasis {
+    // copysign(1, n.z): the sign bit decides, so -0.0 gives -1 exactly as on the CPU.
+    let sign = select(1.0, -1.0, (bitcast<u32>(n.z) & 0x80000000u) != 0u);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    return TangentBasis(
+        vec3<f32>(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        vec3<f32>(b, sign + n.y * n.y * a, -n.y),
+    );
+}
+
+// (r x d) . I^-1 (r x d): the angular part of a row's inverse effective mass.
+fn angular_term(inverse_inertia: mat3x3<f32>, r: vec3<f32>, d: vec3<f32>) -> f32 {
+    let rd = cross(r, d);
+    return dot(rd, inverse_inertia * rd);
+}
+
+// 1 / (J M^-1 J^T) of the row along d, or 0 when neither body can move along it.
+fn row_mass(a: BodySim, b: BodySim, anchor_a: vec3<f32>, anchor_b: vec3<f32>, d: vec3<f32>) -> f32 {
+    let d2 = d * d;
+    let k = dot(a.inverse_mass, d2) + dot(b.inverse_mass, d2)
+        + angular_term(a.inverse_inertia, anchor_a, d)
+        + angular_term(b.inverse_inertia, anchor_b, d);
+    return select(0.0, 1.0 / k, k > 0.0);
+}
+
+// Velocity of B's anchor relative to A's anchor.
+fn relative_velocity(a: BodySim, b: BodySim, anchor_a: vec3<f32>, anchor_b: vec3<f32>) -> vec3<f32> {
+    if ENABLE_ROTATION {
+        return b.linear_velocity + cross(b.angular_velocity, anchor_b) - a.linear_velocity
+            - cross(a.angular_velocity, anchor_a);
+    }
+    return b.linear_velocity - a.linear_velocity;
+}
+
+// Applies impulse p at the anchors: -p on A, +p on B.
+fn apply_impulse(a: ptr<function, BodySim>, b: ptr<function, BodySim>, anchor_a: vec3<f32>, anchor_b: vec3<f32>, p: vec3<f32>) {
+    (*a).linear_velocity -= (*a).inverse_mass * p;
+    (*b).linear_velocity += (*b).inverse_mass * p;
+    if ENABLE_ROTATION {
+        (*a).angular_velocity -= (*a).inverse_inertia * cross(anchor_a, p);
+        (*b).angular_velocity += (*b).inverse_inertia * cross(anchor_b, p);
+    }
+}
+
+// The header of a manifold's constraint (prepare_contact): bodies, normal and tangents,
+// combined friction and restitution, softness. Its points come from prepare_point.
+fn begin_constraint(manifold: GpuManifold, body_a: GpuBody, body_b: GpuBody, params: SolverParams) -> GpuConstraint {
+    let dynamic_a = body_a.kind == BODY_DYNAMIC;
+    let dynamic_b = body_b.kind == BODY_DYNAMIC;
+    let normal = manifold.normal.xyz;
+    let basis = tangent_basis(normal);
+    // Contacts with an immovable body are stiffer (the host makes both equal for Baumgarte).
+    var softness = params.static_softness;
+    if dynamic_a && dynamic_b {
+        softness = params.contact_softness;
+    }
+    var c: GpuConstraint;
+    c.body_a = manifold.body_a;
+    c.body_b = manifold.body_b;
+    c.point_count = min(manifold.len, MAX_MANIFOLD_POINTS);
+    c.flags = select(0u, CONSTRAINT_DYNAMIC_A, dynamic_a) | select(0u, CONSTRAINT_DYNAMIC_B, dynamic_b);
+    // Friction: sqrt(mu_a mu_b); restitution: the larger (tumble-solver's material.rs).
+    c.normal = vec4<f32>(normal, sqrt(body_a.friction * body_b.friction));
+    c.tangent1 = vec4<f32>(basis.t1, max(body_a.restitution, body_b.restitution));
+    c.tangent2 = vec4<f32>(basis.t2, params.slop);
+    c.softness = vec4<f32>(softness.xyz, 0.0);
+    return c;
+}
+
+// One point of a constraint: anchors from the bodies' centres at the start of the step, base
+// separation, effective masses, warm-start impulses projected on this step's tangents, and
+// the approach speed for restitution.
+fn prepare_point(
+    c: GpuConstraint,
+    point: GpuContact,
+    centre_a: vec3<f32>,
+    centre_b: vec3<f32>,
+    a: BodySim,
+    b: BodySim,
+    warm_start_scale: f32,
+) -> GpuConstraintPoint {
+    let normal = c.normal.xyz;
+    let t1 = c.tangent1.xyz;
+    let t2 = c.tangent2.xyz;
+    let anchor_a = point.position.xyz - centre_a;
+    let anchor_b = point.position.xyz - centre_b;
+    let dv = relative_velocity(a, b, anchor_a, anchor_b);
+    var cp: GpuConstraintPoint;
+    cp.anchor_a = vec4<f32>(anchor_a, -point.depth - dot(anchor_b - anchor_a, normal));
+    cp.anchor_b = vec4<f32>(anchor_b, row_mass(a, b, anchor_a, anchor_b, normal));
+    cp.tangent_mass_1 = row_mass(a, b, anchor_a, anchor_b, t1);
+    cp.tangent_mass_2 = row_mass(a, b, anchor_a, anchor_b, t2);
+    cp.normal_impulse = warm_start_scale * point.normal_impulse;
+    cp.total_normal_impulse = 0.0;
+    cp.tangent_impulse_1 = warm_start_scale * dot(point.friction_impulse.xyz, t1);
+    cp.tangent_impulse_2 = warm_start_scale * dot(point.friction_impulse.xyz, t2);
+    cp.relative_velocity = dot(dv, normal);
+    return cp;
+}
+
+// Re-applies the accumulated impulses at the start of a substep.
+fn warm_start_points(c: ptr<function, GpuConstraint>, a: ptr<function, BodySim>, b: ptr<function, BodySim>) {
+    let normal = (*c).normal.xyz;
+    let t1 = (*c).tangent1.xyz;
+    let t2 = (*c).tangent2.xyz;
+    for (var i = 0u; i < (*c).point_count; i++) {
+        let cp = (*c).points[i];
+        let p = normal * cp.normal_impulse + t1 * cp.tangent_impulse_1 + t2 * cp.tangent_impulse_2;
+        (*c).points[i].total_normal_impulse += cp.normal_impulse;
+        apply_impulse(a, b, cp.anchor_a.xyz, cp.anchor_b.xyz, p);
+    }
+}
+
+// One pass over the points: non-penetration (speculative, soft-biased or relaxed), then
+// Coulomb friction clamped to the disc of radius mu * normal impulse (solve_contact).
+fn solve_points(
+    c: ptr<function, GpuConstraint>,
+    a: ptr<function, BodySim>,
+    b: ptr<function, BodySim>,
+    use_bias: bool,
+    inv_h: f32,
+    max_push_out: f32,
+) {
+    let normal = (*c).normal.xyz;
+    let dp = (*b).delta_position - (*a).delta_position;
+    let count = (*c).point_count;
+    for (var i = 0u; i < count; i++) {
+        let cp = (*c).points[i];
+        let anchor_a = cp.anchor_a.xyz;
+        let anchor_b = cp.anchor_b.xyz;
+        var ds = dp + anchor_b - anchor_a;
+        if ENABLE_ROTATION {
+            ds = dp + quat_rotate((*b).delta_rotation, anchor_b) - quat_rotate((*a).delta_rotation, anchor_a);
+        }
+        let s = cp.anchor_a.w + dot(ds, normal);
+        var bias = 0.0;
+        var mass_scale = 1.0;
+        var impulse_scale = 0.0;
+        if s > 0.0 {
+            // Speculative: approach by at most the gap this substep.
+            bias = s * inv_h;
+        } else if use_bias {
+            let soft = (*c).softness;
+            bias = max(soft.y * soft.x * min(s + (*c).tangent2.w, 0.0), -max_push_out);
+            mass_scale = soft.y;
+            impulse_scale = soft.z;
+        }
+        let vn = dot(relative_velocity(*a, *b, anchor_a, anchor_b), normal);
+        let delta = -cp.anchor_b.w * (mass_scale * vn + bias) - impulse_scale * cp.normal_impulse;
+        let accumulated = max(cp.normal_impulse + delta, 0.0);
+        let applied = accumulated - cp.normal_impulse;
+        (*c).points[i].normal_impulse = accumulated;
+        (*c).points[i].total_normal_impulse += applied;
+        apply_impulse(a, b, anchor_a, anchor_b, normal * applied);
+    }
+
+    let friction = (*c).normal.w;
+    if !ENABLE_FRICTION || friction == 0.0 {
+        return;
+    }
+    let t1 = (*c).tangent1.xyz;
+    let t2 = (*c).tangent2.xyz;
+    for (var i = 0u; i < count; i++) {
+        let cp = (*c).points[i];
+        let dv = relative_velocity(*a, *b, cp.anchor_a.xyz, cp.anchor_b.xyz);
+        let old = vec2<f32>(cp.tangent_impulse_1, cp.tangent_impulse_2);
+        var updated = vec2<f32>(old.x - cp.tangent_mass_1 * dot(dv, t1), old.y - cp.tangent_mass_2 * dot(dv, t2));
+        let limit = friction * cp.normal_impulse;
+        let length = sqrt(updated.x * updated.x + updated.y * updated.y);
+        if length > limit {
+            let scale = select(0.0, limit / length, length > 0.0);
+            updated = vec2<f32>(updated.x * scale, updated.y * scale);
+        }
+        (*c).points[i].tangent_impulse_1 = updated.x;
+        (*c).points[i].tangent_impulse_2 = updated.y;
+        let p = t1 * (updated.x - old.x) + t2 * (updated.y - old.y);
+        apply_impulse(a, b, cp.anchor_a.xyz, cp.anchor_b.xyz, p);
+    }
+}
+
+// Restitution after the substeps: points that approached faster than `threshold` and pushed
+// get a normal velocity of -restitution * approach speed (restitution_contact).
+fn restitution_points(c: ptr<function, GpuConstraint>, a: ptr<function, BodySim>, b: ptr<function, BodySim>, threshold: f32) {
+    let restitution = (*c).tangent1.w;
+    if restitution == 0.0 {
+        return;
+    }
+    let normal = (*c).normal.xyz;
+    for (var i = 0u; i < (*c).point_count; i++) {
+        let cp = (*c).points[i];
+        if cp.relative_velocity > -threshold || cp.total_normal_impulse == 0.0 {
+            continue;
+        }
+        let vn = dot(relative_velocity(*a, *b, cp.anchor_a.xyz, cp.anchor_b.xyz), normal);
+        let delta = -cp.anchor_b.w * (vn + restitution * cp.relative_velocity);
+        let accumulated = max(cp.normal_impulse + delta, 0.0);
+        let applied = accumulated - cp.normal_impulse;
+        (*c).points[i].normal_impulse = accumulated;
+        (*c).points[i].total_normal_impulse += applied;
+        apply_impulse(a, b, cp.anchor_a.xyz, cp.anchor_b.xyz, normal * applied);
+    }
+}
+
+// Point i of a contact with the constraint's final impulses, for the next step's warm start.
+fn stored_point(c: GpuConstraint, i: u32, point: GpuContact) -> GpuContact {
+    let cp = c.points[i];
+    var out = point;
+    out.normal_impulse = cp.normal_impulse;
+    out.friction_impulse = vec4<f32>(c.tangent1.xyz * cp.tangent_impulse_1 + c.tangent2.xyz * cp.tangent_impulse_2, 0.0);
+    return out;
+}

@@ -1,0 +1,19 @@
+// finalize_bodies: one thread per body writes the step's deltas into its pose.
+
+@group(0) @binding(0) var<uniform> params: SolverParams;
+@group(0) @binding(1) var<storage, read> bodies: array<GpuBody>;
+@group(0) @binding(2) var<storage, read> solver_bodies: array<GpuSolverBody>;
+@group(0) @binding(3) var<storage, read_write> poses: array<GpuPose>;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn main(
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let i = linear_index(workgroup, groups, local);
+    if i >= params.body_count {
+        return;
+    }
+    poses[i] = finalize_pose(bodies[i].kind, poses[i], solver_bodies[i]);
+}

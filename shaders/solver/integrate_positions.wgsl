@@ -1,0 +1,24 @@
+// integrate_positions: one thread per body advances its in-step deltas by one substep
+// (dynamic bodies' speeds clamped first; fixed bodies stay).
+
+@group(0) @binding(0) var<uniform> params: SolverParams;
+@group(0) @binding(1) var<storage, read> bodies: array<GpuBody>;
+@group(0) @binding(2) var<storage, read_write> velocities: array<GpuVelocity>;
+@group(0) @binding(3) var<storage, read_write> solver_bodies: array<GpuSolverBody>;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn main(
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let i = linear_index(workgroup, groups, local);
+    if i >= params.body_count {
+        return;
+    }
+    var velocity = velocities[i];
+    var state = solver_bodies[i];
+    integrate_position(bodies[i].kind, &velocity, &state, params.h);
+    velocities[i] = velocity;
+    solver_bodies[i] = state;
+}

@@ -1,0 +1,28 @@
+// integrate_velocities: one thread per body advances a dynamic body's velocity by one
+// substep (gravity, gyroscopic term, damping, locks).
+
+@group(0) @binding(0) var<uniform> params: SolverParams;
+@group(0) @binding(1) var<storage, read> bodies: array<GpuBody>;
+@group(0) @binding(2) var<storage, read> poses: array<GpuPose>;
+@group(0) @binding(3) var<storage, read> solver_bodies: array<GpuSolverBody>;
+@group(0) @binding(4) var<storage, read_write> velocities: array<GpuVelocity>;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn main(
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let i = linear_index(workgroup, groups, local);
+    if i >= params.body_count {
+        return;
+    }
+    velocities[i] = integrate_velocity(
+        bodies[i],
+        poses[i].rotation,
+        solver_bodies[i].delta_rotation,
+        velocities[i],
+        params.gravity.xyz,
+        params.h,
+    );
+}

@@ -1,0 +1,20 @@
+// prepare_bodies: one thread per body resets its in-step deltas and puts its inverse mass and
+// inverse inertia in world axes for the step.
+
+@group(0) @binding(0) var<uniform> params: SolverParams;
+@group(0) @binding(1) var<storage, read> bodies: array<GpuBody>;
+@group(0) @binding(2) var<storage, read> poses: array<GpuPose>;
+@group(0) @binding(3) var<storage, read_write> solver_bodies: array<GpuSolverBody>;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn main(
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let i = linear_index(workgroup, groups, local);
+    if i >= params.body_count {
+        return;
+    }
+    solver_bodies[i] = prepare_body(bodies[i], poses[i]);
+}

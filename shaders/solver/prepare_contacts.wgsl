@@ -1,0 +1,36 @@
+// prepare_contacts: one thread per manifold (a manifold without points gives an empty
+// constraint) builds its constraint: normal and two friction rows per point, effective
+// masses, anchors, softness, and the warm-start impulses the collision stage carried over.
+
+@group(0) @binding(0) var<uniform> params: SolverParams;
+@group(0) @binding(1) var<storage, read> contact_work: WorkList;
+@group(0) @binding(2) var<storage, read> manifolds: array<GpuManifold>;
+@group(0) @binding(3) var<storage, read> contacts: array<GpuContact>;
+@group(0) @binding(4) var<storage, read> bodies: array<GpuBody>;
+@group(0) @binding(5) var<storage, read> poses: array<GpuPose>;
+@group(0) @binding(6) var<storage, read> velocities: array<GpuVelocity>;
+@group(0) @binding(7) var<storage, read> solver_bodies: array<GpuSolverBody>;
+@group(0) @binding(8) var<storage, read_write> constraints: array<GpuConstraint>;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn main(
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let i = linear_index(workgroup, groups, local);
+    if i >= contact_work.count {
+        return;
+    }
+    let manifold = manifolds[i];
+    let a = manifold.body_a;
+    let b = manifold.body_b;
+    let sim_a = body_sim(velocities[a], solver_bodies[a]);
+    let sim_b = body_sim(velocities[b], solver_bodies[b]);
+    var c = begin_constraint(manifold, bodies[a], bodies[b], params);
+    for (var p = 0u; p < c.point_count; p++) {
+        let point = contacts[i * MAX_MANIFOLD_POINTS + p];
+        c.points[p] = prepare_point(c, point, poses[a].position.xyz, poses[b].position.xyz, sim_a, sim_b, params.warm_start_scale);
+    }
+    constraints[i] = c;
+}

@@ -1,0 +1,131 @@
+// solve_fused: the whole color-and-solve stage in ONE workgroup and one dispatch, for small
+// scenes. Per-dispatch overhead, not arithmetic, made the thesis's GPU solver slow: a step of
+// the wide path issues about 80 dispatches per substep (one per color and pass), while here
+// the colors are visited in a loop separated by barriers. The per-constraint and per-body
+// functions are the wide path's own (coloring.wgsl, body_math.wgsl, contact_math.wgsl,
+// constraint_access.wgsl), in the same order, so both paths compute the same result.
+
+@group(0) @binding(0) var<uniform> params: SolverParams;
+@group(0) @binding(1) var<storage, read> contact_work: WorkList;
+@group(0) @binding(2) var<storage, read> manifolds: array<GpuManifold>;
+@group(0) @binding(3) var<storage, read_write> contacts: array<GpuContact>;
+@group(0) @binding(4) var<storage, read> bodies: array<GpuBody>;
+@group(0) @binding(5) var<storage, read> previous_colors: array<ColorSlot>;
+@group(0) @binding(6) var<storage, read_write> color_state: array<ColorSlot>;
+@group(0) @binding(7) var<storage, read_write> color_marks: array<atomic<u32>>;
+@group(0) @binding(8) var<storage, read_write> color_scratch: array<u32>;
+@group(0) @binding(9) var<storage, read_write> color_offsets: array<u32>;
+@group(0) @binding(10) var<storage, read_write> color_order: array<u32>;
+@group(0) @binding(11) var<storage, read_write> poses: array<GpuPose>;
+@group(0) @binding(12) var<storage, read_write> velocities: array<GpuVelocity>;
+@group(0) @binding(13) var<storage, read_write> solver_bodies: array<GpuSolverBody>;
+@group(0) @binding(14) var<storage, read_write> constraints: array<GpuConstraint>;
+
+// Thread c lays out the constraints of color c in ascending index order: the same stable
+// order the wide path's radix sort produces.
+fn order_by_color(local: u32, n: u32) {
+    if local <= GRAPH_COLOR_COUNT {
+        var slot = color_offsets[local];
+        for (var i = 0u; i < n; i++) {
+            if color_state[i].color == local {
+                color_order[slot] = i;
+                slot++;
+            }
+        }
+    }
+    sync_workgroup();
+}
+
+// One pass over every constraint, color after color, then the overflow set in one thread.
+fn colored_pass(local: u32, used_colors: u32, kind: u32) {
+    for (var color = 0u; color < used_colors; color++) {
+        let end = color_offsets[color + 1u];
+        for (var k = color_offsets[color] + local; k < end; k += WORKGROUP_SIZE) {
+            visit_constraint(color_order[k], kind);
+        }
+        sync_workgroup();
+    }
+    if local == 0u {
+        let end = color_offsets[OVERFLOW_COLOR + 1u];
+        for (var k = color_offsets[OVERFLOW_COLOR]; k < end; k++) {
+            visit_constraint(color_order[k], kind);
+        }
+    }
+    sync_workgroup();
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn main(@builtin(local_invocation_index) local: u32) {
+    let n = contact_work.count;
+    let body_count = params.body_count;
+
+    // color: every round here (color_marks was cleared before the dispatch).
+    color_rounds_in_workgroup(local, n, 0u);
+    let used_colors = count_colors_in_workgroup(local, n);
+    order_by_color(local, n);
+
+    // prepare
+    for (var b = local; b < body_count; b += WORKGROUP_SIZE) {
+        solver_bodies[b] = prepare_body(bodies[b], poses[b]);
+    }
+    sync_workgroup();
+    for (var i = local; i < n; i += WORKGROUP_SIZE) {
+        let manifold = manifolds[i];
+        let a = manifold.body_a;
+        let b = manifold.body_b;
+        let sim_a = body_sim(velocities[a], solver_bodies[a]);
+        let sim_b = body_sim(velocities[b], solver_bodies[b]);
+        var c = begin_constraint(manifold, bodies[a], bodies[b], params);
+        for (var p = 0u; p < c.point_count; p++) {
+            let point = contacts[i * MAX_MANIFOLD_POINTS + p];
+            c.points[p] = prepare_point(c, point, poses[a].position.xyz, poses[b].position.xyz, sim_a, sim_b, params.warm_start_scale);
+        }
+        constraints[i] = c;
+    }
+    sync_workgroup();
+
+    // substeps
+    for (var substep = 0u; substep < params.substeps; substep++) {
+        for (var b = local; b < body_count; b += WORKGROUP_SIZE) {
+            velocities[b] = integrate_velocity(
+                bodies[b],
+                poses[b].rotation,
+                solver_bodies[b].delta_rotation,
+                velocities[b],
+                params.gravity.xyz,
+                params.h,
+            );
+        }
+        sync_workgroup();
+        colored_pass(local, used_colors, PASS_WARM_START);
+        for (var k = 0u; k < params.iterations; k++) {
+            colored_pass(local, used_colors, PASS_SOLVE);
+        }
+        for (var b = local; b < body_count; b += WORKGROUP_SIZE) {
+            var velocity = velocities[b];
+            var state = solver_bodies[b];
+            integrate_position(bodies[b].kind, &velocity, &state, params.h);
+            velocities[b] = velocity;
+            solver_bodies[b] = state;
+        }
+        sync_workgroup();
+        for (var k = 0u; k < params.relax_iterations; k++) {
+            colored_pass(local, used_colors, PASS_RELAX);
+        }
+    }
+    if ENABLE_RESTITUTION && params.restitution != 0u {
+        colored_pass(local, used_colors, PASS_RESTITUTION);
+    }
+
+    // finish
+    for (var i = local; i < n; i += WORKGROUP_SIZE) {
+        let c = constraints[i];
+        for (var p = 0u; p < c.point_count; p++) {
+            let slot = i * MAX_MANIFOLD_POINTS + p;
+            contacts[slot] = stored_point(c, p, contacts[slot]);
+        }
+    }
+    for (var b = local; b < body_count; b += WORKGROUP_SIZE) {
+        poses[b] = finalize_pose(bodies[b].kind, poses[b], solver_bodies[b]);
+    }
+}

@@ -16,8 +16,9 @@ pub(crate) fn check_flags(aabbs: &[Aabb], is_static: &[bool]) -> Result<(), Broa
     }
 }
 
-/// A pair is wanted unless both boxes are static: two bodies that cannot move need no
-/// contact, however much they overlap (floors meeting walls, for instance).
+/// A pair is wanted unless both boxes are static. "Static" means contacts cannot move the
+/// body (fixed and kinematic bodies): two such bodies need no contact, however much they
+/// overlap (a floor meeting a wall, a kinematic platform passing through the floor).
 #[inline]
 pub(crate) fn wanted(is_static: &[bool], i: u32, j: u32) -> bool {
     !(is_static[i as usize] && is_static[j as usize])

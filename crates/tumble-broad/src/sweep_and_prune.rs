@@ -67,7 +67,7 @@ impl SweepAndPrune {
     }
 
     /// As `find_pairs`, leaving out pairs whose two boxes are both flagged in `is_static`
-    /// (one flag per box).
+    /// (one flag per box; flag every body contacts cannot move, fixed and kinematic alike).
     pub fn find_pairs_filtered(
         &mut self,
         aabbs: &[Aabb],

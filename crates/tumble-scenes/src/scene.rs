@@ -13,6 +13,11 @@ pub const DEFAULT_DT: Real = 1.0 / 60.0;
 pub const DEFAULT_STEPS: u32 = 600;
 
 /// A complete simulation setup, loadable from and savable to JSON.
+///
+/// Conventions every engine running a scene follows: SI units, y up, quaternions `[x, y, z, w]`,
+/// angular velocities in world axes; materials of a touching pair combine by the geometric
+/// mean for friction (`sqrt(mu_a * mu_b)`, as Box2D) and the maximum for restitution; no
+/// contact skin (boxes touch face to face), speculative contacts within the engine's margin.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Scene {
     /// Short identifier, e.g. `pyramid_12`.

@@ -1,0 +1,244 @@
+//! Drift and cost of each solver setting on the resting canonical scenes: the thesis's
+//! Baumgarte comparison, reproduced with the soft step beside it and rapier3d as a reference.
+//!
+//! ```sh
+//! cargo run --release -p tumble-benches --bin solver_table
+//! cargo run --release -p tumble-benches --bin solver_table -- --scenes stack20 --steps 600
+//! ```
+//!
+//! Every row runs a fresh world for the scene's full length (10 s, 600 steps at 60 Hz) on the
+//! CPU and reports the horizontal drift of the dynamic bodies (the largest x-z displacement of
+//! any body from its start, at the end and at its worst during the run), whether the scene's
+//! own drift criterion held at every step, and the median and mean wall time of one step.
+//! Rapier rows use as many solver iterations as the Tumble row above them has substeps
+//! (rapier's iterations are substeps of its soft-step solver).
+
+use std::time::Instant;
+
+use tumble::prelude::*;
+use tumble_scenes::{RapierOptions, Scene, SceneCheck, build_rapier_with, pyramid, stack};
+
+/// One solver setting: its label in the table and how to run it.
+#[derive(Clone, Copy)]
+enum Setting {
+    /// The thesis's projected Gauss-Seidel with `iterations` passes, one substep.
+    Baumgarte { iterations: u32 },
+    /// The soft step with `substeps` substeps (one biased and one relax pass each).
+    SoftStep { substeps: u32 },
+    /// Rapier3d with `iterations` solver iterations.
+    Rapier { iterations: u32 },
+}
+
+impl Setting {
+    fn label(self) -> String {
+        match self {
+            Setting::Baumgarte { iterations } => format!("tumble Baumgarte, {iterations} it"),
+            Setting::SoftStep { substeps } => format!("tumble SoftStep, {substeps} sub"),
+            Setting::Rapier { iterations } => format!("rapier3d, {iterations} it"),
+        }
+    }
+}
+
+/// The thesis's two Baumgarte settings (5: what a game would afford; 150: what the thesis ran
+/// on the CPU), then the soft step at 1 to 8 substeps, each beside rapier at the same count.
+const SETTINGS: [Setting; 10] = [
+    Setting::Baumgarte { iterations: 5 },
+    Setting::Baumgarte { iterations: 150 },
+    Setting::SoftStep { substeps: 1 },
+    Setting::Rapier { iterations: 1 },
+    Setting::SoftStep { substeps: 2 },
+    Setting::Rapier { iterations: 2 },
+    Setting::SoftStep { substeps: 4 },
+    Setting::Rapier { iterations: 4 },
+    Setting::SoftStep { substeps: 8 },
+    Setting::Rapier { iterations: 8 },
+];
+
+struct Args {
+    scenes: Vec<String>,
+    steps: Option<u32>,
+    rapier: bool,
+}
+
+fn parse_args() -> Args {
+    let mut args = Args {
+        scenes: vec!["stack20".into(), "pyramid12".into()],
+        steps: None,
+        rapier: true,
+    };
+    let mut it = std::env::args().skip(1);
+    while let Some(flag) = it.next() {
+        if flag == "--no-rapier" {
+            args.rapier = false;
+            continue;
+        }
+        let value = it.next().unwrap_or_default();
+        match flag.as_str() {
+            "--scenes" => args.scenes = value.split(',').map(str::to_owned).collect(),
+            "--steps" => args.steps = Some(value.parse().expect("--steps takes a count")),
+            other => panic!("unknown flag {other}: see the module docs"),
+        }
+    }
+    args
+}
+
+fn scene_named(name: &str) -> Scene {
+    if let Some(n) = name.strip_prefix("stack") {
+        return stack(n.parse().expect("stackN"));
+    }
+    if let Some(h) = name.strip_prefix("pyramid") {
+        return pyramid(h.parse().expect("pyramidH"));
+    }
+    panic!("unknown scene {name}: stackN or pyramidH")
+}
+
+/// The largest horizontal (x-z) displacement of any dynamic body from its scene position.
+fn horizontal_drift(scene: &Scene, positions: &[[f32; 3]]) -> f32 {
+    scene
+        .bodies
+        .iter()
+        .zip(positions)
+        .filter(|(spec, _)| spec.is_dynamic())
+        .map(|(spec, p)| {
+            let dx = p[0] - spec.position[0];
+            let dz = p[2] - spec.position[2];
+            (dx * dx + dz * dz).sqrt()
+        })
+        .fold(0.0, f32::max)
+}
+
+/// What one row measured.
+struct Row {
+    /// Wall time of each step, ms.
+    ms: Vec<f64>,
+    /// Drift at the end of the run, m.
+    final_drift: f32,
+    /// Largest drift at any step, m.
+    peak_drift: f32,
+    /// Contact points in the last step (Tumble only).
+    points: Option<usize>,
+}
+
+/// A stepping engine: one step, then every body's centre.
+trait Engine {
+    fn step(&mut self);
+    fn positions(&self) -> Vec<[f32; 3]>;
+}
+
+struct TumbleEngine {
+    world: World,
+    handles: Vec<BodyHandle>,
+}
+
+impl Engine for TumbleEngine {
+    fn step(&mut self) {
+        self.world.step().expect("a valid world steps");
+    }
+    fn positions(&self) -> Vec<[f32; 3]> {
+        self.handles
+            .iter()
+            .map(|&h| {
+                let t = self.world.pose(h).expect("live handle").translation.vector;
+                [t.x, t.y, t.z]
+            })
+            .collect()
+    }
+}
+
+impl Engine for tumble_scenes::RapierWorld {
+    fn step(&mut self) {
+        tumble_scenes::RapierWorld::step(self);
+    }
+    fn positions(&self) -> Vec<[f32; 3]> {
+        self.body_poses().into_iter().map(|(p, _)| p).collect()
+    }
+}
+
+fn run(scene: &Scene, engine: &mut dyn Engine, steps: u32) -> Row {
+    let mut ms = Vec::with_capacity(steps as usize);
+    let mut peak_drift: f32 = 0.0;
+    for _ in 0..steps {
+        let t0 = Instant::now();
+        engine.step();
+        ms.push(t0.elapsed().as_secs_f64() * 1e3);
+        peak_drift = peak_drift.max(horizontal_drift(scene, &engine.positions()));
+    }
+    Row {
+        ms,
+        final_drift: horizontal_drift(scene, &engine.positions()),
+        peak_drift,
+        points: None,
+    }
+}
+
+fn run_setting(scene: &Scene, setting: Setting, steps: u32) -> Row {
+    let solver = match setting {
+        Setting::Baumgarte { iterations } => SolverConfig {
+            iterations,
+            ..SolverConfig::baumgarte()
+        },
+        Setting::SoftStep { substeps } => SolverConfig {
+            substeps,
+            ..SolverConfig::soft_step()
+        },
+        Setting::Rapier { iterations } => {
+            let options = RapierOptions {
+                solver_iterations: iterations as usize,
+                ..RapierOptions::default()
+            };
+            return run(scene, &mut build_rapier_with(scene, &options), steps);
+        }
+    };
+    let config = WorldConfig {
+        solver,
+        ..WorldConfig::default()
+    };
+    let (world, handles) = World::from_scene(scene, config).expect("canonical scenes are valid");
+    let mut engine = TumbleEngine { world, handles };
+    let mut row = run(scene, &mut engine, steps);
+    row.points = Some(engine.world.stats().contact_points);
+    row
+}
+
+fn median(values: &[f64]) -> f64 {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    sorted[sorted.len() / 2]
+}
+
+fn main() {
+    let args = parse_args();
+    println!(
+        "| scene | solver | drift after 10 s (mm) | peak drift (mm) | stands | median ms/step | mean ms/step | contact points |"
+    );
+    println!("|---|---|---|---|---|---|---|---|");
+    for name in &args.scenes {
+        let scene = scene_named(name);
+        let steps = args.steps.unwrap_or(scene.steps);
+        // The scene's own criterion: the stability suite's drift limit for this structure.
+        let limit = match scene.check {
+            SceneCheck::MaxDrift { meters } => meters,
+            _ => f32::INFINITY,
+        };
+        for setting in SETTINGS {
+            if !args.rapier && matches!(setting, Setting::Rapier { .. }) {
+                continue;
+            }
+            let row = run_setting(&scene, setting, steps);
+            let stands = if row.peak_drift <= limit {
+                "yes".to_owned()
+            } else {
+                format!("no (> {:.0} mm)", limit * 1e3)
+            };
+            println!(
+                "| {name} | {} | {:.2} | {:.2} | {stands} | {:.3} | {:.3} | {} |",
+                setting.label(),
+                row.final_drift * 1e3,
+                row.peak_drift * 1e3,
+                median(&row.ms),
+                row.ms.iter().sum::<f64>() / row.ms.len() as f64,
+                row.points.map_or("-".to_owned(), |p| p.to_string()),
+            );
+        }
+    }
+}

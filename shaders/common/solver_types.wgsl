@@ -123,3 +123,16 @@ struct ColorSlot {
     // Color proposed in the current round, or NO_COLOR.
     proposal: u32,
 }
+
+// An impulse queued by the host, applied at the start of the next step. 48 bytes.
+struct GpuImpulse {
+    // The body.
+    body: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+    // Impulse (N s, world); w unused.
+    impulse: vec4<f32>,
+    // World point it acts at; w unused.
+    point: vec4<f32>,
+}

@@ -19,6 +19,7 @@ pub mod registry;
 pub mod shader;
 pub mod solver;
 pub mod stage_timer;
+pub mod step;
 mod transfer;
 
 pub use buffer_pool::BufferPool;

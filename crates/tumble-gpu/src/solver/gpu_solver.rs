@@ -135,6 +135,11 @@ impl GpuSolver {
         })
     }
 
+    /// The pipelines in use.
+    pub fn pipelines(&self) -> &SolverPipelines {
+        &self.pipelines
+    }
+
     /// The effects compiled in.
     pub fn effects(&self) -> Effects {
         self.pipelines.effects

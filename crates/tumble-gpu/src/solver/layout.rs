@@ -162,6 +162,24 @@ pub struct ColorSlot {
     pub proposal: u32,
 }
 
+/// An impulse queued by the host for the next step. 48 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuImpulse {
+    /// The body.
+    pub body: u32,
+    /// Padding.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
+    /// Padding.
+    pub _pad2: u32,
+    /// Impulse, N s (world); `w` unused.
+    pub impulse: [f32; 4],
+    /// World point it acts at; `w` unused.
+    pub point: [f32; 4],
+}
+
 /// Builds a [`StructLayout`] from a type and its fields in declaration order.
 macro_rules! solver_struct_layout {
     ($ty:ident { $($field:ident),* $(,)? }) => {
@@ -243,5 +261,13 @@ pub fn solver_struct_layouts() -> Vec<StructLayout> {
             _pad2
         }),
         solver_struct_layout!(ColorSlot { color, proposal }),
+        solver_struct_layout!(GpuImpulse {
+            body,
+            _pad0,
+            _pad1,
+            _pad2,
+            impulse,
+            point
+        }),
     ]
 }

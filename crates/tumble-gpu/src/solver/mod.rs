@@ -6,6 +6,7 @@
 //! The math mirrors tumble-solver step for step; each kernel has a CPU twin (tumble-solver's
 //! own function, or [`color::color_rounds_cpu`] for the coloring).
 
+pub mod apply_impulses;
 pub mod color;
 pub mod constants;
 pub mod convert;
@@ -32,6 +33,7 @@ pub use path::SolvePath;
 /// Every solver kernel spec, for validation.
 pub fn kernels() -> Vec<&'static KernelSpec> {
     vec![
+        &apply_impulses::APPLY_IMPULSES,
         &color::COLOR_PROPOSE,
         &color::COLOR_RESOLVE,
         &color::COLOR_FINISH,

@@ -9,6 +9,7 @@ use crate::kernel::Kernel;
 use crate::kernels::radix_sort::RadixSort;
 use crate::{GpuContext, GpuError};
 
+use super::apply_impulses::APPLY_IMPULSES;
 use super::color::{COLOR_FINISH, COLOR_PROPOSE, COLOR_RESOLVE};
 use super::effects::Effects;
 use super::fused::SOLVE_FUSED;
@@ -47,6 +48,8 @@ pub struct SolverPipelines {
     pub solve_color: Vec<Kernel>,
     /// The whole color and solve stage in one workgroup.
     pub solve_fused: Kernel,
+    /// Impulses queued by the host.
+    pub apply_impulses: Kernel,
 }
 
 type Cache = Mutex<HashMap<(wgpu::Device, Effects), Arc<SolverPipelines>>>;
@@ -78,6 +81,7 @@ impl SolverPipelines {
             store_impulses: build(&STORE_IMPULSES)?,
             solve_color,
             solve_fused: build(&SOLVE_FUSED)?,
+            apply_impulses: build(&APPLY_IMPULSES)?,
         })
     }
 

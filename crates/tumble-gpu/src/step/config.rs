@@ -1,0 +1,96 @@
+//! Settings of a [`super::GpuWorld`].
+
+use tumble_geometry::{Real, Vec3};
+use tumble_solver::SolverConfig;
+
+use crate::GpuError;
+use crate::collision::CollisionConfig;
+use crate::solver::SolvePath;
+
+/// How each step chooses between the wide and the fused solver paths.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PathPolicy {
+    /// By the manifold count of a recent step ([`crate::solver::SolvePath::choose`]).
+    Auto,
+    /// Always this path (for tests and benchmarks).
+    Always(SolvePath),
+}
+
+/// Everything a GPU world needs besides its bodies.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GpuWorldConfig {
+    /// Gravity, m/s².
+    pub gravity: Vec3,
+    /// Step length, s.
+    pub dt: Real,
+    /// Speculative margin, m (AABB growth and the narrow phase's reporting distance).
+    pub margin: Real,
+    /// Solver settings, as for the CPU solver.
+    pub solver: SolverConfig,
+    /// Wide or fused solver path.
+    pub path: PathPolicy,
+    /// Pair slots allocated per body (more pairs than that overflow and grow the buffers).
+    pub pairs_per_body: u32,
+    /// Pair slots allocated at least.
+    pub min_pair_capacity: u32,
+    /// Time each stage with GPU timestamps when the device has them.
+    pub timestamps: bool,
+}
+
+impl Default for GpuWorldConfig {
+    /// Earth gravity along -y, 60 Hz, the collision stages' default margin and pair
+    /// capacity, the default soft-step solver, automatic path.
+    fn default() -> Self {
+        let collision = CollisionConfig::default();
+        Self {
+            gravity: Vec3::new(0.0, -9.81, 0.0),
+            dt: collision.dt,
+            margin: collision.margin,
+            solver: SolverConfig::default(),
+            path: PathPolicy::Auto,
+            pairs_per_body: collision.pairs_per_body,
+            min_pair_capacity: collision.min_pair_capacity,
+            timestamps: false,
+        }
+    }
+}
+
+fn invalid(field: &str, value: impl std::fmt::Debug) -> GpuError {
+    GpuError::InvalidInput {
+        field: field.to_string(),
+        value: format!("{value:?}"),
+    }
+}
+
+impl GpuWorldConfig {
+    /// Checks every field; the error names the first bad one and its value.
+    pub fn validate(&self) -> Result<(), GpuError> {
+        if !self.gravity.iter().all(|g| g.is_finite()) {
+            return Err(invalid("gravity", self.gravity));
+        }
+        if !(self.dt.is_finite() && self.dt > 0.0) {
+            return Err(invalid("dt", self.dt));
+        }
+        if !(self.margin.is_finite() && self.margin >= 0.0) {
+            return Err(invalid("margin", self.margin));
+        }
+        if self.pairs_per_body == 0 {
+            return Err(invalid("pairs_per_body", self.pairs_per_body));
+        }
+        self.solver.validate().map_err(|e| GpuError::InvalidInput {
+            field: e.field.to_string(),
+            value: format!("{} (expected {})", e.value, e.expected),
+        })
+    }
+
+    /// The collision stages' settings.
+    pub fn collision(&self) -> CollisionConfig {
+        CollisionConfig {
+            margin: self.margin,
+            dt: self.dt,
+            pairs_per_body: self.pairs_per_body,
+            min_pair_capacity: self.min_pair_capacity,
+            auto_grow: false,
+        }
+    }
+}

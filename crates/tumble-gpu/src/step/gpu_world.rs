@@ -1,0 +1,724 @@
+//! [`GpuWorld`]: the whole step on the GPU. Bodies are uploaded once; each step records
+//! `update_aabbs -> broad_phase -> narrow_phase (with matching) -> color -> prepare ->
+//! substeps -> finish` into ONE command encoder, submits it once, and reads nothing back
+//! unless asked (asynchronously, double-buffered).
+
+use std::collections::VecDeque;
+
+use tumble_geometry::{Point3, Pose, Vec3};
+use tumble_solver::{Body, BodyState, Contact};
+
+use crate::buffer_pool::{BufferPool, STORAGE_USAGE};
+use crate::collision::GpuCollision;
+use crate::layout::{GpuContact, GpuManifold, GpuPose, GpuVelocity, WorkList};
+use crate::readback::{Readback, Region, Ticket};
+use crate::solver::apply_impulses::ApplyImpulsesArgs;
+use crate::solver::convert::{gpu_body, gpu_manifold, gpu_pose, gpu_shape, gpu_velocity};
+use crate::solver::layout::{GpuBody, GpuConstraint, GpuImpulse};
+use crate::solver::{Effects, GpuSolver, SolvePath, SolverInputs, StepParams};
+use crate::{GpuContext, GpuError, MAX_MANIFOLD_POINTS, StageTimer};
+
+use super::config::{GpuWorldConfig, PathPolicy};
+use super::snapshot::{ContactSnapshot, ReadRequest, Snapshot};
+use super::stats_ring::StatsRing;
+
+const BODIES: &str = "world bodies";
+const HOST_MANIFOLDS: &str = "host manifolds";
+const HOST_POINTS: &str = "host contact points";
+const HOST_WORK: &str = "host manifold work list";
+
+/// Manifolds per body assumed before any step has reported its count: a box resting in a
+/// pile touches about three others per pair it owns (grid neighbours below and beside).
+pub const ESTIMATED_PAIRS_PER_BODY: u32 = 3;
+
+/// Manifolds copied by an asynchronous contact readback beyond the last known count, as a
+/// fraction and a floor: a step with more is read back truncated (see
+/// [`ContactSnapshot::work`]) and [`GpuWorld::read_now`] gives the exact list.
+const READ_HEADROOM: f32 = 0.25;
+const READ_MIN_MANIFOLDS: u32 = 1024;
+
+/// Where the manifolds of the last step came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum ContactSource {
+    /// The GPU collision stages (the buffers of the step's parity).
+    Collision,
+    /// Manifolds uploaded by the host ([`GpuWorld::step_with_contacts`]).
+    Host,
+}
+
+#[derive(Debug)]
+struct PendingRead {
+    ticket: Ticket,
+    regions: Vec<Region>,
+    request: ReadRequest,
+    step: u64,
+}
+
+/// A world of boxes simulated entirely on the GPU.
+#[derive(Debug)]
+pub struct GpuWorld {
+    ctx: GpuContext,
+    config: GpuWorldConfig,
+    collision: GpuCollision,
+    solver: GpuSolver,
+    pool: BufferPool,
+    bodies: Vec<Body>,
+    impulses: Vec<GpuImpulse>,
+    stats: StatsRing,
+    known_manifolds: Option<u32>,
+    pair_overflows: u32,
+    readback: Readback,
+    request: ReadRequest,
+    pending: VecDeque<PendingRead>,
+    timer: StageTimer,
+    steps: u64,
+    source: ContactSource,
+    host_count: u32,
+    last_path: Option<SolvePath>,
+}
+
+fn invalid(field: impl Into<String>, value: impl std::fmt::Debug) -> GpuError {
+    GpuError::InvalidInput {
+        field: field.into(),
+        value: format!("{value:?}"),
+    }
+}
+
+impl GpuWorld {
+    /// An empty world on `ctx`. Errs on a bad config, naming the field.
+    pub fn new(ctx: &GpuContext, config: GpuWorldConfig) -> Result<Self, GpuError> {
+        config.validate()?;
+        let timer = if config.timestamps {
+            StageTimer::new(ctx)
+        } else {
+            StageTimer::disabled(ctx)
+        };
+        Ok(Self {
+            ctx: ctx.clone(),
+            config,
+            collision: GpuCollision::new(ctx, config.collision())?,
+            solver: GpuSolver::new(ctx, Effects::of_scene(&[], &config.gravity))?,
+            pool: BufferPool::new(ctx),
+            bodies: Vec::new(),
+            impulses: Vec::new(),
+            stats: StatsRing::new(ctx),
+            known_manifolds: None,
+            pair_overflows: 0,
+            readback: Readback::new(ctx),
+            request: ReadRequest::default(),
+            pending: VecDeque::new(),
+            timer,
+            steps: 0,
+            source: ContactSource::Collision,
+            host_count: 0,
+            last_path: None,
+        })
+    }
+
+    /// The settings.
+    pub fn config(&self) -> &GpuWorldConfig {
+        &self.config
+    }
+
+    /// Replaces the solver settings from the next step on. Errs on a bad field, naming it.
+    pub fn set_solver(&mut self, solver: tumble_solver::SolverConfig) -> Result<(), GpuError> {
+        let config = GpuWorldConfig {
+            solver,
+            ..self.config
+        };
+        config.validate()?;
+        self.config = config;
+        Ok(())
+    }
+
+    /// The device.
+    pub fn context(&self) -> &GpuContext {
+        &self.ctx
+    }
+
+    /// Bodies uploaded.
+    pub fn body_count(&self) -> usize {
+        self.bodies.len()
+    }
+
+    /// Steps taken.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// The solver path the last step took.
+    pub fn last_path(&self) -> Option<SolvePath> {
+        self.last_path
+    }
+
+    /// Times the pair buffers overflowed (and grew); the steps concerned missed pairs.
+    pub fn pair_overflows(&self) -> u32 {
+        self.pair_overflows
+    }
+
+    /// The solver stage (for tests and tools: its coloring and constraint buffers).
+    pub fn solver(&self) -> &GpuSolver {
+        &self.solver
+    }
+
+    /// Uploads every body (cold data, pose, velocities); body `i` is `bodies[i]` from now on.
+    /// Warm starting and color seeds start over (indices may have been reassigned), and the
+    /// pipelines are specialized for the effects these bodies use.
+    pub fn set_bodies(&mut self, bodies: &[Body], states: &[BodyState]) -> Result<(), GpuError> {
+        if states.len() != bodies.len() {
+            return Err(invalid(
+                "states.len()",
+                format!("{} for {} bodies", states.len(), bodies.len()),
+            ));
+        }
+        self.stats.reset()?;
+        self.pending.clear();
+        self.impulses.clear();
+        self.known_manifolds = None;
+        if !bodies.is_empty() {
+            let poses: Vec<GpuPose> = bodies.iter().map(|b| gpu_pose(&b.pose)).collect();
+            let velocities: Vec<GpuVelocity> = states.iter().map(gpu_velocity).collect();
+            let shapes: Vec<_> = bodies.iter().map(gpu_shape).collect();
+            self.collision.set_bodies(&poses, &velocities, &shapes)?;
+            self.collision.forget_history();
+            let gpu: Vec<GpuBody> = bodies.iter().map(gpu_body).collect();
+            let bytes: &[u8] = bytemuck::cast_slice(&gpu);
+            self.pool
+                .ensure(BODIES, bytes.len() as u64, STORAGE_USAGE)?;
+            self.ctx.queue.write_buffer(self.pool.get(BODIES), 0, bytes);
+        }
+        self.solver
+            .set_effects(Effects::of_scene(bodies, &self.config.gravity))?;
+        self.solver.forget_colors();
+        self.bodies = bodies.to_vec();
+        Ok(())
+    }
+
+    fn check_body(&self, i: usize) -> Result<(), GpuError> {
+        if i >= self.bodies.len() {
+            return Err(invalid(
+                "body",
+                format!("{i} (the world has {} bodies)", self.bodies.len()),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Teleports body `i` (velocities kept). Takes effect before the next step.
+    pub fn set_pose(&mut self, i: usize, pose: &Pose) -> Result<(), GpuError> {
+        self.check_body(i)?;
+        let finite = pose.translation.vector.iter().all(|c| c.is_finite())
+            && pose.rotation.coords.iter().all(|c| c.is_finite());
+        if !finite {
+            return Err(invalid("pose", pose));
+        }
+        self.flush_impulses()?;
+        let offset = (i * std::mem::size_of::<GpuPose>()) as u64;
+        let poses = self.collision.buffers().poses;
+        self.ctx
+            .queue
+            .write_buffer(poses, offset, bytemuck::bytes_of(&gpu_pose(pose)));
+        Ok(())
+    }
+
+    /// Sets body `i`'s linear and angular velocity. Takes effect before the next step.
+    pub fn set_velocity(
+        &mut self,
+        i: usize,
+        linear: &Vec3,
+        angular: &Vec3,
+    ) -> Result<(), GpuError> {
+        self.check_body(i)?;
+        if !linear.iter().all(|c| c.is_finite()) {
+            return Err(invalid("linear_velocity", linear));
+        }
+        if !angular.iter().all(|c| c.is_finite()) {
+            return Err(invalid("angular_velocity", angular));
+        }
+        self.flush_impulses()?;
+        let offset = (i * std::mem::size_of::<GpuVelocity>()) as u64;
+        let velocity = gpu_velocity(&BodyState::moving(*linear, *angular));
+        let velocities = self.collision.buffers().velocities;
+        self.ctx
+            .queue
+            .write_buffer(velocities, offset, bytemuck::bytes_of(&velocity));
+        Ok(())
+    }
+
+    /// Queues an impulse (N s, world) at a world point on body `i`, applied on the GPU at
+    /// the start of the next step, in queue order (fixed and kinematic bodies ignore it).
+    pub fn apply_impulse(
+        &mut self,
+        i: usize,
+        impulse: &Vec3,
+        point: &Point3,
+    ) -> Result<(), GpuError> {
+        self.check_body(i)?;
+        if !impulse.iter().all(|c| c.is_finite()) {
+            return Err(invalid("impulse", impulse));
+        }
+        if !point.iter().all(|c| c.is_finite()) {
+            return Err(invalid("point", point));
+        }
+        self.impulses.push(GpuImpulse {
+            body: i as u32,
+            impulse: [impulse.x, impulse.y, impulse.z, 0.0],
+            point: [point.x, point.y, point.z, 0.0],
+            ..Default::default()
+        });
+        Ok(())
+    }
+
+    /// Records the queued impulses (if any) and empties the queue.
+    fn record_impulses(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        if self.impulses.is_empty() {
+            return;
+        }
+        let queued = self.ctx.storage_buffer("queued impulses", &self.impulses);
+        let kernel = &self.solver.pipelines().apply_impulses;
+        let buffers = self.collision.buffers();
+        let group = kernel.bind(
+            &self.ctx,
+            &ApplyImpulsesArgs {
+                impulses: &queued,
+                bodies: self.pool.get(BODIES),
+                poses: buffers.poses,
+                velocities: buffers.velocities,
+            },
+        );
+        let mut pass = self.timer.begin_pass(encoder, "apply_impulses");
+        kernel.dispatch_workgroups(&mut pass, &group, 1, 1);
+        drop(pass);
+        self.impulses.clear();
+    }
+
+    /// Submits the queued impulses now, so a later write of a pose or velocity lands after
+    /// them, as the calls were made.
+    fn flush_impulses(&mut self) -> Result<(), GpuError> {
+        if self.impulses.is_empty() {
+            return Ok(());
+        }
+        let mut encoder = self.encoder("impulses");
+        self.timer.reset();
+        self.record_impulses(&mut encoder);
+        self.ctx.queue.submit([encoder.finish()]);
+        Ok(())
+    }
+
+    fn encoder(&self, label: &str) -> wgpu::CommandEncoder {
+        self.ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) })
+    }
+
+    /// Asks the next steps to copy `request` for reading (see [`Self::latest_snapshot`]).
+    pub fn request_reads(&mut self, request: ReadRequest) {
+        self.request = request;
+    }
+
+    /// Reads the two-steps-old manifold count (waiting for it if needed) and grows the pair
+    /// buffers if that step overflowed.
+    fn take_stats(&mut self) -> Result<(), GpuError> {
+        let Some(work) = self.stats.take_lagged()? else {
+            return Ok(());
+        };
+        self.known_manifolds = Some(work.count);
+        if work.requested > work.capacity {
+            self.pair_overflows += 1;
+            let wanted = work.requested.saturating_add(work.requested / 4);
+            self.collision.reserve_pairs(wanted)?;
+        }
+        Ok(())
+    }
+
+    /// The solver path of the next step: decided by a count that is itself a result of the
+    /// simulation (never by timing), so runs are reproducible.
+    fn choose_path(&self) -> SolvePath {
+        match self.config.path {
+            PathPolicy::Always(path) => path,
+            PathPolicy::Auto => {
+                let bodies = self.bodies.len() as u32;
+                let manifolds = self
+                    .known_manifolds
+                    .unwrap_or(bodies.saturating_mul(ESTIMATED_PAIRS_PER_BODY));
+                SolvePath::choose(bodies, manifolds)
+            }
+        }
+    }
+
+    fn params(&self) -> StepParams {
+        StepParams::new(
+            &self.config.solver,
+            self.config.dt,
+            &self.config.gravity,
+            self.bodies.len() as u32,
+            self.solver.effects().restitution,
+        )
+    }
+
+    /// One step, entirely on the GPU, in one command encoder and one submit.
+    pub fn step(&mut self) -> Result<(), GpuError> {
+        if self.bodies.is_empty() {
+            self.steps += 1;
+            return Ok(());
+        }
+        self.take_stats()?;
+        let path = self.choose_path();
+        let params = self.params();
+        let mut encoder = self.encoder("tumble step");
+        self.timer.reset();
+        self.record_impulses(&mut encoder);
+        self.collision.record(&mut encoder, &mut self.timer)?;
+        let buffers = self.collision.buffers();
+        let inputs = SolverInputs {
+            bodies: self.pool.get(BODIES),
+            poses: buffers.poses,
+            velocities: buffers.velocities,
+            manifolds: buffers.manifolds,
+            contacts: buffers.contacts,
+            contact_work: buffers.pair_work,
+            body_count: self.bodies.len() as u32,
+            contact_capacity: self.collision.pair_capacity(),
+        };
+        self.solver
+            .record(&mut encoder, &mut self.timer, &inputs, &params.params, path)?;
+        self.source = ContactSource::Collision;
+        self.finish_step(encoder, path)
+    }
+
+    /// One step of the solver stages on manifolds made by the host (the CPU narrow phase):
+    /// `contacts` with their warm-start impulses, and for each the index of its pair's
+    /// manifold in the previous call's list (or `NO_PREVIOUS`), which seeds its color. The
+    /// GPU collision stages do not run. The solved impulses come back with a contact readback.
+    pub fn step_with_contacts(
+        &mut self,
+        contacts: &[Contact],
+        previous: &[u32],
+    ) -> Result<(), GpuError> {
+        if previous.len() != contacts.len() {
+            return Err(invalid(
+                "previous.len()",
+                format!("{} for {} contacts", previous.len(), contacts.len()),
+            ));
+        }
+        let n = self.bodies.len() as u32;
+        if let Some((k, c)) = contacts
+            .iter()
+            .enumerate()
+            .find(|(_, c)| c.body_a >= n || c.body_b >= n || c.body_a == c.body_b)
+        {
+            return Err(invalid(
+                format!("contacts[{k}] bodies"),
+                (c.body_a, c.body_b),
+            ));
+        }
+        if self.bodies.is_empty() {
+            self.steps += 1;
+            return Ok(());
+        }
+        let count = contacts.len() as u32;
+        let capacity = count.max(1);
+        let mut manifolds = Vec::with_capacity(contacts.len());
+        let mut points = Vec::with_capacity(contacts.len() * MAX_MANIFOLD_POINTS as usize);
+        for (c, &p) in contacts.iter().zip(previous) {
+            let (m, pts) = gpu_manifold(c, p);
+            manifolds.push(m);
+            points.extend_from_slice(&pts);
+        }
+        let cap = u64::from(capacity);
+        self.pool.ensure(
+            HOST_MANIFOLDS,
+            cap * std::mem::size_of::<GpuManifold>() as u64,
+            STORAGE_USAGE,
+        )?;
+        self.pool.ensure(
+            HOST_POINTS,
+            cap * u64::from(MAX_MANIFOLD_POINTS) * std::mem::size_of::<GpuContact>() as u64,
+            STORAGE_USAGE,
+        )?;
+        self.pool.ensure(
+            HOST_WORK,
+            std::mem::size_of::<WorkList>() as u64,
+            STORAGE_USAGE,
+        )?;
+        let queue = &self.ctx.queue;
+        queue.write_buffer(
+            self.pool.get(HOST_MANIFOLDS),
+            0,
+            bytemuck::cast_slice(&manifolds),
+        );
+        queue.write_buffer(self.pool.get(HOST_POINTS), 0, bytemuck::cast_slice(&points));
+        queue.write_buffer(
+            self.pool.get(HOST_WORK),
+            0,
+            bytemuck::bytes_of(&WorkList::for_count(count)),
+        );
+        self.take_stats()?;
+        let path = match self.config.path {
+            PathPolicy::Always(path) => path,
+            PathPolicy::Auto => SolvePath::choose(n, count),
+        };
+        let params = self.params();
+        let mut encoder = self.encoder("tumble solver step");
+        self.timer.reset();
+        self.record_impulses(&mut encoder);
+        let buffers = self.collision.buffers();
+        let inputs = SolverInputs {
+            bodies: self.pool.get(BODIES),
+            poses: buffers.poses,
+            velocities: buffers.velocities,
+            manifolds: self.pool.get(HOST_MANIFOLDS),
+            contacts: self.pool.get(HOST_POINTS),
+            contact_work: self.pool.get(HOST_WORK),
+            body_count: n,
+            contact_capacity: capacity,
+        };
+        self.solver
+            .record(&mut encoder, &mut self.timer, &inputs, &params.params, path)?;
+        self.source = ContactSource::Host;
+        self.host_count = count;
+        self.finish_step(encoder, path)
+    }
+
+    /// The buffers holding the last step's manifolds, points and work list (handles are
+    /// shared, so these are cheap clones), and the manifold capacity.
+    fn contact_buffers(&self) -> (wgpu::Buffer, wgpu::Buffer, wgpu::Buffer, u32) {
+        match self.source {
+            ContactSource::Collision => {
+                let b = self.collision.buffers();
+                (
+                    b.manifolds.clone(),
+                    b.contacts.clone(),
+                    b.pair_work.clone(),
+                    self.collision.pair_capacity(),
+                )
+            }
+            ContactSource::Host => (
+                self.pool.get(HOST_MANIFOLDS).clone(),
+                self.pool.get(HOST_POINTS).clone(),
+                self.pool.get(HOST_WORK).clone(),
+                self.host_count.max(1),
+            ),
+        }
+    }
+
+    /// Copies for the requested reads, the stats copy, timestamps, submit.
+    fn finish_step(
+        &mut self,
+        mut encoder: wgpu::CommandEncoder,
+        path: SolvePath,
+    ) -> Result<(), GpuError> {
+        let (_, _, work, _) = self.contact_buffers();
+        self.stats.record(&mut encoder, &work);
+        let read = if self.request == ReadRequest::default() {
+            None
+        } else {
+            let manifolds = match self.source {
+                ContactSource::Host => self.host_count,
+                ContactSource::Collision => {
+                    let known = self.known_manifolds.unwrap_or(0);
+                    (known + (known as f32 * READ_HEADROOM) as u32).max(READ_MIN_MANIFOLDS)
+                }
+            };
+            Some(self.record_read(&mut encoder, self.request, manifolds)?)
+        };
+        self.timer.resolve(&mut encoder);
+        let index = self.ctx.queue.submit([encoder.finish()]);
+        self.stats.submitted(index);
+        if let Some((slot, regions)) = read {
+            let ticket = self.readback.submitted(slot);
+            // Two staging slots: a third pending read would reuse the oldest one's.
+            if self.pending.len() == 2 {
+                self.pending.pop_front();
+            }
+            self.pending.push_back(PendingRead {
+                ticket,
+                regions,
+                request: self.request,
+                step: self.steps + 1,
+            });
+        }
+        self.last_path = Some(path);
+        self.steps += 1;
+        Ok(())
+    }
+
+    /// Records copies of `request` (with up to `manifolds` manifolds) into a staging slot.
+    fn record_read(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        request: ReadRequest,
+        manifolds: u32,
+    ) -> Result<(usize, Vec<Region>), GpuError> {
+        let n = self.bodies.len() as u64;
+        let (manifold_buffer, point_buffer, work, capacity) = self.contact_buffers();
+        let m = u64::from(manifolds.min(capacity));
+        let sizes = ReadSizes::new(n, m);
+        let slot = self.readback.begin(sizes.total(&request))?;
+        let mut regions = Vec::new();
+        let buffers = self.collision.buffers();
+        let rb = &mut self.readback;
+        if request.poses {
+            regions.push(rb.copy(encoder, slot, buffers.poses, 0, sizes.poses));
+        }
+        if request.velocities {
+            regions.push(rb.copy(encoder, slot, buffers.velocities, 0, sizes.velocities));
+        }
+        if request.contacts {
+            regions.push(rb.copy(encoder, slot, &work, 0, sizes.work));
+            regions.push(rb.copy(encoder, slot, &manifold_buffer, 0, sizes.manifolds));
+            regions.push(rb.copy(encoder, slot, &point_buffer, 0, sizes.points));
+            regions.push(rb.copy(
+                encoder,
+                slot,
+                self.solver.constraints(),
+                0,
+                sizes.constraints,
+            ));
+        }
+        Ok((slot, regions))
+    }
+
+    /// The most recent requested read whose copy has arrived, without waiting (older ones
+    /// are dropped); `None` when none has arrived yet.
+    pub fn latest_snapshot(&mut self) -> Option<Result<Snapshot, GpuError>> {
+        let mut latest = None;
+        while let Some(oldest) = self.pending.front() {
+            let Some(bytes) = self.readback.try_read(&oldest.ticket, &oldest.regions) else {
+                break;
+            };
+            let done = self.pending.pop_front().expect("front exists");
+            latest = Some(bytes.map(|b| decode(&done.request, done.step, b)));
+        }
+        latest
+    }
+
+    /// Waits for the most recent requested read (older ones are dropped).
+    pub fn wait_snapshot(&mut self) -> Result<Option<Snapshot>, GpuError> {
+        while self.pending.len() > 1 {
+            self.pending.pop_front();
+        }
+        let Some(last) = self.pending.pop_front() else {
+            return Ok(None);
+        };
+        let bytes = self.readback.wait(last.ticket, &last.regions)?;
+        Ok(Some(decode(&last.request, last.step, bytes)))
+    }
+
+    /// Reads `request` from the current state now, blocking (queued impulses are applied
+    /// first). Contacts are the last step's, complete.
+    pub fn read_now(&mut self, request: ReadRequest) -> Result<Snapshot, GpuError> {
+        self.flush_impulses()?;
+        let n = self.bodies.len() as u64;
+        let mut snapshot = Snapshot {
+            step: self.steps,
+            ..Default::default()
+        };
+        if n == 0 {
+            return Ok(snapshot);
+        }
+        let buffers = self.collision.buffers();
+        if request.poses {
+            snapshot.poses = self.ctx.read_buffer(buffers.poses, 0, n)?;
+        }
+        if request.velocities {
+            snapshot.velocities = self.ctx.read_buffer(buffers.velocities, 0, n)?;
+        }
+        if request.contacts && self.steps > 0 {
+            let (manifolds, points, work, _) = self.contact_buffers();
+            let list: Vec<WorkList> = self.ctx.read_buffer(&work, 0, 1)?;
+            let count = u64::from(list[0].count);
+            snapshot.contacts = Some(ContactSnapshot {
+                work: list[0],
+                manifolds: self.ctx.read_buffer(&manifolds, 0, count)?,
+                points: self
+                    .ctx
+                    .read_buffer(&points, 0, count * u64::from(MAX_MANIFOLD_POINTS))?,
+                constraints: self.ctx.read_buffer(self.solver.constraints(), 0, count)?,
+            });
+        }
+        Ok(snapshot)
+    }
+
+    /// GPU time per stage of the last step, seconds (empty without timestamps). Blocks.
+    pub fn timings(&mut self) -> Result<Vec<(&'static str, f64)>, GpuError> {
+        self.timer.read()
+    }
+}
+
+/// Byte sizes of the parts of a readback.
+struct ReadSizes {
+    poses: u64,
+    velocities: u64,
+    work: u64,
+    manifolds: u64,
+    points: u64,
+    constraints: u64,
+}
+
+impl ReadSizes {
+    fn new(bodies: u64, manifolds: u64) -> Self {
+        let size = |bytes: usize, count: u64| bytes as u64 * count;
+        Self {
+            poses: size(std::mem::size_of::<GpuPose>(), bodies),
+            velocities: size(std::mem::size_of::<GpuVelocity>(), bodies),
+            work: size(std::mem::size_of::<WorkList>(), 1),
+            manifolds: size(std::mem::size_of::<GpuManifold>(), manifolds),
+            points: size(
+                std::mem::size_of::<GpuContact>(),
+                manifolds * u64::from(MAX_MANIFOLD_POINTS),
+            ),
+            constraints: size(std::mem::size_of::<GpuConstraint>(), manifolds),
+        }
+    }
+
+    /// Staging bytes for `request`, with alignment slack per region.
+    fn total(&self, request: &ReadRequest) -> u64 {
+        let slack = 2 * wgpu::MAP_ALIGNMENT;
+        let mut total = 0;
+        if request.poses {
+            total += self.poses + slack;
+        }
+        if request.velocities {
+            total += self.velocities + slack;
+        }
+        if request.contacts {
+            total += self.work + self.manifolds + self.points + self.constraints + 4 * slack;
+        }
+        total
+    }
+}
+
+/// The snapshot in the bytes of a readback's regions, in the order they were recorded.
+fn decode(request: &ReadRequest, step: u64, bytes: Vec<Vec<u8>>) -> Snapshot {
+    let mut parts = bytes.into_iter();
+    let mut next = || parts.next().unwrap_or_default();
+    let mut snapshot = Snapshot {
+        step,
+        ..Default::default()
+    };
+    if request.poses {
+        snapshot.poses = bytemuck::pod_collect_to_vec(&next());
+    }
+    if request.velocities {
+        snapshot.velocities = bytemuck::pod_collect_to_vec(&next());
+    }
+    if request.contacts {
+        let work: WorkList = bytemuck::pod_read_unaligned(&next());
+        let mut manifolds: Vec<GpuManifold> = bytemuck::pod_collect_to_vec(&next());
+        let mut points: Vec<GpuContact> = bytemuck::pod_collect_to_vec(&next());
+        let mut constraints: Vec<GpuConstraint> = bytemuck::pod_collect_to_vec(&next());
+        // Keep this step's manifolds only (the copy may be longer than the count).
+        let count = (work.count as usize).min(manifolds.len());
+        manifolds.truncate(count);
+        points.truncate(count * MAX_MANIFOLD_POINTS as usize);
+        constraints.truncate(count);
+        snapshot.contacts = Some(ContactSnapshot {
+            work,
+            manifolds,
+            points,
+            constraints,
+        });
+    }
+    snapshot
+}

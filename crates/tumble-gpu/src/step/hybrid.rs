@@ -1,0 +1,102 @@
+//! The hybrid mix (the thesis's fastest): collision on the GPU, solver on the CPU. Each step
+//! uploads the bodies' motion, runs the GPU collision stages, reads the manifolds back as
+//! the CPU's contacts (with the impulses the GPU matching carried over), and after the CPU
+//! solve writes the solved impulses back, so the next step's GPU matching warm starts them.
+
+use tumble_solver::{Body, BodyState, Contact};
+
+use crate::collision::{CollisionConfig, CollisionSnapshot, GpuCollision, ReadbackRequest};
+use crate::layout::GpuContact;
+use crate::solver::convert::{gpu_pose, gpu_shape, gpu_velocity};
+use crate::{GpuContext, GpuError, MAX_MANIFOLD_POINTS};
+
+/// GPU collision for a CPU solver.
+#[derive(Debug)]
+pub struct HybridCollision {
+    ctx: GpuContext,
+    collision: GpuCollision,
+    /// Whether the uploaded shapes match the bodies (false after [`Self::invalidate`]).
+    shapes_uploaded: bool,
+    /// Last step's points, as read back, to write the solved impulses into.
+    last_points: Vec<GpuContact>,
+}
+
+impl HybridCollision {
+    /// The collision stages on `ctx` with `config` (`auto_grow` is forced on: an overflowing
+    /// step is redone with larger buffers before anything is read).
+    pub fn new(ctx: &GpuContext, config: CollisionConfig) -> Result<Self, GpuError> {
+        let config = CollisionConfig {
+            auto_grow: true,
+            ..config
+        };
+        Ok(Self {
+            ctx: ctx.clone(),
+            collision: GpuCollision::new(ctx, config)?,
+            shapes_uploaded: false,
+            last_points: Vec::new(),
+        })
+    }
+
+    /// Forgets the uploaded bodies: the next [`Self::collide`] uploads shapes again and
+    /// starts without matching history (after bodies were added, removed or reordered).
+    pub fn invalidate(&mut self) {
+        self.shapes_uploaded = false;
+    }
+
+    /// Runs the GPU collision stages on the bodies' current poses and velocities and returns
+    /// each manifold with points as `(pair slot, contact)`: bodies in index order (A < B),
+    /// warm-start impulses carried over by feature id from the last step.
+    pub fn collide(
+        &mut self,
+        bodies: &[Body],
+        states: &[BodyState],
+    ) -> Result<Vec<(u32, Contact)>, GpuError> {
+        if bodies.is_empty() {
+            self.last_points.clear();
+            return Ok(Vec::new());
+        }
+        let poses: Vec<_> = bodies.iter().map(|b| gpu_pose(&b.pose)).collect();
+        let velocities: Vec<_> = states.iter().map(gpu_velocity).collect();
+        if self.shapes_uploaded && self.collision.body_count() as usize == bodies.len() {
+            self.collision.set_motion(&poses, &velocities)?;
+        } else {
+            let shapes: Vec<_> = bodies.iter().map(gpu_shape).collect();
+            self.collision.set_bodies(&poses, &velocities, &shapes)?;
+            self.collision.forget_history();
+            self.shapes_uploaded = true;
+        }
+        let snapshot: CollisionSnapshot =
+            self.collision.step_and_read(ReadbackRequest::CONTACTS)?;
+        self.last_points = snapshot.contacts.clone();
+        Ok(snapshot.solver_contacts())
+    }
+
+    /// Writes the CPU solver's impulses of the last [`Self::collide`] back to the GPU, where
+    /// the next step's matching carries them to the points with the same feature ids.
+    pub fn store_impulses(&mut self, solved: &[(u32, Contact)]) -> Result<(), GpuError> {
+        if self.last_points.is_empty() {
+            return Ok(());
+        }
+        let per = MAX_MANIFOLD_POINTS as usize;
+        let pairs = self.last_points.len() / per;
+        for (slot, contact) in solved {
+            let k = *slot as usize;
+            let points = self
+                .last_points
+                .get_mut(k * per..(k + 1) * per)
+                .ok_or_else(|| GpuError::InvalidInput {
+                    field: "solved pair slot".into(),
+                    value: format!("{k} (last step had {pairs} pairs)"),
+                })?;
+            for (p, j) in points.iter_mut().zip(&contact.impulses) {
+                p.normal_impulse = j.normal;
+                p.friction_impulse = [j.friction.x, j.friction.y, j.friction.z, 0.0];
+            }
+        }
+        let buffers = self.collision.buffers();
+        self.ctx
+            .queue
+            .write_buffer(buffers.contacts, 0, bytemuck::cast_slice(&self.last_points));
+        Ok(())
+    }
+}

@@ -1,0 +1,14 @@
+//! The whole step on the GPU: [`GpuWorld`] records the collision stages and the solver stages
+//! into one command encoder per step and submits it once, reading back only on request;
+//! [`HybridCollision`] runs the collision on the GPU for a CPU solver.
+
+pub mod config;
+pub mod gpu_world;
+pub mod hybrid;
+pub mod snapshot;
+pub mod stats_ring;
+
+pub use config::{GpuWorldConfig, PathPolicy};
+pub use gpu_world::GpuWorld;
+pub use hybrid::HybridCollision;
+pub use snapshot::{ContactSnapshot, ReadRequest, Snapshot};

@@ -1,0 +1,124 @@
+//! What a GPU world reads back on request: poses, velocities, and the manifolds with their
+//! solved impulses, converted to the CPU's types on demand.
+
+use tumble_geometry::{ContactPoint, Manifold, Point3, Pose, Vec3};
+use tumble_solver::{BodyState, Contact};
+
+use crate::MAX_MANIFOLD_POINTS;
+use crate::kernels::collide_cuboids::kind_from_code;
+use crate::layout::{GpuContact, GpuManifold, GpuPose, GpuVelocity, WorkList};
+use crate::solver::convert::{pose_from_gpu, read_impulses};
+use crate::solver::layout::GpuConstraint;
+
+/// Which parts of the world a readback copies (only what is asked for crosses the bus).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ReadRequest {
+    /// Every body's pose.
+    pub poses: bool,
+    /// Every body's linear and angular velocity.
+    pub velocities: bool,
+    /// The manifolds of the step with their solved impulses.
+    pub contacts: bool,
+}
+
+impl ReadRequest {
+    /// Poses and velocities.
+    pub const MOTION: Self = Self {
+        poses: true,
+        velocities: true,
+        contacts: false,
+    };
+    /// Everything.
+    pub const ALL: Self = Self {
+        poses: true,
+        velocities: true,
+        contacts: true,
+    };
+}
+
+/// The manifolds of one step as read back.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ContactSnapshot {
+    /// The manifold work list (count, and requested above capacity on overflow).
+    pub work: WorkList,
+    /// One manifold per candidate pair (`len == 0` when not in contact).
+    pub manifolds: Vec<GpuManifold>,
+    /// `MAX_MANIFOLD_POINTS` points per manifold, with the impulses solved this step.
+    pub points: Vec<GpuContact>,
+    /// The constraint of each manifold (per-point impulse totals of the step).
+    pub constraints: Vec<GpuConstraint>,
+}
+
+impl ContactSnapshot {
+    /// Manifold `k` with its points, as the CPU's types; `None` for a pair not in contact.
+    pub fn contact(&self, k: usize) -> Option<Contact> {
+        let m = &self.manifolds[k];
+        if m.len == 0 {
+            return None;
+        }
+        let per = MAX_MANIFOLD_POINTS as usize;
+        let points = &self.points[k * per..(k + 1) * per];
+        let mut manifold = Manifold {
+            normal: Vec3::new(m.normal[0], m.normal[1], m.normal[2]),
+            kind: kind_from_code(m.kind),
+            feature: m.feature,
+            ..Default::default()
+        };
+        for p in &points[..(m.len as usize).min(per)] {
+            manifold.push(ContactPoint {
+                position: Point3::new(p.position[0], p.position[1], p.position[2]),
+                depth: p.depth,
+                id: p.id,
+            });
+        }
+        let mut contact = Contact::new(m.body_a, m.body_b, manifold);
+        read_impulses(points, &self.constraints[k], &mut contact);
+        Some(contact)
+    }
+
+    /// Every manifold with points, as the CPU's contacts (bodies, geometry, impulses).
+    pub fn contacts(&self) -> Vec<Contact> {
+        (0..self.manifolds.len())
+            .filter_map(|k| self.contact(k))
+            .collect()
+    }
+
+    /// Pairs whose bodies touched this step: some point overlapped, or pushed (a speculative
+    /// point that caught an approaching body), as `Contact::is_touching` decides on the CPU.
+    pub fn touching_pairs(&self) -> Vec<(u32, u32)> {
+        self.contacts()
+            .iter()
+            .filter(|c| c.is_touching())
+            .map(|c| (c.body_a, c.body_b))
+            .collect()
+    }
+}
+
+/// One step's state as read back.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Snapshot {
+    /// Steps the world had taken when the copy was recorded.
+    pub step: u64,
+    /// Every body's pose (empty unless requested).
+    pub poses: Vec<GpuPose>,
+    /// Every body's velocity (empty unless requested).
+    pub velocities: Vec<GpuVelocity>,
+    /// The step's manifolds (unless not requested).
+    pub contacts: Option<ContactSnapshot>,
+}
+
+impl Snapshot {
+    /// Body `i`'s pose.
+    pub fn pose(&self, i: usize) -> Pose {
+        pose_from_gpu(&self.poses[i])
+    }
+
+    /// Body `i`'s velocities as a solver state (no in-step deltas).
+    pub fn state(&self, i: usize) -> BodyState {
+        let v = &self.velocities[i];
+        BodyState::moving(
+            Vec3::new(v.linear[0], v.linear[1], v.linear[2]),
+            Vec3::new(v.angular[0], v.angular[1], v.angular[2]),
+        )
+    }
+}

@@ -1,0 +1,110 @@
+//! A small per-step readback of the pair work list (count, requested, capacity), read two
+//! steps late: it sizes the solver path choice and reports pair overflow without ever making
+//! a step wait for its own results.
+
+use std::sync::{Arc, Mutex};
+
+use crate::layout::WorkList;
+use crate::{GpuContext, GpuError};
+
+/// Steps between a step and the read of its work list. Two: the read of step `n - 2` when
+/// step `n` is recorded lets step `n - 1` run meanwhile, and the result (hence the path
+/// choice) does not depend on timing.
+pub const STATS_LAG: usize = 2;
+
+type MapResult = Arc<Mutex<Option<Result<(), String>>>>;
+
+#[derive(Debug)]
+struct Slot {
+    buffer: wgpu::Buffer,
+    pending: Option<(wgpu::SubmissionIndex, MapResult)>,
+}
+
+/// [`STATS_LAG`] staging slots used in turn.
+#[derive(Debug)]
+pub struct StatsRing {
+    ctx: GpuContext,
+    slots: Vec<Slot>,
+    next: usize,
+}
+
+impl StatsRing {
+    /// Empty slots on `ctx`'s device.
+    pub fn new(ctx: &GpuContext) -> Self {
+        let slots = (0..STATS_LAG)
+            .map(|_| Slot {
+                buffer: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("step stats staging"),
+                    size: std::mem::size_of::<WorkList>() as u64,
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                }),
+                pending: None,
+            })
+            .collect();
+        Self {
+            ctx: ctx.clone(),
+            slots,
+            next: 0,
+        }
+    }
+
+    /// The work list of the step recorded [`STATS_LAG`] steps ago, waiting for it if needed;
+    /// `None` when there was none (after a reset).
+    pub fn take_lagged(&mut self) -> Result<Option<WorkList>, GpuError> {
+        let slot = &mut self.slots[self.next];
+        let Some((index, mapped)) = slot.pending.take() else {
+            return Ok(None);
+        };
+        self.ctx
+            .device
+            .poll(wgpu::PollType::Wait {
+                submission_index: Some(index),
+                timeout: None,
+            })
+            .map_err(|e| GpuError::Device(e.to_string()))?;
+        let status = mapped
+            .lock()
+            .expect("stats map lock")
+            .take()
+            .ok_or_else(|| GpuError::Device("step stats were not mapped".into()))?;
+        status.map_err(GpuError::Device)?;
+        let work = {
+            let view = slot
+                .buffer
+                .get_mapped_range(..)
+                .map_err(|e| GpuError::Device(e.to_string()))?;
+            bytemuck::pod_read_unaligned(&view)
+        };
+        slot.buffer.unmap();
+        Ok(Some(work))
+    }
+
+    /// Records the copy of this step's work list into the current slot.
+    pub fn record(&self, encoder: &mut wgpu::CommandEncoder, work: &wgpu::Buffer) {
+        let slot = &self.slots[self.next];
+        encoder.copy_buffer_to_buffer(work, 0, &slot.buffer, 0, slot.buffer.size());
+    }
+
+    /// Starts mapping the current slot after the submit that holds its copy.
+    pub fn submitted(&mut self, index: wgpu::SubmissionIndex) {
+        let slot = &mut self.slots[self.next];
+        let mapped: MapResult = Arc::new(Mutex::new(None));
+        let sink = mapped.clone();
+        slot.buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+            *sink.lock().expect("stats map lock") = Some(r.map_err(|e| e.to_string()));
+        });
+        slot.pending = Some((index, mapped));
+        self.next = (self.next + 1) % STATS_LAG;
+    }
+
+    /// Forgets every pending read (after the bodies were re-uploaded).
+    pub fn reset(&mut self) -> Result<(), GpuError> {
+        for _ in 0..STATS_LAG {
+            self.take_lagged()?;
+            self.next = (self.next + 1) % STATS_LAG;
+        }
+        self.next = 0;
+        Ok(())
+    }
+}

@@ -117,6 +117,27 @@ struct Row {
     peak_drift: f32,
     /// Contact points in the last step (Tumble only).
     points: Option<usize>,
+    /// Tumble's per-stage profile over the run (Tumble only).
+    profile: Option<Profile>,
+}
+
+/// Where a Tumble run spent its time: per-stage means and the solver's cost per point.
+struct Profile {
+    /// Mean ms per step of each stage: AABBs, broad, narrow, color, solve, finish.
+    stage_ms: [f64; 6],
+    /// Mean contact points per step.
+    points: f64,
+    /// Passes over every constraint per step: per substep one warm start, the biased
+    /// iterations and the relax iterations.
+    passes: u32,
+}
+
+impl Profile {
+    /// Solve-stage time per contact point per pass, ns (preparation and integration included,
+    /// spread over the passes).
+    fn solve_ns_per_point_pass(&self) -> f64 {
+        self.stage_ms[4] * 1e6 / (self.points * f64::from(self.passes))
+    }
 }
 
 /// A stepping engine: one step, then every body's centre.
@@ -128,11 +149,29 @@ trait Engine {
 struct TumbleEngine {
     world: World,
     handles: Vec<BodyHandle>,
+    /// Sum over the steps of each stage's ms.
+    stage_ms: [f64; 6],
+    /// Sum over the steps of the contact points solved.
+    points: usize,
 }
 
 impl Engine for TumbleEngine {
     fn step(&mut self) {
         self.world.step().expect("a valid world steps");
+        let stats = self.world.stats();
+        let t = &stats.timings;
+        let stages = [
+            t.update_aabbs,
+            t.broad_phase,
+            t.narrow_phase,
+            t.color,
+            t.solve,
+            t.finish,
+        ];
+        for (sum, d) in self.stage_ms.iter_mut().zip(stages) {
+            *sum += d.as_secs_f64() * 1e3;
+        }
+        self.points += stats.contact_points;
     }
     fn positions(&self) -> Vec<[f32; 3]> {
         self.handles
@@ -168,6 +207,7 @@ fn run(scene: &Scene, engine: &mut dyn Engine, steps: u32) -> Row {
         final_drift: horizontal_drift(scene, &engine.positions()),
         peak_drift,
         points: None,
+        profile: None,
     }
 }
 
@@ -194,9 +234,20 @@ fn run_setting(scene: &Scene, setting: Setting, steps: u32) -> Row {
         ..WorldConfig::default()
     };
     let (world, handles) = World::from_scene(scene, config).expect("canonical scenes are valid");
-    let mut engine = TumbleEngine { world, handles };
+    let mut engine = TumbleEngine {
+        world,
+        handles,
+        stage_ms: [0.0; 6],
+        points: 0,
+    };
     let mut row = run(scene, &mut engine, steps);
     row.points = Some(engine.world.stats().contact_points);
+    let per_step = |total: f64| total / f64::from(steps);
+    row.profile = Some(Profile {
+        stage_ms: engine.stage_ms.map(per_step),
+        points: per_step(engine.points as f64),
+        passes: solver.substeps * (1 + solver.iterations + solver.relax_iterations),
+    });
     row
 }
 
@@ -208,6 +259,7 @@ fn median(values: &[f64]) -> f64 {
 
 fn main() {
     let args = parse_args();
+    let mut profiles = Vec::new();
     println!(
         "| scene | solver | drift after 10 s (mm) | peak drift (mm) | stands | median ms/step | mean ms/step | contact points |"
     );
@@ -239,6 +291,24 @@ fn main() {
                 row.ms.iter().sum::<f64>() / row.ms.len() as f64,
                 row.points.map_or("-".to_owned(), |p| p.to_string()),
             );
+            if let Some(profile) = row.profile {
+                profiles.push((name.clone(), setting, profile));
+            }
         }
+    }
+    println!();
+    println!(
+        "| scene | solver | aabbs | broad | narrow | color | solve | finish (mean ms/step) | points | passes | solve ns/point/pass |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    for (name, setting, p) in profiles {
+        let [aabbs, broad, narrow, color, solve, finish] = p.stage_ms;
+        println!(
+            "| {name} | {} | {aabbs:.3} | {broad:.3} | {narrow:.3} | {color:.3} | {solve:.3} | {finish:.3} | {:.0} | {} | {:.1} |",
+            setting.label(),
+            p.points,
+            p.passes,
+            p.solve_ns_per_point_pass(),
+        );
     }
 }

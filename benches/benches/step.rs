@@ -11,6 +11,10 @@
 //!   2, 4 and 8 solver iterations (the substeps of its soft-step solver);
 //! - `step_pyramid24` (4,900 cubes): the defaults of both engines (4 substeps each).
 //!
+//! Both groups also time rapier doing the work Tumble does (`rapier_like_tumble`): Coulomb
+//! friction at every point instead of rapier's default per-manifold friction with a twist row,
+//! and no contact recycling, so the narrow phase runs on every pair every step.
+//!
 //! Each world is built once and stepped [`WARMUP_STEPS`] times before timing, so that contacts,
 //! warm-start impulses and scratch buffers exist; the timed iterations keep stepping the same
 //! world, as a game loop does. Sample counts are small so the whole bench runs in minutes.
@@ -20,6 +24,7 @@ use std::time::Duration;
 
 use criterion::{BenchmarkGroup, BenchmarkId, Criterion, SamplingMode, criterion_group};
 use criterion::{criterion_main, measurement::WallTime};
+use rapier3d::prelude::FrictionModel;
 use tumble::prelude::*;
 use tumble_scenes::{RapierOptions, Scene, build_rapier_with, pyramid};
 
@@ -60,16 +65,42 @@ fn bench_tumble(
     black_box(world.stats().contact_points);
 }
 
-fn bench_rapier(group: &mut BenchmarkGroup<'_, WallTime>, scene: &Scene, iterations: u32) {
+/// Rapier's defaults that do less work per step than Tumble does, switched off one by one
+/// in the `rapier_like_tumble` rows to show how much of the gap each accounts for.
+#[derive(Clone, Copy)]
+enum RapierWork {
+    /// Rapier's defaults: one friction constraint plus a twist row per manifold, and contact
+    /// recycling (pairs that moved less than 5 cm keep last step's points).
+    Default,
+    /// Coulomb friction at every point (two rows per point, as Tumble solves) and every
+    /// manifold recomputed every step (as Tumble's narrow phase does).
+    LikeTumble,
+}
+
+fn bench_rapier(
+    group: &mut BenchmarkGroup<'_, WallTime>,
+    scene: &Scene,
+    iterations: u32,
+    work: RapierWork,
+) {
     let options = RapierOptions {
         solver_iterations: iterations as usize,
         ..RapierOptions::default()
     };
     let mut world = build_rapier_with(scene, &options);
+    let name = match work {
+        RapierWork::Default => "rapier",
+        RapierWork::LikeTumble => {
+            let params = &mut world.integration_parameters;
+            params.friction_model = FrictionModel::Coulomb;
+            params.contact_recycling = false;
+            "rapier_like_tumble"
+        }
+    };
     for _ in 0..WARMUP_STEPS {
         world.step();
     }
-    group.bench_function(BenchmarkId::new("rapier", iterations), |b| {
+    group.bench_function(BenchmarkId::new(name, iterations), |b| {
         b.iter(|| world.step())
     });
     black_box(world.body_poses().len());
@@ -112,8 +143,10 @@ fn pyramid12(c: &mut Criterion) {
             substeps,
             soft_step(substeps),
         );
-        bench_rapier(&mut group, &scene, substeps);
+        bench_rapier(&mut group, &scene, substeps, RapierWork::Default);
     }
+    let substeps = SolverConfig::default().substeps;
+    bench_rapier(&mut group, &scene, substeps, RapierWork::LikeTumble);
     for iterations in [5, 40, 150] {
         bench_tumble(
             &mut group,
@@ -139,7 +172,8 @@ fn pyramid24(c: &mut Criterion) {
         substeps,
         soft_step(substeps),
     );
-    bench_rapier(&mut group, &scene, substeps);
+    bench_rapier(&mut group, &scene, substeps, RapierWork::Default);
+    bench_rapier(&mut group, &scene, substeps, RapierWork::LikeTumble);
     group.finish();
 }
 

@@ -3,7 +3,8 @@
 //!
 //! ```sh
 //! cargo run --release -p tumble-benches --bin solver_table
-//! cargo run --release -p tumble-benches --bin solver_table -- --scenes stack20 --steps 600
+//! cargo run --release -p tumble-benches --bin solver_table -- --scenes stack20 \
+//!     --settings softstep4,rapier4 --steps 600
 //! ```
 //!
 //! Every row runs a fresh world for the scene's full length (10 s, 600 steps at 60 Hz) on the
@@ -11,7 +12,10 @@
 //! any body from its start, at the end and at its worst during the run), whether the scene's
 //! own drift criterion held at every step, and the median and mean wall time of one step.
 //! Rapier rows use as many solver iterations as the Tumble row above them has substeps
-//! (rapier's iterations are substeps of its soft-step solver).
+//! (rapier's iterations are substeps of its soft-step solver). A second table splits each
+//! Tumble row's mean step into its stages and gives the solve stage's cost per contact point
+//! per pass (a pass is one visit of every constraint: the warm start, each biased iteration
+//! and each relax iteration of every substep).
 
 use std::time::Instant;
 
@@ -37,6 +41,15 @@ impl Setting {
             Setting::Rapier { iterations } => format!("rapier3d, {iterations} it"),
         }
     }
+
+    /// The name `--settings` selects it by: `baumgarte5`, `softstep4`, `rapier4`, ...
+    fn key(self) -> String {
+        match self {
+            Setting::Baumgarte { iterations } => format!("baumgarte{iterations}"),
+            Setting::SoftStep { substeps } => format!("softstep{substeps}"),
+            Setting::Rapier { iterations } => format!("rapier{iterations}"),
+        }
+    }
 }
 
 /// The thesis's two Baumgarte settings (5: what a game would afford; 150: what the thesis ran
@@ -57,25 +70,23 @@ const SETTINGS: [Setting; 10] = [
 struct Args {
     scenes: Vec<String>,
     steps: Option<u32>,
-    rapier: bool,
+    /// Keys of the settings to run; empty runs them all.
+    settings: Vec<String>,
 }
 
 fn parse_args() -> Args {
     let mut args = Args {
         scenes: vec!["stack20".into(), "pyramid12".into()],
         steps: None,
-        rapier: true,
+        settings: Vec::new(),
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
-        if flag == "--no-rapier" {
-            args.rapier = false;
-            continue;
-        }
         let value = it.next().unwrap_or_default();
         match flag.as_str() {
             "--scenes" => args.scenes = value.split(',').map(str::to_owned).collect(),
             "--steps" => args.steps = Some(value.parse().expect("--steps takes a count")),
+            "--settings" => args.settings = value.split(',').map(str::to_owned).collect(),
             other => panic!("unknown flag {other}: see the module docs"),
         }
     }
@@ -115,8 +126,8 @@ struct Row {
     final_drift: f32,
     /// Largest drift at any step, m.
     peak_drift: f32,
-    /// Contact points in the last step (Tumble only).
-    points: Option<usize>,
+    /// Contact points solved in the last step.
+    points: usize,
     /// Tumble's per-stage profile over the run (Tumble only).
     profile: Option<Profile>,
 }
@@ -144,6 +155,8 @@ impl Profile {
 trait Engine {
     fn step(&mut self);
     fn positions(&self) -> Vec<[f32; 3]>;
+    /// Contact points the last step's solver saw.
+    fn contact_points(&self) -> usize;
 }
 
 struct TumbleEngine {
@@ -182,6 +195,9 @@ impl Engine for TumbleEngine {
             })
             .collect()
     }
+    fn contact_points(&self) -> usize {
+        self.world.stats().contact_points
+    }
 }
 
 impl Engine for tumble_scenes::RapierWorld {
@@ -190,6 +206,13 @@ impl Engine for tumble_scenes::RapierWorld {
     }
     fn positions(&self) -> Vec<[f32; 3]> {
         self.body_poses().into_iter().map(|(p, _)| p).collect()
+    }
+    fn contact_points(&self) -> usize {
+        self.narrow_phase
+            .contact_pairs()
+            .flat_map(|pair| pair.solver_manifolds())
+            .map(|m| m.data.solver_contacts.len())
+            .sum()
     }
 }
 
@@ -206,7 +229,7 @@ fn run(scene: &Scene, engine: &mut dyn Engine, steps: u32) -> Row {
         ms,
         final_drift: horizontal_drift(scene, &engine.positions()),
         peak_drift,
-        points: None,
+        points: engine.contact_points(),
         profile: None,
     }
 }
@@ -241,7 +264,6 @@ fn run_setting(scene: &Scene, setting: Setting, steps: u32) -> Row {
         points: 0,
     };
     let mut row = run(scene, &mut engine, steps);
-    row.points = Some(engine.world.stats().contact_points);
     let per_step = |total: f64| total / f64::from(steps);
     row.profile = Some(Profile {
         stage_ms: engine.stage_ms.map(per_step),
@@ -261,7 +283,7 @@ fn main() {
     let args = parse_args();
     let mut profiles = Vec::new();
     println!(
-        "| scene | solver | drift after 10 s (mm) | peak drift (mm) | stands | median ms/step | mean ms/step | contact points |"
+        "| scene | solver | final drift (mm) | peak drift (mm) | stands | median ms/step | mean ms/step | contact points (last step) |"
     );
     println!("|---|---|---|---|---|---|---|---|");
     for name in &args.scenes {
@@ -273,7 +295,7 @@ fn main() {
             _ => f32::INFINITY,
         };
         for setting in SETTINGS {
-            if !args.rapier && matches!(setting, Setting::Rapier { .. }) {
+            if !args.settings.is_empty() && !args.settings.contains(&setting.key()) {
                 continue;
             }
             let row = run_setting(&scene, setting, steps);
@@ -289,7 +311,7 @@ fn main() {
                 row.peak_drift * 1e3,
                 median(&row.ms),
                 row.ms.iter().sum::<f64>() / row.ms.len() as f64,
-                row.points.map_or("-".to_owned(), |p| p.to_string()),
+                row.points,
             );
             if let Some(profile) = row.profile {
                 profiles.push((name.clone(), setting, profile));

@@ -3,19 +3,13 @@
 // intervals: touching boxes pair, as on the CPU), and appends each overlapping pair as
 // (smaller index, larger index) through an atomic counter. Static-static pairs are skipped.
 // The counter keeps counting past the capacity, so an overflow is reported, never hidden.
+// On the sweep axis the test is implied: sorted lower bounds make lo_p <= lo_q <= hi_q.
 
 @group(0) @binding(0) var<uniform> params: SweepParams;
-@group(0) @binding(1) var<storage, read> sweep_axis: SweepAxis;
-@group(0) @binding(2) var<storage, read> aabbs: array<GpuAabb>;
-@group(0) @binding(3) var<storage, read> shapes: array<GpuShape>;
-@group(0) @binding(4) var<storage, read> sorted_bodies: array<u32>;
-@group(0) @binding(5) var<storage, read_write> counter: array<atomic<u32>>;
-@group(0) @binding(6) var<storage, read_write> pair_a: array<u32>;
-@group(0) @binding(7) var<storage, read_write> pair_b: array<u32>;
-
-fn overlaps(a: GpuAabb, b: GpuAabb) -> bool {
-    return all(a.min.xyz <= b.max.xyz) && all(b.min.xyz <= a.max.xyz);
-}
+@group(0) @binding(1) var<storage, read> sweep_boxes: array<GpuSweepBox>;
+@group(0) @binding(2) var<storage, read_write> counter: array<atomic<u32>>;
+@group(0) @binding(3) var<storage, read_write> pair_a: array<u32>;
+@group(0) @binding(4) var<storage, read_write> pair_b: array<u32>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn main(
@@ -27,26 +21,23 @@ fn main(
     if p >= params.body_count {
         return;
     }
-    let axis = sweep_axis.axis;
-    let i = sorted_bodies[p];
-    let box_i = aabbs[i];
-    let static_i = (shapes[i].flags & BODY_STATIC) != 0u;
-    let reach = box_i.max[axis];
+    let me = sweep_boxes[p];
+    let is_static = (me.flags & BODY_STATIC) != 0u;
     for (var q = p + 1u; q < params.body_count; q++) {
-        let j = sorted_bodies[q];
-        let box_j = aabbs[j];
+        let other = sweep_boxes[q];
         // Boxes are sorted by lower bound: once one starts past our upper bound, all do.
-        if box_j.min[axis] > reach {
+        if other.lo_0 > me.hi_0 {
             break;
         }
-        let static_j = (shapes[j].flags & BODY_STATIC) != 0u;
-        if (static_i && static_j) || !overlaps(box_i, box_j) {
+        let overlaps = other.lo_1 <= me.hi_1 && me.lo_1 <= other.hi_1
+            && other.lo_2 <= me.hi_2 && me.lo_2 <= other.hi_2;
+        if !overlaps || (is_static && (other.flags & BODY_STATIC) != 0u) {
             continue;
         }
         let slot = atomicAdd(&counter[0], 1u);
         if slot < params.pair_capacity {
-            pair_a[slot] = min(i, j);
-            pair_b[slot] = max(i, j);
+            pair_a[slot] = min(me.body, other.body);
+            pair_b[slot] = max(me.body, other.body);
         }
     }
 }

@@ -143,3 +143,21 @@ struct GpuManifold {
     _pad0: u32,
     _pad1: u32,
 }
+
+// A body's AABB in sweep order, coordinates permuted so the sweep axis comes first (then
+// the axis after it, then the one after that): the sweep reads one contiguous record per
+// candidate, and neighbouring threads read neighbouring records. 32 bytes.
+struct GpuSweepBox {
+    // Lower corner, sweep axis first.
+    lo_0: f32,
+    lo_1: f32,
+    lo_2: f32,
+    // The body's index.
+    body: u32,
+    // Upper corner, sweep axis first.
+    hi_0: f32,
+    hi_1: f32,
+    hi_2: f32,
+    // The body's GpuShape.flags.
+    flags: u32,
+}

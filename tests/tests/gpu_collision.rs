@@ -14,6 +14,7 @@ use tumble_gpu::kernels::{
     carry_impulses::carry_impulses_cpu,
     choose_axis::choose_axis_cpu,
     collide_cuboids::{collide_pair_cpu, kind_code, kind_from_code},
+    gather_sweep_boxes::gather_sweep_boxes_cpu,
     match_pairs::match_pairs_cpu,
     radix_sort::{
         RadixBuffers, RadixSort, plan_passes, radix_sort_cpu, result_copy, tile_count_len,
@@ -183,6 +184,9 @@ fn sweep_axis_and_body_order_match_the_cpu() {
     let (want_keys, want_bodies) = radix_sort_cpu(&k0, &v0, 32);
     assert_eq!(keys, want_keys);
     assert_eq!(bodies, want_bodies);
+    // And the boxes in sweep order, sweep axis first, are exactly the CPU's gather.
+    let want_boxes = gather_sweep_boxes_cpu(&aabbs, &scene.shapes, &bodies, axis.axis);
+    assert_eq!(gpu.read_sweep_boxes().unwrap(), want_boxes);
 }
 
 /// Runs the radix sort alone on `keys`/`values` with the count given on the GPU.

@@ -259,6 +259,29 @@ pub struct GpuManifold {
     pub _pad1: u32,
 }
 
+/// A body's AABB in sweep order, coordinates permuted so the sweep axis comes first (then the
+/// axis after it, then the one after that). 32 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuSweepBox {
+    /// Lower bound on the sweep axis.
+    pub lo_0: f32,
+    /// Lower bound on the next axis.
+    pub lo_1: f32,
+    /// Lower bound on the last axis.
+    pub lo_2: f32,
+    /// The body's index.
+    pub body: u32,
+    /// Upper bound on the sweep axis.
+    pub hi_0: f32,
+    /// Upper bound on the next axis.
+    pub hi_1: f32,
+    /// Upper bound on the last axis.
+    pub hi_2: f32,
+    /// The body's `GpuShape::flags`.
+    pub flags: u32,
+}
+
 /// Size and field offsets of one host struct, to compare with the WGSL struct of that name.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct StructLayout {
@@ -345,6 +368,16 @@ pub fn shared_struct_layouts() -> Vec<StructLayout> {
             previous,
             _pad0,
             _pad1
+        }),
+        struct_layout!(GpuSweepBox {
+            lo_0,
+            lo_1,
+            lo_2,
+            body,
+            hi_0,
+            hi_1,
+            hi_2,
+            flags
         }),
     ]
 }

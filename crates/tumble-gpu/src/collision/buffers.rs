@@ -9,7 +9,8 @@
 use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE};
 use crate::kernels::radix_sort::tile_count_len;
 use crate::layout::{
-    GpuAabb, GpuContact, GpuManifold, GpuPose, GpuShape, GpuVelocity, SweepAxis, WorkList,
+    GpuAabb, GpuContact, GpuManifold, GpuPose, GpuShape, GpuSweepBox, GpuVelocity, SweepAxis,
+    WorkList,
 };
 use crate::{GpuError, MAX_MANIFOLD_POINTS};
 
@@ -34,6 +35,8 @@ pub const SWEEP_AXIS: &str = "sweep axis";
 pub const SORT_KEYS: [&str; 2] = ["sort keys 0", "sort keys 1"];
 /// Body sort values (body indices), two copies.
 pub const SORT_BODIES: [&str; 2] = ["sorted bodies 0", "sorted bodies 1"];
+/// AABBs in sweep order.
+pub const SWEEP_BOXES: &str = "sweep boxes";
 /// Tile counts of the body sort.
 pub const BODY_TILES: &str = "body sort tiles";
 /// The sweep's append counter.
@@ -76,6 +79,7 @@ pub fn ensure_body_buffers(pool: &mut BufferPool, bodies: u32) -> Result<bool, G
     for name in SORT_KEYS.iter().chain(&SORT_BODIES) {
         grew |= pool.ensure(name, bytes_of::<u32>(n), STORAGE_USAGE)?;
     }
+    grew |= pool.ensure(SWEEP_BOXES, bytes_of::<GpuSweepBox>(n), STORAGE_USAGE)?;
     grew |= pool.ensure(
         BODY_TILES,
         bytes_of::<u32>(tile_count_len(bodies)),

@@ -6,6 +6,7 @@ use crate::kernel::Kernel;
 use crate::kernels::carry_impulses::{CARRY_IMPULSES, CarryImpulsesArgs};
 use crate::kernels::choose_axis::{CHOOSE_AXIS, ChooseAxisArgs};
 use crate::kernels::collide_cuboids::{COLLIDE_CUBOIDS, CollideCuboidsArgs};
+use crate::kernels::gather_sweep_boxes::{GATHER_SWEEP_BOXES, GatherSweepBoxesArgs};
 use crate::kernels::match_pairs::{MATCH_PAIRS, MatchPairsArgs};
 use crate::kernels::plan_dispatch::{PLAN_DISPATCH, PlanDispatchArgs};
 use crate::kernels::radix_sort::{
@@ -27,6 +28,8 @@ pub struct CollisionKernels {
     pub write_sort_keys: Kernel,
     /// The radix sort (three kernels).
     pub radix: RadixSort,
+    /// `gather_sweep_boxes`.
+    pub gather_sweep_boxes: Kernel,
     /// `sweep_pairs`.
     pub sweep_pairs: Kernel,
     /// `plan_dispatch`.
@@ -47,6 +50,7 @@ impl CollisionKernels {
             choose_axis: Kernel::new(ctx, &CHOOSE_AXIS)?,
             write_sort_keys: Kernel::new(ctx, &WRITE_SORT_KEYS)?,
             radix: RadixSort::new(ctx)?,
+            gather_sweep_boxes: Kernel::new(ctx, &GATHER_SWEEP_BOXES)?,
             sweep_pairs: Kernel::new(ctx, &SWEEP_PAIRS)?,
             plan_dispatch: Kernel::new(ctx, &PLAN_DISPATCH)?,
             match_pairs: Kernel::new(ctx, &MATCH_PAIRS)?,
@@ -88,6 +92,8 @@ pub struct CollisionGroups {
     pub write_sort_keys: wgpu::BindGroup,
     /// The body sort.
     pub body_sort: RadixBindGroups,
+    /// `gather_sweep_boxes`.
+    pub gather_sweep_boxes: wgpu::BindGroup,
     /// Per parity.
     pub parity: [ParityGroups; 2],
 }
@@ -140,6 +146,17 @@ pub fn build_groups(
         },
         &body_passes,
     );
+    let gather_sweep_boxes = kernels.gather_sweep_boxes.bind(
+        ctx,
+        &GatherSweepBoxesArgs {
+            bodies: b(BODY_WORK),
+            sweep_axis: b(SWEEP_AXIS),
+            aabbs: b(AABBS),
+            shapes: b(SHAPES),
+            sorted_bodies: b(SORT_BODIES[BODY_RESULT_COPY]),
+            sweep_boxes: b(SWEEP_BOXES),
+        },
+    );
     // Pairs sort by b, then stably by a: lexicographic (a, b), the CPU's order.
     let pair_bits = index_bits(bodies);
     let pair_passes = plan_passes(&[(false, pair_bits), (true, pair_bits)]);
@@ -152,10 +169,7 @@ pub fn build_groups(
                 ctx,
                 &SweepPairsArgs {
                     params: b(SWEEP_PARAMS),
-                    sweep_axis: b(SWEEP_AXIS),
-                    aabbs: b(AABBS),
-                    shapes: b(SHAPES),
-                    sorted_bodies: b(SORT_BODIES[BODY_RESULT_COPY]),
+                    sweep_boxes: b(SWEEP_BOXES),
                     counter: b(PAIR_COUNTER),
                     pair_a: b(PAIR_A[p][0]),
                     pair_b: b(PAIR_B[p][0]),
@@ -225,6 +239,7 @@ pub fn build_groups(
         choose_axis,
         write_sort_keys,
         body_sort,
+        gather_sweep_boxes,
         parity,
     }
 }

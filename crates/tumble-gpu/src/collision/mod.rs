@@ -4,7 +4,8 @@
 //! ```text
 //! update_aabbs   poses, velocities, shapes -> aabbs
 //! broad_phase    choose_axis -> write_sort_keys -> radix sort (bodies, 32-bit keys)
-//!                -> sweep_pairs (atomic append) -> plan_dispatch (count -> work list)
+//!                -> gather_sweep_boxes -> sweep_pairs (atomic append)
+//!                -> plan_dispatch (count -> work list)
 //!                -> radix sort (pairs by b, then by a: canonical order, indirect)
 //! narrow_phase   match_pairs (last step's index) -> collide_cuboids -> carry_impulses
 //!                (all three dispatched indirectly from the pair work list)
@@ -21,11 +22,22 @@ pub use snapshot::{CollisionSnapshot, ReadbackRequest};
 
 use crate::buffer_pool::BufferPool;
 use crate::layout::{
-    GpuAabb, GpuContact, GpuManifold, GpuPose, GpuShape, GpuVelocity, NarrowParams, SweepAxis,
-    SweepParams, UpdateAabbsParams, WORK_LIST_GROUPS_OFFSET, WorkList,
+    GpuAabb, GpuContact, GpuManifold, GpuPose, GpuShape, GpuSweepBox, GpuVelocity, NarrowParams,
+    SweepAxis, SweepParams, UpdateAabbsParams, WORK_LIST_GROUPS_OFFSET, WorkList,
 };
 use crate::readback::{Readback, Region, Ticket};
 use crate::{GpuContext, GpuError, MAX_BODIES, MAX_MANIFOLD_POINTS, StageTimer};
+
+/// Timer name of the `update_aabbs` stage's pass.
+pub const UPDATE_AABBS: &str = "update_aabbs";
+/// Timer name of the broad phase's first pass: sweep axis, keys, body sort.
+pub const BROAD_PHASE_SORT_BODIES: &str = "broad_phase: sort bodies";
+/// Timer name of the broad phase's second pass: the sweep and the pair count.
+pub const BROAD_PHASE_SWEEP: &str = "broad_phase: sweep";
+/// Timer name of the broad phase's third pass: the canonical pair sort.
+pub const BROAD_PHASE_SORT_PAIRS: &str = "broad_phase: sort pairs";
+/// Timer name of the `narrow_phase` stage's pass.
+pub const NARROW_PHASE: &str = "narrow_phase";
 
 /// Settings of the collision stages.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -289,8 +301,8 @@ impl GpuCollision {
         (self.steps.wrapping_sub(1) % 2) as usize
     }
 
-    /// Records the three collision stages, each in its own compute pass (timed when `timer`
-    /// has timestamps). Nothing is read back; dispatch sizes that depend on the pair count
+    /// Records the three collision stages in compute passes named by this module's timer
+    /// names (timed when `timer` has timestamps). Nothing is read back; dispatch sizes that depend on the pair count
     /// are read by the GPU from the pair work list.
     pub fn record(
         &mut self,
@@ -311,23 +323,32 @@ impl GpuCollision {
         let pair_work = self.pool.get(PAIR_WORK[p]);
         encoder.clear_buffer(self.pool.get(PAIR_COUNTER), 0, None);
         {
-            let mut pass = timer.begin_pass(encoder, "update_aabbs");
+            let mut pass = timer.begin_pass(encoder, UPDATE_AABBS);
             k.update_aabbs.dispatch(&mut pass, &g.update_aabbs, n);
         }
+        // The broad phase in three passes, so timestamps separate its sorts from its sweep.
         {
-            let mut pass = timer.begin_pass(encoder, "broad_phase");
+            let mut pass = timer.begin_pass(encoder, BROAD_PHASE_SORT_BODIES);
             k.choose_axis
                 .dispatch_workgroups(&mut pass, &g.choose_axis, 1, 1);
             k.write_sort_keys.dispatch(&mut pass, &g.write_sort_keys, n);
             k.radix
                 .record(&mut pass, &g.body_sort, self.pool.get(BODY_WORK));
+        }
+        {
+            let mut pass = timer.begin_pass(encoder, BROAD_PHASE_SWEEP);
+            k.gather_sweep_boxes
+                .dispatch(&mut pass, &g.gather_sweep_boxes, n);
             k.sweep_pairs.dispatch(&mut pass, &g.parity[p].sweep, n);
             k.plan_dispatch
                 .dispatch_workgroups(&mut pass, &g.parity[p].plan, 1, 1);
+        }
+        {
+            let mut pass = timer.begin_pass(encoder, BROAD_PHASE_SORT_PAIRS);
             k.radix.record(&mut pass, &g.parity[p].pair_sort, pair_work);
         }
         {
-            let mut pass = timer.begin_pass(encoder, "narrow_phase");
+            let mut pass = timer.begin_pass(encoder, NARROW_PHASE);
             let groups = &g.parity[p];
             k.match_pairs.dispatch_indirect(
                 &mut pass,
@@ -603,6 +624,12 @@ impl GpuCollision {
     /// Blocking read of the last step's sweep axis (tests and tools).
     pub fn read_sweep_axis(&self) -> Result<SweepAxis, GpuError> {
         Ok(self.ctx.read_buffer(self.pool.get(SWEEP_AXIS), 0, 1)?[0])
+    }
+
+    /// Blocking read of the last step's boxes in sweep order (tests and tools).
+    pub fn read_sweep_boxes(&self) -> Result<Vec<GpuSweepBox>, GpuError> {
+        self.ctx
+            .read_buffer(self.pool.get(SWEEP_BOXES), 0, u64::from(self.body_count))
     }
 
     /// Blocking read of the last step's body order along the sweep axis (tests and tools).

@@ -4,6 +4,7 @@
 pub mod carry_impulses;
 pub mod choose_axis;
 pub mod collide_cuboids;
+pub mod gather_sweep_boxes;
 pub mod match_pairs;
 pub mod plan_dispatch;
 pub mod radix_sort;
@@ -22,6 +23,7 @@ pub fn all() -> Vec<&'static KernelSpec> {
         &radix_sort::RADIX_HISTOGRAM,
         &radix_sort::RADIX_SCAN,
         &radix_sort::RADIX_SCATTER,
+        &gather_sweep_boxes::GATHER_SWEEP_BOXES,
         &sweep_pairs::SWEEP_PAIRS,
         &plan_dispatch::PLAN_DISPATCH,
         &match_pairs::MATCH_PAIRS,

@@ -1,7 +1,7 @@
 //! `sweep_pairs`: the sweep of sweep-and-prune over bodies sorted by AABB lower bound.
 
 use crate::kernel::{KernelArgs, KernelSpec};
-use crate::layout::{BODY_STATIC, GpuAabb, GpuShape};
+use crate::layout::{BODY_STATIC, GpuSweepBox};
 use crate::shader::{Binding, ShaderSource, common, wgsl_file};
 
 /// The kernel: one thread per sorted body, appending pairs through an atomic counter.
@@ -14,9 +14,6 @@ pub static SWEEP_PAIRS: KernelSpec = KernelSpec {
     bindings: &[
         Binding::Uniform,
         Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
         Binding::StorageReadWrite,
         Binding::StorageReadWrite,
         Binding::StorageReadWrite,
@@ -27,14 +24,8 @@ pub static SWEEP_PAIRS: KernelSpec = KernelSpec {
 pub struct SweepPairsArgs<'a> {
     /// [`crate::layout::SweepParams`].
     pub params: &'a wgpu::Buffer,
-    /// `SweepAxis` from `choose_axis`.
-    pub sweep_axis: &'a wgpu::Buffer,
-    /// `array<GpuAabb>`.
-    pub aabbs: &'a wgpu::Buffer,
-    /// `array<GpuShape>` (for the static flag).
-    pub shapes: &'a wgpu::Buffer,
-    /// Body indices in sorted order of AABB lower bound.
-    pub sorted_bodies: &'a wgpu::Buffer,
+    /// `array<GpuSweepBox>` in sweep order, from `gather_sweep_boxes`.
+    pub sweep_boxes: &'a wgpu::Buffer,
     /// Append counter (`u32`, cleared before the sweep).
     pub counter: &'a wgpu::Buffer,
     /// Output: smaller body index of each pair.
@@ -47,10 +38,7 @@ impl KernelArgs for SweepPairsArgs<'_> {
     fn buffers(&self) -> Vec<&wgpu::Buffer> {
         vec![
             self.params,
-            self.sweep_axis,
-            self.aabbs,
-            self.shapes,
-            self.sorted_bodies,
+            self.sweep_boxes,
             self.counter,
             self.pair_a,
             self.pair_b,
@@ -58,34 +46,24 @@ impl KernelArgs for SweepPairsArgs<'_> {
     }
 }
 
-/// True when the boxes overlap or touch on all three axes (closed intervals).
-fn overlaps(a: &GpuAabb, b: &GpuAabb) -> bool {
-    (0..3).all(|k| a.min[k] <= b.max[k] && b.min[k] <= a.max[k])
-}
-
 /// The CPU twin of [`SWEEP_PAIRS`] followed by the canonical sort: every overlapping pair
-/// that is not static-static, as `(smaller, larger)`, ascending. `sorted_bodies` is the
-/// sweep order (body indices sorted by lower bound along `axis`).
-pub fn sweep_pairs_cpu(
-    aabbs: &[GpuAabb],
-    shapes: &[GpuShape],
-    sorted_bodies: &[u32],
-    axis: u32,
-) -> Vec<(u32, u32)> {
-    let axis = axis as usize;
-    let is_static = |i: u32| shapes[i as usize].flags & BODY_STATIC != 0;
+/// that is not static-static, as `(smaller, larger)`, ascending, from the boxes in sweep
+/// order (closed intervals; the sweep axis is implied by the order).
+pub fn sweep_pairs_cpu(boxes: &[GpuSweepBox]) -> Vec<(u32, u32)> {
     let mut pairs = Vec::new();
-    for (p, &i) in sorted_bodies.iter().enumerate() {
-        let a = &aabbs[i as usize];
-        for &j in &sorted_bodies[p + 1..] {
-            let b = &aabbs[j as usize];
-            if b.min[axis] > a.max[axis] {
+    for (p, me) in boxes.iter().enumerate() {
+        for other in &boxes[p + 1..] {
+            if other.lo_0 > me.hi_0 {
                 break;
             }
-            if (is_static(i) && is_static(j)) || !overlaps(a, b) {
-                continue;
+            let overlaps = other.lo_1 <= me.hi_1
+                && me.lo_1 <= other.hi_1
+                && other.lo_2 <= me.hi_2
+                && me.lo_2 <= other.hi_2;
+            let both_static = me.flags & other.flags & BODY_STATIC != 0;
+            if overlaps && !both_static {
+                pairs.push((me.body.min(other.body), me.body.max(other.body)));
             }
-            pairs.push((i.min(j), i.max(j)));
         }
     }
     pairs.sort_unstable();
@@ -95,8 +73,10 @@ pub fn sweep_pairs_cpu(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kernels::gather_sweep_boxes::gather_sweep_boxes_cpu;
     use crate::kernels::radix_sort::radix_sort_cpu;
     use crate::kernels::write_sort_keys::write_sort_keys_cpu;
+    use crate::layout::{GpuAabb, GpuShape};
     use rand::{Rng, SeedableRng};
     use tumble_geometry::{Aabb, Point3};
 
@@ -135,7 +115,8 @@ mod tests {
         for axis in 0..3 {
             let (keys, values) = write_sort_keys_cpu(&aabbs, axis);
             let (_, order) = radix_sort_cpu(&keys, &values, 32);
-            assert_eq!(sweep_pairs_cpu(&aabbs, &shapes, &order, axis), want);
+            let boxes = gather_sweep_boxes_cpu(&aabbs, &shapes, &order, axis);
+            assert_eq!(sweep_pairs_cpu(&boxes), want);
         }
     }
 }

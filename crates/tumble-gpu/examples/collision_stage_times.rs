@@ -1,0 +1,179 @@
+//! Per-stage GPU time of the collision stages (timestamp queries around each stage's compute
+//! pass), the wall time of a step with its readback, and the CPU stages on the same scene.
+//!
+//! ```text
+//! cargo run --release -p tumble-gpu --example collision_stage_times -- [--csv] [bodies...]
+//! ```
+//! Default body counts: 1000 10000 100000. Set `TUMBLE_ADAPTER` to pick an adapter. With
+//! `--csv` the rows are printed as CSV (the committed results in `benches/results/`).
+
+#[path = "../benches/support/random_pile.rs"]
+mod random_pile;
+
+use std::time::Instant;
+
+use tumble_geometry::{Aabb, Point3};
+use tumble_gpu::collision;
+use tumble_gpu::kernels::collide_cuboids::collide_pair_cpu;
+use tumble_gpu::{CollisionConfig, GpuCollision, GpuContext, ReadbackRequest, StageTimer};
+
+/// Steps timed per scene (after the warm-up), enough for a stable median.
+const TIMED_STEPS: usize = 20;
+/// Steps run before timing: pipelines are compiled lazily by some drivers on first use.
+const WARM_UP_STEPS: usize = 3;
+
+/// The passes `GpuCollision::record` opens, in order.
+const STAGES: [&str; 5] = [
+    collision::UPDATE_AABBS,
+    collision::BROAD_PHASE_SORT_BODIES,
+    collision::BROAD_PHASE_SWEEP,
+    collision::BROAD_PHASE_SORT_PAIRS,
+    collision::NARROW_PHASE,
+];
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let csv = args.iter().any(|a| a == "--csv");
+    let counts: Vec<usize> = args
+        .iter()
+        .filter(|a| *a != "--csv")
+        .map(|a| a.parse())
+        .collect::<Result<_, _>>()?;
+    let counts = if counts.is_empty() {
+        vec![1000, 10_000, 100_000]
+    } else {
+        counts
+    };
+    let ctx = GpuContext::new()?;
+    // Quoted: adapter names contain commas.
+    let adapter = format!("\"{} ({:?})\"", ctx.info.name, ctx.info.backend);
+    if csv {
+        println!(
+            "adapter,bodies,pairs,touching,update_aabbs_ms,sort_bodies_ms,sweep_ms,sort_pairs_ms,narrow_phase_ms,gpu_total_ms,step_and_readback_ms,cpu_broad_phase_ms,cpu_narrow_phase_ms"
+        );
+    } else {
+        println!("adapter: {adapter}; timestamps: {}", ctx.has_timestamps);
+    }
+    if !csv {
+        println!(
+            "{:>8} {:>8} {:>8} | {:>8} {:>8} {:>8} {:>8} {:>9} {:>8} | {:>10} | {:>9} {:>9}",
+            "bodies",
+            "pairs",
+            "touching",
+            "aabbs ms",
+            "sort ms",
+            "sweep ms",
+            "pairs ms",
+            "narrow ms",
+            "gpu ms",
+            "step+rb ms",
+            "cpu bp ms",
+            "cpu np ms"
+        );
+    }
+    for n in counts {
+        let (poses, velocities, shapes) = random_pile::random_pile(n, 42);
+        let config = CollisionConfig::default();
+        let mut gpu = GpuCollision::new(&ctx, config)?;
+        gpu.set_bodies(&poses, &velocities, &shapes)?;
+        for _ in 0..WARM_UP_STEPS {
+            gpu.step_and_read(ReadbackRequest::CONTACTS)?;
+        }
+        let mut timer = StageTimer::new(&ctx);
+        let mut stages: Vec<Vec<f64>> = vec![Vec::new(); STAGES.len()];
+        let mut walls = Vec::new();
+        let mut snap = None;
+        for _ in 0..TIMED_STEPS {
+            let start = Instant::now();
+            let mut encoder = ctx.device.create_command_encoder(&Default::default());
+            gpu.record(&mut encoder, &mut timer)?;
+            timer.resolve(&mut encoder);
+            let plan = gpu.record_readback(&mut encoder, ReadbackRequest::CONTACTS)?;
+            ctx.queue.submit([encoder.finish()]);
+            let pending = gpu.submit_readback(plan);
+            snap = Some(gpu.receive(pending)?);
+            walls.push(start.elapsed().as_secs_f64() * 1e3);
+            for (name, seconds) in timer.read()? {
+                if let Some(i) = STAGES.iter().position(|s| *s == name) {
+                    stages[i].push(seconds * 1e3);
+                }
+            }
+        }
+        let snap = snap.expect("timed at least one step");
+        let touching = snap.manifolds.iter().filter(|m| m.len > 0).count();
+        let stage_ms: Vec<f64> = stages
+            .into_iter()
+            .map(|s| if s.is_empty() { f64::NAN } else { median(s) })
+            .collect();
+
+        // The CPU stages on the same AABBs and pairs, single-threaded.
+        let aabbs: Vec<Aabb> = gpu
+            .read_aabbs()?
+            .iter()
+            .map(|b| {
+                Aabb::new(
+                    Point3::new(b.min[0], b.min[1], b.min[2]),
+                    Point3::new(b.max[0], b.max[1], b.max[2]),
+                )
+            })
+            .collect();
+        let statics: Vec<bool> = shapes.iter().map(|s| s.is_static()).collect();
+        let start = Instant::now();
+        let pairs = tumble_broad::sweep_and_prune_filtered(&aabbs, &statics)?;
+        let cpu_broad = start.elapsed().as_secs_f64() * 1e3;
+        let start = Instant::now();
+        let found = pairs
+            .iter()
+            .filter(|&&p| {
+                collide_pair_cpu(
+                    &poses,
+                    &velocities,
+                    &shapes,
+                    p,
+                    None,
+                    config.margin,
+                    config.dt,
+                )
+                .is_some()
+            })
+            .count();
+        let cpu_narrow = start.elapsed().as_secs_f64() * 1e3;
+        assert_eq!(pairs, snap.pairs, "GPU and CPU pair lists differ");
+        assert!(
+            found.abs_diff(touching) * 100 <= touching.max(1),
+            "contact counts differ"
+        );
+        let gpu_ms = stage_ms.iter().sum::<f64>();
+        if csv {
+            let stages: Vec<String> = stage_ms.iter().map(|t| format!("{t:.4}")).collect();
+            println!(
+                "{adapter},{n},{},{touching},{},{gpu_ms:.4},{:.4},{cpu_broad:.4},{cpu_narrow:.4}",
+                snap.pairs.len(),
+                stages.join(","),
+                median(walls)
+            );
+            continue;
+        }
+        println!(
+            "{:>8} {:>8} {:>8} | {:>8.3} {:>8.3} {:>8.3} {:>8.3} {:>9.3} {:>8.3} | {:>10.3} | {:>9.3} {:>9.3}",
+            n,
+            snap.pairs.len(),
+            touching,
+            stage_ms[0],
+            stage_ms[1],
+            stage_ms[2],
+            stage_ms[3],
+            stage_ms[4],
+            gpu_ms,
+            median(walls),
+            cpu_broad,
+            cpu_narrow
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,31 @@
+// gather_sweep_boxes: one thread per sorted position copies that body's AABB into sweep
+// order, sweep axis first, with its index and flags, so that sweep_pairs reads contiguous
+// records instead of gathering from the per-body arrays at every step of its scan.
+
+@group(0) @binding(0) var<storage, read> work: WorkList;
+@group(0) @binding(1) var<storage, read> sweep_axis: SweepAxis;
+@group(0) @binding(2) var<storage, read> aabbs: array<GpuAabb>;
+@group(0) @binding(3) var<storage, read> shapes: array<GpuShape>;
+@group(0) @binding(4) var<storage, read> sorted_bodies: array<u32>;
+@group(0) @binding(5) var<storage, read_write> sweep_boxes: array<GpuSweepBox>;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn main(
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let p = linear_index(workgroup, groups, local);
+    if p >= work.count {
+        return;
+    }
+    let i = sorted_bodies[p];
+    let b = aabbs[i];
+    let a0 = sweep_axis.axis;
+    let a1 = (a0 + 1u) % 3u;
+    let a2 = (a0 + 2u) % 3u;
+    sweep_boxes[p] = GpuSweepBox(
+        b.min[a0], b.min[a1], b.min[a2], i,
+        b.max[a0], b.max[a1], b.max[a2], shapes[i].flags,
+    );
+}

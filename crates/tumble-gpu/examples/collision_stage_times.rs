@@ -54,14 +54,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let adapter = format!("\"{} ({:?})\"", ctx.info.name, ctx.info.backend);
     if csv {
         println!(
-            "adapter,bodies,pairs,touching,update_aabbs_ms,sort_bodies_ms,sweep_ms,sort_pairs_ms,narrow_phase_ms,gpu_total_ms,step_and_readback_ms,cpu_broad_phase_ms,cpu_narrow_phase_ms"
+            "adapter,bodies,pairs,touching,update_aabbs_ms,sort_bodies_ms,sweep_ms,sort_pairs_ms,narrow_phase_ms,gpu_total_ms,step_and_readback_ms,readback_host_ms,cpu_broad_phase_ms,cpu_narrow_phase_ms"
         );
     } else {
         println!("adapter: {adapter}; timestamps: {}", ctx.has_timestamps);
     }
     if !csv {
         println!(
-            "{:>8} {:>8} {:>8} | {:>8} {:>8} {:>8} {:>8} {:>9} {:>8} | {:>10} | {:>9} {:>9}",
+            "{:>8} {:>8} {:>8} | {:>8} {:>8} {:>8} {:>8} {:>9} {:>8} | {:>10} {:>8} | {:>9} {:>9}",
             "bodies",
             "pairs",
             "touching",
@@ -72,6 +72,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "narrow ms",
             "gpu ms",
             "step+rb ms",
+            "rb ms",
             "cpu bp ms",
             "cpu np ms"
         );
@@ -87,6 +88,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut timer = StageTimer::new(&ctx);
         let mut stages: Vec<Vec<f64>> = vec![Vec::new(); STAGES.len()];
         let mut walls = Vec::new();
+        let mut host_reads = Vec::new();
         let mut snap = None;
         for _ in 0..TIMED_STEPS {
             let start = Instant::now();
@@ -96,8 +98,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let plan = gpu.record_readback(&mut encoder, ReadbackRequest::CONTACTS)?;
             ctx.queue.submit([encoder.finish()]);
             let pending = gpu.submit_readback(plan);
+            // Split the wall time: until the GPU is done, then mapping and decoding.
+            ctx.wait_idle()?;
+            let done = Instant::now();
             snap = Some(gpu.receive(pending)?);
             walls.push(start.elapsed().as_secs_f64() * 1e3);
+            host_reads.push(done.elapsed().as_secs_f64() * 1e3);
             for (name, seconds) in timer.read()? {
                 if let Some(i) = STAGES.iter().position(|s| *s == name) {
                     stages[i].push(seconds * 1e3);
@@ -152,15 +158,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         if csv {
             let stages: Vec<String> = stage_ms.iter().map(|t| format!("{t:.4}")).collect();
             println!(
-                "{adapter},{n},{},{touching},{},{gpu_ms:.4},{:.4},{cpu_broad:.4},{cpu_narrow:.4}",
+                "{adapter},{n},{},{touching},{},{gpu_ms:.4},{:.4},{:.4},{cpu_broad:.4},{cpu_narrow:.4}",
                 snap.pairs.len(),
                 stages.join(","),
-                median(walls)
+                median(walls),
+                median(host_reads)
             );
             continue;
         }
         println!(
-            "{:>8} {:>8} {:>8} | {:>8.3} {:>8.3} {:>8.3} {:>8.3} {:>9.3} {:>8.3} | {:>10.3} | {:>9.3} {:>9.3}",
+            "{:>8} {:>8} {:>8} | {:>8.3} {:>8.3} {:>8.3} {:>8.3} {:>9.3} {:>8.3} | {:>10.3} {:>8.3} | {:>9.3} {:>9.3}",
             n,
             snap.pairs.len(),
             touching,
@@ -171,6 +178,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             stage_ms[4],
             gpu_ms,
             median(walls),
+            median(host_reads),
             cpu_broad,
             cpu_narrow
         );

@@ -134,22 +134,35 @@ impl Readback {
         ticket: &Ticket,
         regions: &[Region],
     ) -> Option<Result<Vec<Vec<u8>>, GpuError>> {
+        let mapped = self.try_mapped(ticket)?;
+        Some(mapped.and_then(|m| regions.iter().map(|r| m.read::<u8>(r)).collect()))
+    }
+
+    /// Waits for the map and returns the bytes of every region.
+    pub fn wait(&mut self, ticket: Ticket, regions: &[Region]) -> Result<Vec<Vec<u8>>, GpuError> {
+        let mapped = self.wait_mapped(ticket)?;
+        regions.iter().map(|r| mapped.read::<u8>(r)).collect()
+    }
+
+    /// The mapped staging buffer if the map has completed, without blocking; regions are then
+    /// read as typed vectors with a single copy ([`Mapped::read`]).
+    pub fn try_mapped(&mut self, ticket: &Ticket) -> Option<Result<Mapped<'_>, GpuError>> {
         // A non-blocking poll lets the map callback run.
         let _ = self.ctx.device.poll(wgpu::PollType::Poll);
         let done = self.slots[ticket.slot]
             .mapped
             .as_ref()
             .is_some_and(|m| m.lock().expect("map lock").is_some());
-        done.then(|| self.take(ticket, regions))
+        done.then(|| self.take(ticket))
     }
 
-    /// Waits for the map and returns the bytes of every region.
-    pub fn wait(&mut self, ticket: Ticket, regions: &[Region]) -> Result<Vec<Vec<u8>>, GpuError> {
+    /// Waits for the map and returns the mapped staging buffer.
+    pub fn wait_mapped(&mut self, ticket: Ticket) -> Result<Mapped<'_>, GpuError> {
         self.ctx.wait_idle()?;
-        self.take(&ticket, regions)
+        self.take(&ticket)
     }
 
-    fn take(&mut self, ticket: &Ticket, regions: &[Region]) -> Result<Vec<Vec<u8>>, GpuError> {
+    fn take(&mut self, ticket: &Ticket) -> Result<Mapped<'_>, GpuError> {
         let slot = &mut self.slots[ticket.slot];
         let status = slot
             .mapped
@@ -157,20 +170,39 @@ impl Readback {
             .and_then(|m| m.lock().expect("map lock").take())
             .ok_or_else(|| GpuError::Device("readback was not mapped".into()))?;
         status.map_err(GpuError::Device)?;
-        let staging = slot.buffer.as_ref().expect("mapped slot has a buffer");
-        let out = regions
-            .iter()
-            .map(|r| {
-                if r.len == 0 {
-                    return Ok(Vec::new());
-                }
-                staging
-                    .get_mapped_range(r.offset..r.offset + r.len)
-                    .map(|view| view.to_vec())
-                    .map_err(|e| GpuError::Device(e.to_string()))
-            })
-            .collect::<Result<Vec<_>, _>>();
-        staging.unmap();
-        out
+        Ok(Mapped {
+            staging: slot.buffer.as_ref().expect("mapped slot has a buffer"),
+        })
+    }
+}
+
+/// A mapped staging buffer; unmapped when dropped.
+#[derive(Debug)]
+pub struct Mapped<'a> {
+    staging: &'a wgpu::Buffer,
+}
+
+impl Mapped<'_> {
+    /// Region `r` as a vector of `T`, copied once out of the mapping.
+    pub fn read<T: bytemuck::Pod>(&self, r: &Region) -> Result<Vec<T>, GpuError> {
+        let size = std::mem::size_of::<T>() as u64;
+        let mut out = vec![T::zeroed(); (r.len / size) as usize];
+        if r.len == 0 || out.is_empty() {
+            return Ok(out);
+        }
+        let view = self
+            .staging
+            .get_mapped_range(r.offset..r.offset + r.len)
+            .map_err(|e| GpuError::Device(e.to_string()))?;
+        let bytes: &mut [u8] = bytemuck::cast_slice_mut(&mut out);
+        let n = bytes.len();
+        bytes.copy_from_slice(&view[..n]);
+        Ok(out)
+    }
+}
+
+impl Drop for Mapped<'_> {
+    fn drop(&mut self) {
+        self.staging.unmap();
     }
 }

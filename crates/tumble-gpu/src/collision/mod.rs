@@ -25,7 +25,7 @@ use crate::layout::{
     GpuAabb, GpuContact, GpuManifold, GpuPose, GpuShape, GpuSweepBox, GpuVelocity, NarrowParams,
     SweepAxis, SweepParams, UpdateAabbsParams, WORK_LIST_GROUPS_OFFSET, WorkList,
 };
-use crate::readback::{Readback, Region, Ticket};
+use crate::readback::{Mapped, Readback, Region, Ticket};
 use crate::{GpuContext, GpuError, MAX_BODIES, MAX_MANIFOLD_POINTS, StageTimer};
 
 /// Timer name of the `update_aabbs` stage's pass.
@@ -95,6 +95,36 @@ pub struct ReadbackPlan {
 pub struct PendingReadback {
     ticket: Ticket,
     plan: ReadbackPlan,
+}
+
+/// The snapshot's parts, read once each out of the mapped staging buffer.
+fn decode(plan: &ReadbackPlan, mapped: &Mapped<'_>) -> Result<CollisionSnapshot, GpuError> {
+    let mut regions = plan.regions.iter();
+    let mut next = || {
+        regions
+            .next()
+            .copied()
+            .unwrap_or(Region { offset: 0, len: 0 })
+    };
+    let work: Vec<WorkList> = mapped.read(&next())?;
+    let mut snap = CollisionSnapshot {
+        work: work.first().copied().unwrap_or_default(),
+        ..Default::default()
+    };
+    let r = &plan.request;
+    if r.pairs {
+        let a: Vec<u32> = mapped.read(&next())?;
+        let b: Vec<u32> = mapped.read(&next())?;
+        snap.pairs = a.into_iter().zip(b).collect();
+    }
+    if r.manifolds {
+        snap.manifolds = mapped.read(&next())?;
+        snap.contacts = mapped.read(&next())?;
+    }
+    if r.aabbs {
+        snap.aabbs = mapped.read(&next())?;
+    }
+    Ok(snap)
 }
 
 /// The GPU collision pipeline and its buffers.
@@ -463,47 +493,32 @@ impl GpuCollision {
         &mut self,
         pending: &PendingReadback,
     ) -> Option<Result<CollisionSnapshot, GpuError>> {
-        let bytes = self
-            .readback
-            .try_read(&pending.ticket, &pending.plan.regions)?;
-        Some(bytes.and_then(|b| self.decode(&pending.plan, b)))
+        let snap = {
+            let mapped = self.readback.try_mapped(&pending.ticket)?;
+            mapped.and_then(|m| decode(&pending.plan, &m))
+        };
+        Some(snap.and_then(|s| self.finish_decode(&pending.plan, s)))
     }
 
     /// Waits for a readback and returns its snapshot.
     pub fn receive(&mut self, pending: PendingReadback) -> Result<CollisionSnapshot, GpuError> {
-        let bytes = self.readback.wait(pending.ticket, &pending.plan.regions)?;
-        self.decode(&pending.plan, bytes)
+        let snap = {
+            let mapped = self.readback.wait_mapped(pending.ticket)?;
+            decode(&pending.plan, &mapped)?
+        };
+        self.finish_decode(&pending.plan, snap)
     }
 
-    fn decode(
+    /// Sizes the next speculative copy, fetches what this one missed, trims to the count.
+    fn finish_decode(
         &mut self,
         plan: &ReadbackPlan,
-        bytes: Vec<Vec<u8>>,
+        mut snap: CollisionSnapshot,
     ) -> Result<CollisionSnapshot, GpuError> {
-        let mut parts = bytes.into_iter();
-        let mut next = || parts.next().unwrap_or_default();
-        let work: WorkList = bytemuck::pod_read_unaligned(&next());
-        let mut snap = CollisionSnapshot {
-            work,
-            ..Default::default()
-        };
-        let count = work.count;
-        let r = &plan.request;
-        if r.pairs {
-            let a: Vec<u32> = bytemuck::pod_collect_to_vec(&next());
-            let b: Vec<u32> = bytemuck::pod_collect_to_vec(&next());
-            snap.pairs = a.into_iter().zip(b).collect();
-        }
-        if r.manifolds {
-            snap.manifolds = bytemuck::pod_collect_to_vec(&next());
-            snap.contacts = bytemuck::pod_collect_to_vec(&next());
-        }
-        if r.aabbs {
-            snap.aabbs = bytemuck::pod_collect_to_vec(&next());
-        }
-        // Size the next speculative copy from this count.
+        let count = snap.work.count;
         let headroom = (count as f32 * READBACK_HEADROOM) as u32;
         self.readback_pairs = count.saturating_add(headroom).max(READBACK_MIN_PAIRS);
+        let r = &plan.request;
         if count > plan.copied_pairs && (r.pairs || r.manifolds) {
             self.fetch_rest(plan, &mut snap)?;
         }

@@ -16,6 +16,7 @@ use tumble_gpu::kernels::{
     collide_cuboids::{collide_pair_cpu, kind_code, kind_from_code},
     gather_sweep_boxes::gather_sweep_boxes_cpu,
     match_pairs::match_pairs_cpu,
+    plan_dispatch::plan_dispatch_cpu,
     radix_sort::{
         RadixBuffers, RadixSort, plan_passes, radix_sort_cpu, result_copy, tile_count_len,
     },
@@ -389,6 +390,20 @@ fn pair_overflow_is_reported_and_growing_recovers_the_exact_list() {
     let aabbs: Vec<Aabb> = gpu.read_aabbs().unwrap().iter().map(to_aabb).collect();
     let cpu = tumble_broad::sweep_and_prune_filtered(&aabbs, &static_flags(&scene)).unwrap();
     assert_eq!(requested as usize, cpu.len());
+    // The work list the GPU planned from its counter is exactly the CPU twin's: the clamped
+    // count and the dispatch covering it (read through the low-level path, which returns
+    // the snapshot without judging the overflow).
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    gpu.record(&mut encoder, &mut StageTimer::disabled(&ctx))
+        .unwrap();
+    let plan = gpu
+        .record_readback(&mut encoder, ReadbackRequest::default())
+        .unwrap();
+    ctx.queue.submit([encoder.finish()]);
+    let pending = gpu.submit_readback(plan);
+    let snap = gpu.receive(pending).unwrap();
+    assert_eq!(snap.work, plan_dispatch_cpu(requested, capacity));
+    assert!(snap.check_overflow().is_err());
     let mut grows = collision(
         &ctx,
         &scene,

@@ -204,9 +204,12 @@ impl GpuCollision {
         validate::check_poses(poses)?;
         validate::check_velocities(velocities)?;
         let n = n as u32;
+        // The per-body guess is only a guess: never ask for more than the device can bind
+        // (an actual overflow still grows, and errs only if the real count does not fit).
         let wanted = n
             .saturating_mul(self.config.pairs_per_body)
             .max(self.config.min_pair_capacity)
+            .min(self.max_pairs())
             .max(self.pair_capacity);
         self.allocate(n, wanted)?;
         let queue = &self.ctx.queue;
@@ -301,6 +304,17 @@ impl GpuCollision {
                 .queue
                 .write_buffer(self.pool.get(name), 0, bytemuck::bytes_of(&empty));
         }
+    }
+
+    /// The most pair slots this device can bind (the contact buffer, four points of 48 bytes
+    /// per slot, is the largest).
+    pub fn max_pairs(&self) -> u32 {
+        let limits = self.ctx.limits();
+        let bytes = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        let per_pair = u64::from(MAX_MANIFOLD_POINTS) * std::mem::size_of::<GpuContact>() as u64;
+        (bytes / per_pair).min(u64::from(u32::MAX)) as u32
     }
 
     /// Makes room for at least `capacity` pairs (history is dropped if buffers move).
@@ -580,7 +594,10 @@ impl GpuCollision {
                 return Err(overflow);
             }
             let requested = snap.work.requested;
-            let grown = requested.saturating_add((requested as f32 * GROWTH_HEADROOM) as u32);
+            let grown = requested
+                .saturating_add((requested as f32 * GROWTH_HEADROOM) as u32)
+                .min(self.max_pairs())
+                .max(requested);
             // Redo the same step in the same pair set: roll the step counter back.
             self.steps -= 1;
             self.reserve_pairs(grown)?;

@@ -24,7 +24,7 @@ pub const OVERFLOW_COLOR: u32 = GRAPH_COLOR_COUNT as u32;
 const _: () = assert!(GRAPH_COLOR_COUNT <= 32, "a body's color mask is one u32");
 
 /// The result of coloring: a color per constraint and the constraints grouped by color.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Coloring {
     /// Color of each constraint, `0..GRAPH_COLOR_COUNT` or [`OVERFLOW_COLOR`].
     pub colors: Vec<u32>,
@@ -34,6 +34,13 @@ pub struct Coloring {
     /// `order[offsets[c]..offsets[c + 1]]` holds color `c`; `c = OVERFLOW_COLOR` is the
     /// overflow set. Length `GRAPH_COLOR_COUNT + 2`.
     pub offsets: Vec<u32>,
+}
+
+impl Default for Coloring {
+    /// The coloring of no constraints.
+    fn default() -> Self {
+        Self::from_colors(Vec::new())
+    }
 }
 
 impl Coloring {

@@ -7,7 +7,7 @@
 //! centre at the start of the step; the current separation is rebuilt every pass from the
 //! bodies' delta positions and delta rotations (Box2D v3's `baseSeparation` scheme).
 
-use tumble_geometry::{MAX_MANIFOLD_POINTS, Real, Vec3};
+use tumble_geometry::{ContactPoint, MAX_MANIFOLD_POINTS, Real, Vec3};
 
 use crate::{Body, BodyState, Contact, Mat3, Softness, SolverKind, tangent_basis};
 
@@ -75,6 +75,14 @@ pub struct ContactConstraint {
     pub point_count: u32,
     /// The points; only the first `point_count` are valid.
     pub points: [ConstraintPoint; MAX_MANIFOLD_POINTS],
+    /// Radius of the disc inscribed in the contact patch, m: the lever arm up to which the
+    /// patch carries a tilting torque (0 for fewer than three points: an edge or a point
+    /// cannot resist tipping).
+    pub patch_radius: Real,
+    /// Effective masses of the two tilt rows (relative rotation about `tangent1`, `tangent2`).
+    pub tilt_mass: [Real; 2],
+    /// Accumulated angular impulses of the tilt rows, N m s.
+    pub tilt_impulse: [Real; 2],
 }
 
 /// Step-wide values that [`prepare_contact`] needs.
@@ -84,7 +92,7 @@ pub struct PrepareContext {
     pub kind: SolverKind,
     /// Substep length in s.
     pub h: Real,
-    /// Softness of contacts between two dynamic bodies.
+    /// Softness of contacts between two dynamic bodies (Baumgarte: rigid, `beta / h`).
     pub contact_softness: Softness,
     /// Softness of contacts with a fixed or kinematic body (stiffer, as in Box2D v3).
     pub static_softness: Softness,
@@ -113,6 +121,26 @@ fn row_mass(
         + angular_term(&constraint.inverse_inertia_a, anchor_a, direction)
         + angular_term(&constraint.inverse_inertia_b, anchor_b, direction);
     if k > 0.0 { 1.0 / k } else { 0.0 }
+}
+
+/// The radius of the disc inscribed in a contact patch, approximated from its points: the
+/// smallest in-plane distance from the centroid to a point, times `cos(pi / n)` (exact for a
+/// regular polygon: a square patch of half size `a` gives `a`). Fewer than three points form
+/// no patch and give 0.
+pub fn patch_radius(points: &[ContactPoint], normal: &Vec3) -> Real {
+    let n = points.len();
+    if n < 3 {
+        return 0.0;
+    }
+    let centroid = points.iter().map(|p| p.position.coords).sum::<Vec3>() / n as Real;
+    let nearest = points
+        .iter()
+        .map(|p| {
+            let d = p.position.coords - centroid;
+            (d - normal * d.dot(normal)).norm()
+        })
+        .fold(Real::INFINITY, Real::min);
+    nearest * (std::f32::consts::PI / n as Real).cos()
 }
 
 /// Builds the constraint of `contacts[index]`.
@@ -159,7 +187,18 @@ pub fn prepare_contact(
         },
         point_count: u32::from(contact.manifold.len),
         points: [ConstraintPoint::default(); MAX_MANIFOLD_POINTS],
+        patch_radius: patch_radius(contact.manifold.points(), &normal),
+        tilt_mass: [0.0; 2],
+        tilt_impulse: [
+            ctx.warm_start_scale * contact.tilt_impulse.dot(&tangent1),
+            ctx.warm_start_scale * contact.tilt_impulse.dot(&tangent2),
+        ],
     };
+    let angular = inverse_inertia[ia] + inverse_inertia[ib];
+    for (mass, t) in c.tilt_mass.iter_mut().zip([&tangent1, &tangent2]) {
+        let k = t.dot(&(angular * t));
+        *mass = if k > 0.0 { 1.0 / k } else { 0.0 };
+    }
     let (ca, cb) = (a.pose.translation.vector, b.pose.translation.vector);
     let (sa, sb) = (&states[ia], &states[ib]);
     for (i, p) in contact.manifold.points().iter().enumerate() {
@@ -169,16 +208,18 @@ pub fn prepare_contact(
         let dv = sb.linear_velocity + sb.angular_velocity.cross(&anchor_b)
             - sa.linear_velocity
             - sa.angular_velocity.cross(&anchor_a);
+        let normal_mass = row_mass(&c, &anchor_a, &anchor_b, &normal);
+        let normal_impulse = ctx.warm_start_scale * warm.normal;
         c.points[i] = ConstraintPoint {
             anchor_a,
             anchor_b,
             base_separation: -p.depth - (anchor_b - anchor_a).dot(&normal),
-            normal_mass: row_mass(&c, &anchor_a, &anchor_b, &normal),
+            normal_mass,
             tangent_mass: [
                 row_mass(&c, &anchor_a, &anchor_b, &tangent1),
                 row_mass(&c, &anchor_a, &anchor_b, &tangent2),
             ],
-            normal_impulse: ctx.warm_start_scale * warm.normal,
+            normal_impulse,
             tangent_impulse: [
                 ctx.warm_start_scale * warm.friction.dot(&tangent1),
                 ctx.warm_start_scale * warm.friction.dot(&tangent2),
@@ -199,5 +240,7 @@ impl ContactConstraint {
                 self.tangent1 * p.tangent_impulse[0] + self.tangent2 * p.tangent_impulse[1];
             contact.total_normal_impulse[i] = p.total_normal_impulse;
         }
+        contact.tilt_impulse =
+            self.tangent1 * self.tilt_impulse[0] + self.tangent2 * self.tilt_impulse[1];
     }
 }

@@ -28,6 +28,8 @@ pub struct Contact {
     /// Out: the normal impulse applied over the whole step per point (all substeps, warm
     /// starts, restitution), N s. Positive means the point pushed during this step.
     pub total_normal_impulse: [Real; MAX_MANIFOLD_POINTS],
+    /// In/out: the patch's tilting (rolling) angular impulse as a world vector, N m s.
+    pub tilt_impulse: Vec3,
 }
 
 impl Contact {

@@ -35,7 +35,9 @@ pub use config::{
     DEFAULT_MAX_PUSH_OUT, DEFAULT_PARALLEL_THRESHOLD, DEFAULT_RESTITUTION_THRESHOLD, DEFAULT_SLOP,
     SolveOrder, SolverConfig, SolverKind,
 };
-pub use constraint::{ConstraintPoint, ContactConstraint, PrepareContext, prepare_contact};
+pub use constraint::{
+    ConstraintPoint, ContactConstraint, PrepareContext, patch_radius, prepare_contact,
+};
 pub use contact::{Contact, PointImpulse};
 pub use contact_cache::{CachedManifold, ContactCache, PairKey};
 pub use contact_solver::{PassContext, restitution_contact, solve_contact, warm_start_contact};

@@ -85,14 +85,13 @@ pub fn solve(
     let substeps = config.substeps.max(1);
     let h = dt / substeps as Real;
     let inv_h = 1.0 / h;
+    let contact_hertz = config.contact_hertz.min(MAX_HERTZ_PER_SUBSTEP_RATE * inv_h);
+    let static_hertz = STATIC_STIFFNESS_FACTOR * contact_hertz;
     let (contact_softness, static_softness) = match config.kind {
-        SolverKind::SoftStep => {
-            let hertz = config.contact_hertz.min(MAX_HERTZ_PER_SUBSTEP_RATE * inv_h);
-            (
-                Softness::new(hertz, config.damping_ratio, h),
-                Softness::new(STATIC_STIFFNESS_FACTOR * hertz, config.damping_ratio, h),
-            )
-        }
+        SolverKind::SoftStep => (
+            Softness::new(contact_hertz, config.damping_ratio, h),
+            Softness::new(static_hertz, config.damping_ratio, h),
+        ),
         SolverKind::Baumgarte => {
             let rigid = Softness {
                 bias_rate: config.baumgarte * inv_h,

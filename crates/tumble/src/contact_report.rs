@@ -1,6 +1,6 @@
 //! Contacts of the last step as users see them: by handle, in world space.
 
-use tumble_geometry::{Point3, Real, Vec3};
+use tumble_geometry::{FeatureKind, Point3, Real, Vec3};
 
 use crate::BodyHandle;
 
@@ -13,6 +13,8 @@ pub struct ContactPointReport {
     pub depth: Real,
     /// Normal impulse applied over the step, N s.
     pub normal_impulse: Real,
+    /// Feature id from the narrow phase (stable while the same features touch).
+    pub id: u32,
 }
 
 /// One manifold of the last step.
@@ -24,6 +26,10 @@ pub struct ContactReport {
     pub body_b: BodyHandle,
     /// Unit normal from A to B.
     pub normal: Vec3,
+    /// Which SAT axis kind made the manifold.
+    pub kind: FeatureKind,
+    /// Reference face or packed edge pair.
+    pub feature: u32,
     /// The points (1 to 4).
     pub points: Vec<ContactPointReport>,
 }

@@ -185,6 +185,8 @@ impl World {
                 body_a: a,
                 body_b: b,
                 normal: c.manifold.normal,
+                kind: c.manifold.kind,
+                feature: c.manifold.feature,
                 points: c
                     .manifold
                     .points()
@@ -194,6 +196,7 @@ impl World {
                         position: p.position,
                         depth: p.depth,
                         normal_impulse: j,
+                        id: p.id,
                     })
                     .collect(),
             })

@@ -11,6 +11,8 @@ pub fn finish(
     keys: &[PairKey],
     contacts: &[Contact],
 ) {
+    // The cache records points in body A's frame at the poses the manifolds came from, so it
+    // is written before the poses move.
+    cache.store(keys, contacts, bodies);
     finalize_bodies(bodies, states);
-    cache.store(keys, contacts);
 }

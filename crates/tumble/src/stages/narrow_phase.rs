@@ -63,7 +63,8 @@ pub fn narrow_phase(
             cache.previous_feature(&key),
         )?;
         let mut contact = Contact::new(a, b, manifold);
-        contact.impulses = cache.warm_start(&key, &manifold);
+        contact.impulses = cache.warm_start(&key, &manifold, &ba.pose);
+        contact.tilt_impulse = cache.warm_tilt(&key, &manifold, &ba.pose);
         Some((contact, key))
     };
     let found: Vec<(Contact, PairKey)> = if pairs.len() >= PARALLEL_MIN_PAIRS {

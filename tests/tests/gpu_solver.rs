@@ -734,3 +734,274 @@ fn gpu_solve_stage_matches_the_cpu_solver_soft_step_and_baumgarte() {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// Integration on the whole GPU step
+// ---------------------------------------------------------------------------------------------
+
+use tumble_solver::{begin_step, integrate_positions, integrate_velocities};
+
+/// A world stepping entirely on the GPU (collision and solver) with `gravity`.
+fn gpu_world(ctx: &GpuContext, gravity: Vec3, bodies: &[Body], states: &[BodyState]) -> GpuWorld {
+    let mut world = GpuWorld::new(
+        ctx,
+        GpuWorldConfig {
+            gravity,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    world.set_bodies(bodies, states).unwrap();
+    world
+}
+
+#[test]
+fn free_fall_for_one_second_matches_semi_implicit_euler() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let body = cube(BodyKind::Dynamic, Vec3::new(0.0, 10.0, 0.0));
+    let v0 = Vec3::new(1.0, 2.0, 0.0);
+    let mut world = gpu_world(
+        &ctx,
+        gravity(),
+        &[body],
+        &[BodyState::moving(v0, Vec3::zeros())],
+    );
+    let steps = 60;
+    for _ in 0..steps {
+        world.step().unwrap();
+    }
+    let snap = world.read_now(ReadRequest::MOTION).unwrap();
+    // Semi-implicit Euler with 4 substeps: v_k = v0 + k g h, x_n = x0 + n h v0 + g h^2 n (n+1)/2.
+    let n = (steps * 4) as f64;
+    let h = f64::from(DT) / 4.0;
+    let y = 10.0 + n * h * 2.0 - 9.81 * h * h * n * (n + 1.0) / 2.0;
+    let p = snap.pose(0).translation.vector;
+    // 240 f32 additions of values up to 10 m round to ~240 ulp(10) = 2e-4 m at worst; an
+    // explicit-Euler or missing-substep scheme is off by 2 cm or more.
+    assert!((f64::from(p.y) - y).abs() < 2e-4, "y {} vs {y}", p.y);
+    assert!(
+        (f64::from(p.x) - n * h).abs() < 2e-4,
+        "x {} vs {}",
+        p.x,
+        n * h
+    );
+    let v = snap.state(0).linear_velocity;
+    assert!(
+        (f64::from(v.y) - (2.0 - 9.81 * n * h)).abs() < 1e-4,
+        "vy {}",
+        v.y
+    );
+}
+
+#[test]
+fn spinning_box_keeps_its_angular_momentum_and_follows_the_cpu() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    // A 1 x 2 x 3 box spun near its unstable middle axis tumbles (Dzhanibekov).
+    let body = Body::new(
+        BodyKind::Dynamic,
+        Cuboid::new(Vec3::new(0.5, 1.0, 1.5)),
+        Pose::new(Vec3::new(0.0, 5.0, 0.0), Vec3::new(0.1, 0.2, 0.3)),
+        1.0,
+        Material::default(),
+    )
+    .unwrap();
+    let state = BodyState::moving(Vec3::zeros(), Vec3::new(0.3, 2.0, 0.4));
+    let mut world = gpu_world(&ctx, Vec3::zeros(), &[body], &[state]);
+    let (mut cpu_bodies, mut cpu_states) = (vec![body], vec![state]);
+    let momentum = |b: &Body, s: &BodyState| -> (Real, Real) {
+        let local = b
+            .pose
+            .rotation
+            .inverse_transform_vector(&s.angular_velocity);
+        let l = b.inertia_local().component_mul(&local);
+        (l.norm(), 0.5 * local.dot(&l))
+    };
+    let (l0, e0) = momentum(&body, &state);
+    let h = DT / 4.0;
+    for second in 1..=10 {
+        for _ in 0..60 {
+            world.step().unwrap();
+            begin_step(&mut cpu_states);
+            for _ in 0..4 {
+                integrate_velocities(&cpu_bodies, &mut cpu_states, &Vec3::zeros(), h);
+                integrate_positions(&cpu_bodies, &mut cpu_states, h);
+            }
+            finalize_bodies(&mut cpu_bodies, &mut cpu_states);
+        }
+        let snap = world.read_now(ReadRequest::MOTION).unwrap();
+        let mut gpu_body = body;
+        gpu_body.pose = snap.pose(0);
+        let (l, e) = momentum(&gpu_body, &snap.state(0));
+        // The stability suite's bound: |L| within 1%, and the energy does not grow (the
+        // implicit midpoint rule conserves both up to round-off).
+        assert!((l - l0).abs() < 0.01 * l0, "{second} s: |L| {l0} -> {l}");
+        assert!(e < e0 * 1.001, "{second} s: energy grew {e0} -> {e}");
+        if second == 1 {
+            // After 1 s the GPU follows the CPU integrator: both solve the same implicit
+            // equation by the same Newton steps; 1e-3 rad/s on 2 rad/s covers f32
+            // differences compounding over 240 substeps of a tumbling motion.
+            let (gw, cw) = (
+                snap.state(0).angular_velocity,
+                cpu_states[0].angular_velocity,
+            );
+            assert_close(
+                "spin after 1 s",
+                gw.as_slice(),
+                cw.as_slice(),
+                1e-3,
+                0.0,
+                0.0,
+            );
+            let (gq, cq) = (
+                snap.pose(0).rotation.coords,
+                cpu_bodies[0].pose.rotation.coords,
+            );
+            assert_close(
+                "attitude after 1 s",
+                gq.as_slice(),
+                cq.as_slice(),
+                1e-3,
+                0.0,
+                0.0,
+            );
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scenes that must stand, entirely on the GPU
+// ---------------------------------------------------------------------------------------------
+
+use tumble_scenes::{BodyKind as SceneKind, Scene};
+use tumble_tests::stability::{COLUMN_DRIFT, PYRAMID_DRIFT, REST_SPEED, TEN_SECONDS};
+
+/// The solver's bodies and states of a scene.
+fn bodies_of(scene: &Scene) -> (Vec<Body>, Vec<BodyState>) {
+    scene
+        .bodies
+        .iter()
+        .map(|s| {
+            let kind = match s.kind {
+                SceneKind::Fixed => BodyKind::Fixed,
+                SceneKind::Dynamic => BodyKind::Dynamic,
+                SceneKind::Kinematic => BodyKind::Kinematic,
+            };
+            let [x, y, z, w] = s.rotation;
+            let rotation = tumble_geometry::nalgebra::UnitQuaternion::from_quaternion(
+                tumble_geometry::nalgebra::Quaternion::new(w, x, y, z),
+            );
+            let pose = Pose::from_parts(Vec3::from(s.position).into(), rotation);
+            let material = Material {
+                friction: s.friction,
+                restitution: s.restitution,
+            };
+            let body = Body::new(
+                kind,
+                Cuboid::new(Vec3::from(s.half_extents)),
+                pose,
+                s.density,
+                material,
+            )
+            .unwrap();
+            (
+                body,
+                BodyState::moving(
+                    Vec3::from(s.linear_velocity),
+                    Vec3::from(s.angular_velocity),
+                ),
+            )
+        })
+        .unzip()
+}
+
+/// Steps between drift checks: drift is a slow creep (a column that buckles takes seconds),
+/// so a check every sixth of a second sees it, at a tenth of the readbacks.
+const CHECK_EVERY: usize = 10;
+
+/// Runs `scene` for `steps` steps entirely on the GPU: the horizontal drift of every dynamic
+/// body stays under `max_drift` at every check, and at the end every point of every body is
+/// slower than `max_end_speed` (the CPU stability suite's checks and thresholds).
+fn stands_on_gpu(
+    ctx: &GpuContext,
+    scene: &Scene,
+    steps: usize,
+    max_drift: Real,
+    max_end_speed: Option<Real>,
+) {
+    let (bodies, states) = bodies_of(scene);
+    let mut world = gpu_world(ctx, Vec3::from(scene.gravity), &bodies, &states);
+    let dynamic: Vec<usize> = (0..bodies.len())
+        .filter(|&i| bodies[i].is_dynamic())
+        .collect();
+    let mut worst: Real = 0.0;
+    let mut snap = world.read_now(ReadRequest::MOTION).unwrap();
+    for step in 1..=steps {
+        world.step().unwrap();
+        if step % CHECK_EVERY != 0 && step != steps {
+            continue;
+        }
+        snap = world.read_now(ReadRequest::MOTION).unwrap();
+        for &i in &dynamic {
+            let d = snap.pose(i).translation.vector - bodies[i].pose.translation.vector;
+            let p = snap.pose(i).translation.vector;
+            assert!(
+                p.iter().all(|c| c.is_finite()),
+                "{}: body {i} not finite",
+                scene.name
+            );
+            worst = worst.max((d.x * d.x + d.z * d.z).sqrt());
+        }
+        assert!(
+            worst < max_drift,
+            "{}: drifted {worst} m sideways by step {step}, limit {max_drift} m",
+            scene.name
+        );
+    }
+    if let Some(limit) = max_end_speed {
+        let speed = dynamic
+            .iter()
+            .map(|&i| {
+                let s = snap.state(i);
+                s.linear_velocity.norm()
+                    + s.angular_velocity.norm() * bodies[i].shape.half_extents.norm()
+            })
+            .fold(0.0, Real::max);
+        assert!(
+            speed < limit,
+            "{}: still moving at {speed} m/s after {steps} steps",
+            scene.name
+        );
+    }
+}
+
+#[test]
+fn a_column_of_20_cubes_stands_10_s_on_the_gpu() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    stands_on_gpu(
+        &ctx,
+        &tumble_scenes::stack(20),
+        TEN_SECONDS,
+        COLUMN_DRIFT,
+        Some(REST_SPEED),
+    );
+}
+
+#[test]
+fn a_pyramid_of_5_layers_stands_10_s_on_the_gpu() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    stands_on_gpu(
+        &ctx,
+        &tumble_scenes::pyramid(5),
+        TEN_SECONDS,
+        PYRAMID_DRIFT,
+        None,
+    );
+}

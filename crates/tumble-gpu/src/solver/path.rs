@@ -6,15 +6,18 @@ use tumble_solver::SolverConfig;
 
 use super::constants::COLOR_SLOTS;
 
-/// The fused path is used up to this many constraints. One workgroup visits a color in
-/// batches of `WORKGROUP_SIZE` constraints, so its cost grows with the largest color, while
-/// the wide path pays a fixed cost per dispatch (about 80 per substep). The crossover
-/// measured on lavapipe (docs/gpu-solver.md) lies above this; discrete GPUs, with cheaper
-/// dispatches and much wider machines, cross over earlier, so the bound is kept modest.
-pub const FUSED_MAX_CONSTRAINTS: u32 = 2048;
+/// The fused path is used up to this many manifolds. One workgroup visits a color in
+/// batches of `WORKGROUP_SIZE` constraints, so its cost grows with the manifold count, while
+/// the wide path pays a nearly fixed cost per dispatch (about 80 per substep). Measured on an
+/// H100 (Vulkan, `benches/benches/gpu_step.rs`, docs/gpu-solver.md): the solve stage takes
+/// 5.7 ms fused against 5.9 ms wide at 4,324 manifolds and 25.7 ms against 6.9 ms at 20,540,
+/// so the two cross near 4,500 (the wide path's extra recording time moves the wall-clock
+/// crossover a little higher).
+pub const FUSED_MAX_CONSTRAINTS: u32 = 4096;
 
 /// The fused path is used up to this many bodies: its per-body stages also run in one
-/// workgroup, `WORKGROUP_SIZE` bodies at a time.
+/// workgroup, `WORKGROUP_SIZE` bodies at a time (a pile at the manifold bound above has
+/// about 600 bodies, so this bound only matters for sparse scenes).
 pub const FUSED_MAX_BODIES: u32 = 4096;
 
 /// How the color and solve stages are dispatched.

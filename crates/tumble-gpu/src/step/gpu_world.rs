@@ -27,9 +27,9 @@ const HOST_MANIFOLDS: &str = "host manifolds";
 const HOST_POINTS: &str = "host contact points";
 const HOST_WORK: &str = "host manifold work list";
 
-/// Manifolds per body assumed before any step has reported its count: a box resting in a
-/// pile touches about three others per pair it owns (grid neighbours below and beside).
-pub const ESTIMATED_PAIRS_PER_BODY: u32 = 3;
+/// Manifolds per body assumed before any step has reported its count: a cube in a pile has
+/// 6.6 to 7.2 manifolds, speculative ones included (pyramids of 4 to 20 layers).
+pub const ESTIMATED_PAIRS_PER_BODY: u32 = 7;
 
 /// Manifolds copied by an asynchronous contact readback beyond the last known count, as a
 /// fraction and a floor: a step with more is read back truncated (see

@@ -357,15 +357,17 @@ pub fn fast_box_does_not_tunnel(backend: Backend, solver: SolverConfig) {
     );
 }
 
-/// Allowed relative change of |L| over 10 s: 1%.
+/// Allowed relative change of the angular momentum vector over 10 s: 1%. Without the
+/// gyroscopic term the angular velocity, not the momentum, would stay fixed, and with this
+/// wobble the momentum would swing by more than 10% (the scene's own reasoning).
 pub const MOMENTUM_TOLERANCE: Real = 0.01;
 /// Allowed relative energy growth: 1e-4. The integrator conserves energy up to f32
 /// round-off (about 1e-6 per step, well under this over 600 steps); an explicit gyroscopic
 /// term gains energy steadily and exceeds it.
 pub const ENERGY_GROWTH: Real = 1e-4;
 
-/// A 1x2x3 box spun in zero gravity keeps |L| within 1% for 600 steps and does not gain
-/// energy.
+/// A 1x2x3 box spun in zero gravity keeps its angular momentum (vector, so |L| too) within 1%
+/// for 600 steps and does not gain energy.
 pub fn spinning_box_keeps_momentum(backend: Backend, solver: SolverConfig) {
     let scene = scenes::spinning_box();
     let mut run = Run::new(&scene, backend, solver);
@@ -376,12 +378,12 @@ pub fn spinning_box_keeps_momentum(backend: Backend, solver: SolverConfig) {
     let mut max_energy = e0;
     run.run(TEN_SECONDS, |r| {
         let l = r.world.angular_momentum(h).unwrap();
-        worst = worst.max((l.norm() - l0.norm()).abs() / l0.norm());
+        worst = worst.max((l - l0).norm() / l0.norm());
         max_energy = max_energy.max(r.world.kinetic_energy(h).unwrap());
     });
     assert!(
         worst < MOMENTUM_TOLERANCE,
-        "{:?}: |L| changed by {worst}",
+        "{:?}: L changed by {worst}",
         solver.kind
     );
     assert!(

@@ -21,8 +21,8 @@ pub fn begin_step(states: &mut [BodyState]) {
     }
 }
 
-/// Advances dynamic bodies' velocities by one substep `h`: gravity, the implicit gyroscopic
-/// term, damping, locks. Fixed and kinematic bodies keep their velocities.
+/// Advances dynamic bodies' velocities by one substep `h`: gravity, the first half of the
+/// implicit gyroscopic term, damping, locks. Fixed and kinematic bodies keep their velocities.
 pub fn integrate_velocities(bodies: &[Body], states: &mut [BodyState], gravity: &Vec3, h: Real) {
     for (body, state) in bodies.iter().zip(states.iter_mut()) {
         if body.kind != BodyKind::Dynamic {
@@ -33,24 +33,37 @@ pub fn integrate_velocities(bodies: &[Body], states: &mut [BodyState], gravity: 
         let v = (state.linear_velocity + gravity * h) * linear_damping;
         state.linear_velocity = v.component_mul(&body.locks.translation_mask());
 
-        let mut w = state.angular_velocity;
-        let inertia = body.inertia_local();
-        let symmetric = inertia.x == inertia.y && inertia.y == inertia.z;
-        // Locked axes would need the lock's reaction torque in the gyroscopic balance; locked
-        // bodies skip the term (a fully locked one has no angular motion anyway). A body with
-        // equal moments has (I w) x w = 0.
-        if !symmetric && !body.locks.any_rotation() && w != Vec3::zeros() {
-            let rotation = state.delta_rotation * body.pose.rotation;
-            let local = rotation.inverse_transform_vector(&w);
-            w = rotation * gyroscopic_midpoint(&inertia, &local, h);
-        }
-        w *= angular_damping;
+        gyroscopic_half_step(body, state, h);
+        let w = state.angular_velocity * angular_damping;
         state.angular_velocity = w.component_mul(&body.locks.rotation_mask());
     }
 }
 
+/// Half of the substep's gyroscopic update (the implicit midpoint rule over `h / 2`).
+///
+/// The gyroscopic term is split around the rotation update (Strang splitting): half before the
+/// contacts and the position update, half after. The rotation then turns with the angular
+/// velocity of mid-substep, which keeps the world angular momentum of a free body fixed to
+/// second order in `h` (with the whole term before the update it drifts by about 1% over 10 s
+/// at one substep of 1/60 s); `|L|` and the energy are conserved either way.
+fn gyroscopic_half_step(body: &Body, state: &mut BodyState, h: Real) {
+    let w = state.angular_velocity;
+    let inertia = body.inertia_local();
+    let symmetric = inertia.x == inertia.y && inertia.y == inertia.z;
+    // Locked axes would need the lock's reaction torque in the gyroscopic balance; locked
+    // bodies skip the term (a fully locked one has no angular motion anyway). A body with
+    // equal moments has (I w) x w = 0.
+    if symmetric || body.locks.any_rotation() || w == Vec3::zeros() {
+        return;
+    }
+    let rotation = state.delta_rotation * body.pose.rotation;
+    let local = rotation.inverse_transform_vector(&w);
+    state.angular_velocity = rotation * gyroscopic_midpoint(&inertia, &local, 0.5 * h);
+}
+
 /// Advances the deltas of dynamic and kinematic bodies by one substep `h`:
-/// `dp += h v`, `dq += h/2 (0, w) dq`, renormalized.
+/// `dp += h v`, `dq += h/2 (0, w) dq`, renormalized (the Cayley map, a rotation about `w` by
+/// `2 atan(h |w| / 2)`); then the second half of the dynamic bodies' gyroscopic update.
 pub fn integrate_positions(bodies: &[Body], states: &mut [BodyState], h: Real) {
     for (body, state) in bodies.iter().zip(states.iter_mut()) {
         if body.kind == BodyKind::Fixed {
@@ -65,6 +78,9 @@ pub fn integrate_positions(bodies: &[Body], states: &mut [BodyState], h: Real) {
             let q = state.delta_rotation.into_inner();
             let spin = Quaternion::from_imag(w) * q * (0.5 * h);
             state.delta_rotation = Rot::new_normalize(q + spin);
+        }
+        if body.kind == BodyKind::Dynamic {
+            gyroscopic_half_step(body, state, h);
         }
     }
 }
@@ -163,5 +179,42 @@ mod tests {
         let p = bodies[0].pose.translation.vector;
         // One second at 1 m/s: x = 1 up to round-off; gravity must not act (y stays 0).
         assert!((p.x - 1.0).abs() < 1e-5 && p.y == 0.0, "{p}");
+    }
+
+    #[test]
+    fn a_free_tumbling_box_keeps_its_world_angular_momentum() {
+        // The 1 x 2 x 3 box spinning mostly about its major axis with a wobble, one substep of
+        // 1/60 s (the coarsest the solvers use), 10 s.
+        let mut bodies = vec![
+            Body::new(
+                BodyKind::Dynamic,
+                Cuboid::new(Vec3::new(0.5, 1.0, 1.5)),
+                Pose::identity(),
+                1.0,
+                Material::default(),
+            )
+            .unwrap(),
+        ];
+        let mut states = vec![BodyState::moving(Vec3::zeros(), Vec3::new(6.0, 1.0, 1.0))];
+        let momentum = |b: &Body, s: &BodyState| {
+            let local = b
+                .pose
+                .rotation
+                .inverse_transform_vector(&s.angular_velocity);
+            b.pose.rotation * b.inertia_local().component_mul(&local)
+        };
+        let l0 = momentum(&bodies[0], &states[0]);
+        let h = 1.0 / 60.0;
+        let mut worst = 0.0f32;
+        for _ in 0..600 {
+            begin_step(&mut states);
+            integrate_velocities(&bodies, &mut states, &Vec3::zeros(), h);
+            integrate_positions(&bodies, &mut states, h);
+            finalize_bodies(&mut bodies, &mut states);
+            worst = worst.max((momentum(&bodies[0], &states[0]) - l0).norm() / l0.norm());
+        }
+        // With the gyroscopic update split around the rotation the error is second order in
+        // h (about 2e-4 here); the unsplit scheme drifts by 1.2%, so 1e-3 tells them apart.
+        assert!(worst < 1e-3, "world L drifted by {worst}");
     }
 }

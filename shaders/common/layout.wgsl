@@ -161,3 +161,31 @@ struct GpuSweepBox {
     // The body's GpuShape.flags.
     flags: u32,
 }
+
+// Where a manifold in contact sits: its pair slot and its first point in the dense list.
+// 8 bytes.
+struct GpuTouching {
+    // Index of the pair (and of its manifold in the per-pair arrays).
+    slot: u32,
+    // Index of its first point among the dense points.
+    first_point: u32,
+}
+
+// Totals of the dense contact list. 16 bytes.
+struct TouchingCounts {
+    // Manifolds in contact.
+    manifolds: u32,
+    // Their points.
+    points: u32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+// Parameters of scatter_impulses. 16 bytes.
+struct ScatterParams {
+    // Dense manifolds to scatter.
+    count: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}

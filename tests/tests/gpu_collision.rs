@@ -14,6 +14,7 @@ use tumble_gpu::kernels::{
     carry_impulses::carry_impulses_cpu,
     choose_axis::choose_axis_cpu,
     collide_cuboids::{collide_pair_cpu, kind_code, kind_from_code},
+    compact_touching::{compact_touching_cpu, scatter_impulses_cpu},
     gather_sweep_boxes::gather_sweep_boxes_cpu,
     match_pairs::match_pairs_cpu,
     plan_dispatch::plan_dispatch_cpu,
@@ -268,8 +269,8 @@ fn pairs_equal_cpu(n: usize, seed: u64) {
     let snap = gpu
         .step_and_read(ReadbackRequest {
             pairs: true,
-            manifolds: false,
             aabbs: true,
+            ..Default::default()
         })
         .unwrap();
     let aabbs: Vec<Aabb> = snap.aabbs.iter().map(to_aabb).collect();
@@ -376,6 +377,7 @@ fn pair_overflow_is_reported_and_growing_recovers_the_exact_list() {
         pairs: true,
         manifolds: true,
         aabbs: true,
+        touching: true,
     };
     let err = gpu.step_and_read(request).unwrap_err();
     let GpuError::PairOverflow {
@@ -828,4 +830,60 @@ fn bad_input_and_oversized_buffers_are_errors_naming_the_field() {
     gpu.set_bodies(&scene.poses, &scene.velocities, &scene.shapes)
         .unwrap();
     gpu.step_and_read(ReadbackRequest::CONTACTS).unwrap();
+}
+
+#[test]
+fn touching_readback_is_the_dense_list_of_the_per_pair_manifolds_and_impulses_scatter_back() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let scene = contact_pairs(3_000, 11);
+    let mut gpu = collision(&ctx, &scene, CollisionConfig::default());
+    let both = ReadbackRequest {
+        touching: true,
+        ..ReadbackRequest::CONTACTS
+    };
+    // Two steps: the first readback is sized from no history (1024 manifolds) and must
+    // fetch the rest; the second is sized from the first.
+    for _ in 0..2 {
+        let snap = gpu.step_and_read(both).unwrap();
+        let want = compact_touching_cpu(&snap.manifolds, &snap.contacts);
+        assert!(
+            want.manifolds.len() > 1024,
+            "the scene must overflow the first guess"
+        );
+        assert_eq!(snap.touching, want);
+        assert_eq!(
+            snap.touching_counts.manifolds as usize,
+            want.manifolds.len()
+        );
+        assert_eq!(snap.touching_counts.points as usize, want.points.len());
+        // Both readbacks give the solver the same contacts.
+        let dense_only = tumble_gpu::CollisionSnapshot {
+            manifolds: vec![],
+            contacts: vec![],
+            ..snap.clone()
+        };
+        assert_eq!(dense_only.solver_contacts(), snap.solver_contacts());
+    }
+
+    // Impulses given in dense order land in the per-pair slots, as the CPU twin puts them.
+    let snap = gpu.step_and_read(both).unwrap();
+    let impulses: Vec<GpuContact> = (0..snap.touching.points.len())
+        .map(|i| GpuContact {
+            normal_impulse: 1.0 + i as f32,
+            friction_impulse: [0.5, i as f32, -1.0, 0.0],
+            ..Default::default()
+        })
+        .collect();
+    gpu.store_touching_impulses(&impulses).unwrap();
+    let per_pair = ctx
+        .read_buffer::<GpuContact>(gpu.buffers().contacts, 0, snap.contacts.len() as u64)
+        .unwrap();
+    let mut want = snap.contacts.clone();
+    scatter_impulses_cpu(&snap.touching, &impulses, &mut want);
+    assert_eq!(per_pair, want);
+    // A wrong length is refused, naming it.
+    let err = gpu.store_touching_impulses(&impulses[1..]).unwrap_err();
+    assert!(err.to_string().contains("impulses.len()"), "{err}");
 }

@@ -282,6 +282,45 @@ pub struct GpuSweepBox {
     pub flags: u32,
 }
 
+/// Where a manifold in contact sits: its pair slot and its first point in the dense list.
+/// 8 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct GpuTouching {
+    /// Index of the pair (and of its manifold in the per-pair arrays).
+    pub slot: u32,
+    /// Index of its first point among the dense points.
+    pub first_point: u32,
+}
+
+/// Totals of the dense contact list. 16 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct TouchingCounts {
+    /// Manifolds in contact.
+    pub manifolds: u32,
+    /// Their points.
+    pub points: u32,
+    /// Padding.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
+}
+
+/// Parameters of `scatter_impulses`. 16 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct ScatterParams {
+    /// Dense manifolds to scatter.
+    pub count: u32,
+    /// Padding.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
+    /// Padding.
+    pub _pad2: u32,
+}
+
 /// Size and field offsets of one host struct, to compare with the WGSL struct of that name.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct StructLayout {
@@ -368,6 +407,19 @@ pub fn shared_struct_layouts() -> Vec<StructLayout> {
             previous,
             _pad0,
             _pad1
+        }),
+        struct_layout!(GpuTouching { slot, first_point }),
+        struct_layout!(TouchingCounts {
+            manifolds,
+            points,
+            _pad0,
+            _pad1
+        }),
+        struct_layout!(ScatterParams {
+            count,
+            _pad0,
+            _pad1,
+            _pad2
         }),
         struct_layout!(GpuSweepBox {
             lo_0,

@@ -63,6 +63,8 @@ pub mod common {
     pub const VERTEX_CONTACT: WgslFile = wgsl_file!("common/vertex_contact.wgsl");
     /// Reduction to four points.
     pub const REDUCE: WgslFile = wgsl_file!("common/reduce.wgsl");
+    /// Workgroup-wide prefix sum of a tile.
+    pub const TILE_SCAN: WgslFile = wgsl_file!("common/tile_scan.wgsl");
 
     /// Everything the box-box narrow phase needs, in order.
     pub const NARROW_PHASE: &[WgslFile] = &[
@@ -81,7 +83,21 @@ pub mod common {
     ];
 
     /// Every common file, for validation and layout checks.
-    pub const ALL: &[WgslFile] = NARROW_PHASE;
+    pub const ALL: &[WgslFile] = &[
+        CONSTANTS,
+        INDEXING,
+        LAYOUT,
+        QUAT,
+        NARROW_CONSTANTS,
+        BOX_PAIR,
+        SAT,
+        CONTACT_POLYGON,
+        FACE_CONTACT,
+        EDGE_CONTACT,
+        VERTEX_CONTACT,
+        REDUCE,
+        TILE_SCAN,
+    ];
 }
 
 /// A kernel's full source: common files then the kernel file.

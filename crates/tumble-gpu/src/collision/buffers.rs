@@ -9,8 +9,8 @@
 use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE};
 use crate::kernels::radix_sort::tile_count_len;
 use crate::layout::{
-    GpuAabb, GpuContact, GpuManifold, GpuPose, GpuShape, GpuSweepBox, GpuVelocity, SweepAxis,
-    WorkList,
+    GpuAabb, GpuContact, GpuManifold, GpuPose, GpuShape, GpuSweepBox, GpuTouching, GpuVelocity,
+    SweepAxis, TouchingCounts, WorkList,
 };
 use crate::{GpuError, MAX_MANIFOLD_POINTS};
 
@@ -55,6 +55,20 @@ pub const PREVIOUS_INDEX: &str = "previous pair index";
 pub const MANIFOLDS: [&str; 2] = ["manifolds 0", "manifolds 1"];
 /// Contact points, per parity.
 pub const CONTACTS: [&str; 2] = ["contacts 0", "contacts 1"];
+/// Per-tile (manifolds in contact, points) totals of the compaction.
+pub const TOUCHING_TILES: &str = "touching tiles";
+/// `TouchingCounts`.
+pub const TOUCHING_COUNTS: &str = "touching counts";
+/// `GpuTouching`, one per manifold in contact.
+pub const TOUCHING: &str = "touching";
+/// Manifolds in contact, dense.
+pub const TOUCHING_MANIFOLDS: &str = "touching manifolds";
+/// Their points, dense.
+pub const TOUCHING_POINTS: &str = "touching points";
+/// Impulses uploaded in dense point order for `scatter_impulses`.
+pub const IMPULSE_UPLOAD: &str = "impulse upload";
+/// `ScatterParams`.
+pub const SCATTER_PARAMS: &str = "scatter params";
 /// `UpdateAabbsParams`.
 pub const UPDATE_PARAMS: &str = "update_aabbs params";
 /// `SweepParams`.
@@ -116,6 +130,26 @@ pub fn ensure_pair_buffers(pool: &mut BufferPool, capacity: u32) -> Result<bool,
         STORAGE_USAGE,
     )?;
     grew |= pool.ensure(PREVIOUS_INDEX, bytes_of::<u32>(n), STORAGE_USAGE)?;
+    let tiles = u64::from(capacity.div_ceil(crate::WORKGROUP_SIZE));
+    grew |= pool.ensure(TOUCHING_TILES, bytes_of::<[u32; 2]>(tiles), STORAGE_USAGE)?;
+    grew |= pool.ensure(
+        TOUCHING_COUNTS,
+        bytes_of::<TouchingCounts>(1),
+        STORAGE_USAGE,
+    )?;
+    grew |= pool.ensure(TOUCHING, bytes_of::<GpuTouching>(n), STORAGE_USAGE)?;
+    grew |= pool.ensure(
+        TOUCHING_MANIFOLDS,
+        bytes_of::<GpuManifold>(n),
+        STORAGE_USAGE,
+    )?;
+    let points = n * u64::from(MAX_MANIFOLD_POINTS);
+    grew |= pool.ensure(
+        TOUCHING_POINTS,
+        bytes_of::<GpuContact>(points),
+        STORAGE_USAGE,
+    )?;
+    grew |= pool.ensure(SCATTER_PARAMS, 16, UNIFORM_USAGE)?;
     Ok(grew)
 }
 

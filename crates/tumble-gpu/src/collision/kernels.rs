@@ -6,6 +6,10 @@ use crate::kernel::Kernel;
 use crate::kernels::carry_impulses::{CARRY_IMPULSES, CarryImpulsesArgs};
 use crate::kernels::choose_axis::{CHOOSE_AXIS, ChooseAxisArgs};
 use crate::kernels::collide_cuboids::{COLLIDE_CUBOIDS, CollideCuboidsArgs};
+use crate::kernels::compact_touching::{
+    COUNT_TOUCHING, CountTouchingArgs, SCAN_TOUCHING, SCATTER_IMPULSES, ScanTouchingArgs,
+    WRITE_TOUCHING, WriteTouchingArgs,
+};
 use crate::kernels::gather_sweep_boxes::{GATHER_SWEEP_BOXES, GatherSweepBoxesArgs};
 use crate::kernels::match_pairs::{MATCH_PAIRS, MatchPairsArgs};
 use crate::kernels::plan_dispatch::{PLAN_DISPATCH, PlanDispatchArgs};
@@ -40,6 +44,14 @@ pub struct CollisionKernels {
     pub collide_cuboids: Kernel,
     /// `carry_impulses`.
     pub carry_impulses: Kernel,
+    /// `count_touching`.
+    pub count_touching: Kernel,
+    /// `scan_touching`.
+    pub scan_touching: Kernel,
+    /// `write_touching`.
+    pub write_touching: Kernel,
+    /// `scatter_impulses`.
+    pub scatter_impulses: Kernel,
 }
 
 impl CollisionKernels {
@@ -56,6 +68,10 @@ impl CollisionKernels {
             match_pairs: Kernel::new(ctx, &MATCH_PAIRS)?,
             collide_cuboids: Kernel::new(ctx, &COLLIDE_CUBOIDS)?,
             carry_impulses: Kernel::new(ctx, &CARRY_IMPULSES)?,
+            count_touching: Kernel::new(ctx, &COUNT_TOUCHING)?,
+            scan_touching: Kernel::new(ctx, &SCAN_TOUCHING)?,
+            write_touching: Kernel::new(ctx, &WRITE_TOUCHING)?,
+            scatter_impulses: Kernel::new(ctx, &SCATTER_IMPULSES)?,
         })
     }
 }
@@ -75,6 +91,12 @@ pub struct ParityGroups {
     pub collide: wgpu::BindGroup,
     /// `carry_impulses` from the other parity.
     pub carry: wgpu::BindGroup,
+    /// `count_touching` over this parity's manifolds.
+    pub count_touching: wgpu::BindGroup,
+    /// `scan_touching` of this parity's pair count.
+    pub scan_touching: wgpu::BindGroup,
+    /// `write_touching` from this parity's manifolds and points.
+    pub write_touching: wgpu::BindGroup,
 }
 
 /// All bind groups, valid for one buffer-pool generation and body count.
@@ -228,6 +250,34 @@ pub fn build_groups(
                     previous_manifolds: b(MANIFOLDS[q]),
                     previous_contacts: b(CONTACTS[q]),
                     contacts: b(CONTACTS[p]),
+                },
+            ),
+            count_touching: kernels.count_touching.bind(
+                ctx,
+                &CountTouchingArgs {
+                    work: b(PAIR_WORK[p]),
+                    manifolds: b(MANIFOLDS[p]),
+                    tile_totals: b(TOUCHING_TILES),
+                },
+            ),
+            scan_touching: kernels.scan_touching.bind(
+                ctx,
+                &ScanTouchingArgs {
+                    work: b(PAIR_WORK[p]),
+                    tile_totals: b(TOUCHING_TILES),
+                    counts: b(TOUCHING_COUNTS),
+                },
+            ),
+            write_touching: kernels.write_touching.bind(
+                ctx,
+                &WriteTouchingArgs {
+                    work: b(PAIR_WORK[p]),
+                    manifolds: b(MANIFOLDS[p]),
+                    contacts: b(CONTACTS[p]),
+                    tile_offsets: b(TOUCHING_TILES),
+                    touching: b(TOUCHING),
+                    touching_manifolds: b(TOUCHING_MANIFOLDS),
+                    touching_points: b(TOUCHING_POINTS),
                 },
             ),
         }

@@ -21,9 +21,11 @@ use kernels::{CollisionGroups, CollisionKernels, build_groups};
 pub use snapshot::{CollisionSnapshot, ReadbackRequest};
 
 use crate::buffer_pool::BufferPool;
+use crate::kernels::compact_touching::ScatterImpulsesArgs;
 use crate::layout::{
-    GpuAabb, GpuContact, GpuManifold, GpuPose, GpuShape, GpuSweepBox, GpuVelocity, NarrowParams,
-    SweepAxis, SweepParams, UpdateAabbsParams, WORK_LIST_GROUPS_OFFSET, WorkList,
+    GpuAabb, GpuContact, GpuManifold, GpuPose, GpuShape, GpuSweepBox, GpuTouching, GpuVelocity,
+    NarrowParams, ScatterParams, SweepAxis, SweepParams, TouchingCounts, UpdateAabbsParams,
+    WORK_LIST_GROUPS_OFFSET, WorkList,
 };
 use crate::readback::{Mapped, Readback, Region, Ticket};
 use crate::{GpuContext, GpuError, MAX_BODIES, MAX_MANIFOLD_POINTS, StageTimer};
@@ -87,6 +89,8 @@ pub struct ReadbackPlan {
     parity: usize,
     step: u64,
     copied_pairs: u32,
+    copied_touching: u32,
+    copied_points: u32,
     regions: Vec<Region>,
 }
 
@@ -124,6 +128,13 @@ fn decode(plan: &ReadbackPlan, mapped: &Mapped<'_>) -> Result<CollisionSnapshot,
     if r.aabbs {
         snap.aabbs = mapped.read(&next())?;
     }
+    if r.touching {
+        let counts: Vec<TouchingCounts> = mapped.read(&next())?;
+        snap.touching_counts = counts.first().copied().unwrap_or_default();
+        snap.touching.touching = mapped.read(&next())?;
+        snap.touching.manifolds = mapped.read(&next())?;
+        snap.touching.points = mapped.read(&next())?;
+    }
     Ok(snap)
 }
 
@@ -140,6 +151,10 @@ pub struct GpuCollision {
     steps: u64,
     readback: Readback,
     readback_pairs: u32,
+    readback_touching: u32,
+    /// Manifolds and points of the last touching readback (what `store_touching_impulses`
+    /// expects).
+    last_touching: TouchingCounts,
 }
 
 impl GpuCollision {
@@ -158,6 +173,8 @@ impl GpuCollision {
             steps: 0,
             readback: Readback::new(ctx),
             readback_pairs: READBACK_MIN_PAIRS,
+            readback_touching: READBACK_MIN_PAIRS,
+            last_touching: TouchingCounts::default(),
         })
     }
 
@@ -439,23 +456,63 @@ impl GpuCollision {
     }
 
     /// Records copies of what `request` asks for from the last recorded step into a staging
-    /// buffer; pair-sized data is copied for last time's count plus headroom.
+    /// buffer (after compacting the manifolds in contact if `touching` is asked for);
+    /// variable-length data is copied for last time's count plus headroom.
     pub fn record_readback(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         request: ReadbackRequest,
     ) -> Result<ReadbackPlan, GpuError> {
         let parity = self.last_parity();
+        if request.touching {
+            self.ensure_groups();
+            let g = &self.groups.as_ref().expect("built above").parity[parity];
+            let k = &self.kernels;
+            let work = self.pool.get(PAIR_WORK[parity]);
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("compact_touching"),
+                timestamp_writes: None,
+            });
+            k.count_touching.dispatch_indirect(
+                &mut pass,
+                &g.count_touching,
+                work,
+                WORK_LIST_GROUPS_OFFSET,
+            );
+            k.scan_touching
+                .dispatch_workgroups(&mut pass, &g.scan_touching, 1, 1);
+            k.write_touching.dispatch_indirect(
+                &mut pass,
+                &g.write_touching,
+                work,
+                WORK_LIST_GROUPS_OFFSET,
+            );
+        }
+        let size = |t: usize| t as u64;
         let pairs = if request.pairs || request.manifolds {
             self.readback_pairs.min(self.pair_capacity)
         } else {
             0
         };
+        let (touching, points) = if request.touching {
+            let t = self.readback_touching.min(self.pair_capacity);
+            (t, t.saturating_mul(MAX_MANIFOLD_POINTS))
+        } else {
+            (0, 0)
+        };
         let per_pair = 2 * 4
-            + std::mem::size_of::<GpuManifold>() as u64
-            + u64::from(MAX_MANIFOLD_POINTS) * std::mem::size_of::<GpuContact>() as u64;
-        let aabb_bytes = u64::from(self.body_count) * std::mem::size_of::<GpuAabb>() as u64;
-        let bytes = 64 + u64::from(pairs) * per_pair + aabb_bytes + 64;
+            + size(std::mem::size_of::<GpuManifold>())
+            + u64::from(MAX_MANIFOLD_POINTS) * size(std::mem::size_of::<GpuContact>());
+        let per_touching =
+            size(std::mem::size_of::<GpuTouching>()) + size(std::mem::size_of::<GpuManifold>());
+        let aabb_bytes = u64::from(self.body_count) * size(std::mem::size_of::<GpuAabb>());
+        // Each region is padded to 8 bytes: 64 covers the padding of every region.
+        let bytes = 64
+            + u64::from(pairs) * per_pair
+            + u64::from(touching) * per_touching
+            + u64::from(points) * size(std::mem::size_of::<GpuContact>())
+            + aabb_bytes
+            + 64;
         let slot = self.readback.begin(bytes)?;
         let mut regions = Vec::new();
         let pool = &self.pool;
@@ -484,12 +541,32 @@ impl GpuCollision {
                 u64::from(self.body_count),
             );
         }
+        if request.touching {
+            copy(TOUCHING_COUNTS, std::mem::size_of::<TouchingCounts>(), 1);
+            copy(
+                TOUCHING,
+                std::mem::size_of::<GpuTouching>(),
+                u64::from(touching),
+            );
+            copy(
+                TOUCHING_MANIFOLDS,
+                std::mem::size_of::<GpuManifold>(),
+                u64::from(touching),
+            );
+            copy(
+                TOUCHING_POINTS,
+                std::mem::size_of::<GpuContact>(),
+                u64::from(points),
+            );
+        }
         Ok(ReadbackPlan {
             slot,
             request,
             parity,
             step: self.steps,
             copied_pairs: pairs,
+            copied_touching: touching,
+            copied_points: points,
             regions,
         })
     }
@@ -540,7 +617,109 @@ impl GpuCollision {
         snap.pairs.truncate(n);
         snap.manifolds.truncate(n);
         snap.contacts.truncate(n * MAX_MANIFOLD_POINTS as usize);
+        if r.touching {
+            let t = snap.touching_counts;
+            let headroom = (t.manifolds as f32 * READBACK_HEADROOM) as u32;
+            self.readback_touching = t.manifolds.saturating_add(headroom).max(READBACK_MIN_PAIRS);
+            if t.manifolds > plan.copied_touching || t.points > plan.copied_points {
+                self.fetch_rest_touching(plan, &mut snap)?;
+            }
+            snap.touching.touching.truncate(t.manifolds as usize);
+            snap.touching.manifolds.truncate(t.manifolds as usize);
+            snap.touching.points.truncate(t.points as usize);
+            self.last_touching = t;
+        }
         Ok(snap)
+    }
+
+    /// Blocking copy of the dense list's part a speculative readback did not cover (valid
+    /// until the next readback compacts again).
+    fn fetch_rest_touching(
+        &self,
+        plan: &ReadbackPlan,
+        snap: &mut CollisionSnapshot,
+    ) -> Result<(), GpuError> {
+        let t = snap.touching_counts;
+        let pool = &self.pool;
+        let (from, to) = (u64::from(plan.copied_touching), u64::from(t.manifolds));
+        if to > from {
+            let list: Vec<GpuTouching> =
+                self.ctx.read_buffer(pool.get(TOUCHING), from, to - from)?;
+            snap.touching.touching.extend(list);
+            let m: Vec<GpuManifold> =
+                self.ctx
+                    .read_buffer(pool.get(TOUCHING_MANIFOLDS), from, to - from)?;
+            snap.touching.manifolds.extend(m);
+        }
+        let (from, to) = (u64::from(plan.copied_points), u64::from(t.points));
+        if to > from {
+            let p: Vec<GpuContact> =
+                self.ctx
+                    .read_buffer(pool.get(TOUCHING_POINTS), from, to - from)?;
+            snap.touching.points.extend(p);
+        }
+        Ok(())
+    }
+
+    /// Writes impulses given in the dense point order of the last `touching` readback (a CPU
+    /// solver's results) into the last step's per-pair points, on the GPU, so the next step's
+    /// `carry_impulses` warm starts them. Only the impulse fields of `impulses` are used.
+    pub fn store_touching_impulses(&mut self, impulses: &[GpuContact]) -> Result<(), GpuError> {
+        let t = self.last_touching;
+        if impulses.len() != t.points as usize {
+            return Err(GpuError::InvalidInput {
+                field: "store_touching_impulses.impulses.len()".into(),
+                value: format!(
+                    "{} (the last touching readback had {} points)",
+                    impulses.len(),
+                    t.points
+                ),
+            });
+        }
+        if t.manifolds == 0 {
+            return Ok(());
+        }
+        let bytes = std::mem::size_of_val(impulses) as u64;
+        self.pool
+            .ensure(IMPULSE_UPLOAD, bytes, crate::buffer_pool::STORAGE_USAGE)?;
+        let queue = &self.ctx.queue;
+        queue.write_buffer(
+            self.pool.get(IMPULSE_UPLOAD),
+            0,
+            bytemuck::cast_slice(impulses),
+        );
+        let params = ScatterParams {
+            count: t.manifolds,
+            ..Default::default()
+        };
+        queue.write_buffer(
+            self.pool.get(SCATTER_PARAMS),
+            0,
+            bytemuck::bytes_of(&params),
+        );
+        let pool = &self.pool;
+        let group = self.kernels.scatter_impulses.bind(
+            &self.ctx,
+            &ScatterImpulsesArgs {
+                params: pool.get(SCATTER_PARAMS),
+                touching: pool.get(TOUCHING),
+                touching_manifolds: pool.get(TOUCHING_MANIFOLDS),
+                impulses: pool.get(IMPULSE_UPLOAD),
+                contacts: pool.get(CONTACTS[self.last_parity()]),
+            },
+        );
+        let mut encoder = self.encoder();
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("scatter_impulses"),
+                timestamp_writes: None,
+            });
+            self.kernels
+                .scatter_impulses
+                .dispatch(&mut pass, &group, t.manifolds);
+        }
+        queue.submit([encoder.finish()]);
+        Ok(())
     }
 
     /// Blocking copy of the pairs a speculative readback did not cover. Only valid while the

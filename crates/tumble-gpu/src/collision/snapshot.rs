@@ -5,7 +5,8 @@ use tumble_geometry::{ContactPoint, Manifold, Point3, Vec3};
 use tumble_solver::{Contact, PointImpulse};
 
 use crate::kernels::collide_cuboids::kind_from_code;
-use crate::layout::{GpuAabb, GpuContact, GpuManifold, WorkList};
+use crate::kernels::compact_touching::TouchingList;
+use crate::layout::{GpuAabb, GpuContact, GpuManifold, TouchingCounts, WorkList};
 use crate::{GpuError, MAX_MANIFOLD_POINTS};
 
 /// Which outputs a readback copies (only what is asked for crosses the bus).
@@ -17,14 +18,27 @@ pub struct ReadbackRequest {
     pub manifolds: bool,
     /// The AABBs.
     pub aabbs: bool,
+    /// Only the manifolds in contact and their points, compacted on the GPU into a dense list
+    /// in pair order (with each one's pair slot): far less to copy than `manifolds`, which
+    /// holds four point slots for every candidate pair.
+    pub touching: bool,
 }
 
 impl ReadbackRequest {
-    /// Pairs, manifolds and contacts: what a CPU solver needs.
+    /// Pairs, manifolds and contacts, one slot per candidate pair.
     pub const CONTACTS: Self = Self {
         pairs: true,
         manifolds: true,
         aabbs: false,
+        touching: false,
+    };
+
+    /// The manifolds in contact only, compacted: what a CPU solver needs.
+    pub const TOUCHING: Self = Self {
+        pairs: false,
+        manifolds: false,
+        aabbs: false,
+        touching: true,
     };
 }
 
@@ -41,6 +55,10 @@ pub struct CollisionSnapshot {
     pub contacts: Vec<GpuContact>,
     /// One AABB per body (empty unless requested).
     pub aabbs: Vec<GpuAabb>,
+    /// Totals of the dense list (zero unless `touching` was requested).
+    pub touching_counts: TouchingCounts,
+    /// The manifolds in contact, dense, in pair order (empty unless requested).
+    pub touching: TouchingList,
 }
 
 impl CollisionSnapshot {
@@ -65,45 +83,63 @@ impl CollisionSnapshot {
     /// Manifold `k` as the CPU's type; `None` for a pair not in contact.
     pub fn manifold(&self, k: usize) -> Option<Manifold> {
         let m = &self.manifolds[k];
-        if m.len == 0 {
-            return None;
-        }
-        let mut out = Manifold {
-            normal: Vec3::new(m.normal[0], m.normal[1], m.normal[2]),
-            kind: kind_from_code(m.kind),
-            feature: m.feature,
-            ..Default::default()
-        };
-        for c in self.points(k) {
-            out.push(ContactPoint {
-                position: Point3::new(c.position[0], c.position[1], c.position[2]),
-                depth: c.depth,
-                id: c.id,
-            });
-        }
-        Some(out)
+        (m.len > 0).then(|| to_manifold(m, self.points(k)))
     }
 
     /// The pairs in contact as solver contacts, with the impulses carried from last step
-    /// (zero where no point matched), each with its pair index in this snapshot.
+    /// (zero where no point matched), each with its pair slot; from the per-pair manifolds
+    /// when they were read, else from the dense list.
     pub fn solver_contacts(&self) -> Vec<(u32, Contact)> {
+        if self.manifolds.is_empty() {
+            let t = &self.touching;
+            return t
+                .touching
+                .iter()
+                .zip(&t.manifolds)
+                .map(|(at, m)| {
+                    let first = at.first_point as usize;
+                    let points = &t.points[first..first + m.len as usize];
+                    (at.slot, to_contact(m, points))
+                })
+                .collect();
+        }
         (0..self.manifolds.len())
-            .filter_map(|k| {
-                let manifold = self.manifold(k)?;
-                let m = &self.manifolds[k];
-                let mut contact = Contact::new(m.body_a, m.body_b, manifold);
-                for (slot, c) in contact.impulses.iter_mut().zip(self.points(k)) {
-                    *slot = PointImpulse {
-                        normal: c.normal_impulse,
-                        friction: Vec3::new(
-                            c.friction_impulse[0],
-                            c.friction_impulse[1],
-                            c.friction_impulse[2],
-                        ),
-                    };
-                }
-                Some((k as u32, contact))
-            })
+            .filter(|&k| self.manifolds[k].len > 0)
+            .map(|k| (k as u32, to_contact(&self.manifolds[k], self.points(k))))
             .collect()
     }
+}
+
+/// A GPU manifold and its points as the CPU's types.
+pub fn to_manifold(m: &GpuManifold, points: &[GpuContact]) -> Manifold {
+    let mut out = Manifold {
+        normal: Vec3::new(m.normal[0], m.normal[1], m.normal[2]),
+        kind: kind_from_code(m.kind),
+        feature: m.feature,
+        ..Default::default()
+    };
+    for c in points {
+        out.push(ContactPoint {
+            position: Point3::new(c.position[0], c.position[1], c.position[2]),
+            depth: c.depth,
+            id: c.id,
+        });
+    }
+    out
+}
+
+/// A GPU manifold and its points as a solver contact with their impulses.
+fn to_contact(m: &GpuManifold, points: &[GpuContact]) -> Contact {
+    let mut contact = Contact::new(m.body_a, m.body_b, to_manifold(m, points));
+    for (slot, c) in contact.impulses.iter_mut().zip(points) {
+        *slot = PointImpulse {
+            normal: c.normal_impulse,
+            friction: Vec3::new(
+                c.friction_impulse[0],
+                c.friction_impulse[1],
+                c.friction_impulse[2],
+            ),
+        };
+    }
+    contact
 }

@@ -4,6 +4,7 @@
 pub mod carry_impulses;
 pub mod choose_axis;
 pub mod collide_cuboids;
+pub mod compact_touching;
 pub mod gather_sweep_boxes;
 pub mod match_pairs;
 pub mod plan_dispatch;
@@ -29,5 +30,9 @@ pub fn all() -> Vec<&'static KernelSpec> {
         &match_pairs::MATCH_PAIRS,
         &collide_cuboids::COLLIDE_CUBOIDS,
         &carry_impulses::CARRY_IMPULSES,
+        &compact_touching::COUNT_TOUCHING,
+        &compact_touching::SCAN_TOUCHING,
+        &compact_touching::WRITE_TOUCHING,
+        &compact_touching::SCATTER_IMPULSES,
     ]
 }

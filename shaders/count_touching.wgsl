@@ -1,0 +1,27 @@
+// count_touching: one workgroup per tile of WORKGROUP_SIZE manifolds counts the manifolds in
+// contact (len > 0) and their points, for the compaction of the contacts into a dense list
+// in pair order (a deterministic compaction: tile totals, their scan, then the writes).
+
+@group(0) @binding(0) var<storage, read> work: WorkList;
+@group(0) @binding(1) var<storage, read> manifolds: array<GpuManifold>;
+@group(0) @binding(2) var<storage, read_write> tile_totals: array<vec2<u32>>;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn main(
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let tile = linear_group(workgroup, groups);
+    let tiles = (work.count + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE;
+    let k = tile * WORKGROUP_SIZE + local;
+    var value = vec2<u32>(0u);
+    if tile < tiles && k < work.count {
+        let len = manifolds[k].len;
+        value = vec2<u32>(u32(len > 0u), len);
+    }
+    let total = tile_inclusive_scan(local, value);
+    if tile < tiles && local == WORKGROUP_SIZE - 1u {
+        tile_totals[tile] = total;
+    }
+}

@@ -1,0 +1,28 @@
+// scatter_impulses: one thread per dense manifold writes impulses given in dense order (as
+// a readback of the touching contacts returned them, solved by a CPU solver) back into the
+// pair-slot contact array, where the next step's carry_impulses finds them.
+
+@group(0) @binding(0) var<uniform> params: ScatterParams;
+@group(0) @binding(1) var<storage, read> touching: array<GpuTouching>;
+@group(0) @binding(2) var<storage, read> touching_manifolds: array<GpuManifold>;
+@group(0) @binding(3) var<storage, read> impulses: array<GpuContact>;
+@group(0) @binding(4) var<storage, read_write> contacts: array<GpuContact>;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn main(
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let d = linear_index(workgroup, groups, local);
+    if d >= params.count {
+        return;
+    }
+    let t = touching[d];
+    for (var i = 0u; i < touching_manifolds[d].len; i++) {
+        let solved = impulses[t.first_point + i];
+        let slot = t.slot * MAX_MANIFOLD_POINTS + i;
+        contacts[slot].normal_impulse = solved.normal_impulse;
+        contacts[slot].friction_impulse = solved.friction_impulse;
+    }
+}

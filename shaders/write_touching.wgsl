@@ -1,0 +1,39 @@
+// write_touching: one workgroup per tile of manifolds writes each manifold in contact to its
+// slot in the dense list (pair order kept), with its pair slot, its first dense point and
+// its points, so a readback or a later stage touches only contacts that exist.
+
+@group(0) @binding(0) var<storage, read> work: WorkList;
+@group(0) @binding(1) var<storage, read> manifolds: array<GpuManifold>;
+@group(0) @binding(2) var<storage, read> contacts: array<GpuContact>;
+@group(0) @binding(3) var<storage, read> tile_offsets: array<vec2<u32>>;
+@group(0) @binding(4) var<storage, read_write> touching: array<GpuTouching>;
+@group(0) @binding(5) var<storage, read_write> touching_manifolds: array<GpuManifold>;
+@group(0) @binding(6) var<storage, read_write> touching_points: array<GpuContact>;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn main(
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let tile = linear_group(workgroup, groups);
+    let tiles = (work.count + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE;
+    let k = tile * WORKGROUP_SIZE + local;
+    var len = 0u;
+    if tile < tiles && k < work.count {
+        len = manifolds[k].len;
+    }
+    let value = vec2<u32>(u32(len > 0u), len);
+    let before = tile_inclusive_scan(local, value) - value;
+    if len == 0u {
+        return;
+    }
+    let base = tile_offsets[tile];
+    let dense = base.x + before.x;
+    let first = base.y + before.y;
+    touching[dense] = GpuTouching(k, first);
+    touching_manifolds[dense] = manifolds[k];
+    for (var i = 0u; i < len; i++) {
+        touching_points[first + i] = contacts[k * MAX_MANIFOLD_POINTS + i];
+    }
+}

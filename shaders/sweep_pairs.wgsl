@@ -1,9 +1,14 @@
-// sweep_pairs: one thread per body in sorted order scans forward while the next box's lower
-// bound on the sweep axis is not past its upper bound, tests the other two axes (closed
+// sweep_pairs: each body, in sorted order, scans forward while the next box's lower bound
+// on the sweep axis is not past its upper bound, tests the other two axes (closed
 // intervals: touching boxes pair, as on the CPU), and appends each overlapping pair as
 // (smaller index, larger index) through an atomic counter. Static-static pairs are skipped.
 // The counter keeps counting past the capacity, so an overflow is reported, never hidden.
 // On the sweep axis the test is implied: sorted lower bounds make lo_p <= lo_q <= hi_q.
+//
+// A workgroup takes 256 consecutive bodies, whose scan windows nearly coincide, and walks
+// the candidates in tiles of 256 boxes loaded once into workgroup memory and shared by all
+// its threads, until no thread's window reaches the next tile: one global read per box per
+// workgroup instead of one per box per thread.
 
 @group(0) @binding(0) var<uniform> params: SweepParams;
 @group(0) @binding(1) var<storage, read> sweep_boxes: array<GpuSweepBox>;
@@ -11,33 +16,79 @@
 @group(0) @binding(3) var<storage, read_write> pair_a: array<u32>;
 @group(0) @binding(4) var<storage, read_write> pair_b: array<u32>;
 
+var<workgroup> candidates: array<GpuSweepBox, WORKGROUP_SIZE>;
+var<workgroup> still_scanning: atomic<u32>;
+var<workgroup> continue_flag: u32;
+
+// Tests one candidate against `me` and appends the pair when it overlaps.
+fn test_pair(me: GpuSweepBox, other: GpuSweepBox) {
+    let overlaps = other.lo_1 <= me.hi_1 && me.lo_1 <= other.hi_1
+        && other.lo_2 <= me.hi_2 && me.lo_2 <= other.hi_2;
+    let both_static = (me.flags & other.flags & BODY_STATIC) != 0u;
+    if !overlaps || both_static {
+        return;
+    }
+    let slot = atomicAdd(&counter[0], 1u);
+    if slot < params.pair_capacity {
+        pair_a[slot] = min(me.body, other.body);
+        pair_b[slot] = max(me.body, other.body);
+    }
+}
+
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn main(
     @builtin(workgroup_id) workgroup: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,
     @builtin(local_invocation_index) local: u32,
 ) {
-    let p = linear_index(workgroup, groups, local);
-    if p >= params.body_count {
-        return;
+    let n = params.body_count;
+    let first = linear_group(workgroup, groups) * WORKGROUP_SIZE;
+    let p = first + local;
+    var scanning = p < n;
+    var me: GpuSweepBox;
+    if scanning {
+        me = sweep_boxes[p];
     }
-    let me = sweep_boxes[p];
-    let is_static = (me.flags & BODY_STATIC) != 0u;
-    for (var q = p + 1u; q < params.body_count; q++) {
-        let other = sweep_boxes[q];
-        // Boxes are sorted by lower bound: once one starts past our upper bound, all do.
-        if other.lo_0 > me.hi_0 {
+    // Candidates start right after the workgroup's first body.
+    var start = first + 1u;
+    loop {
+        if local == 0u {
+            atomicStore(&still_scanning, 0u);
+        }
+        if start + local < n {
+            candidates[local] = sweep_boxes[start + local];
+        }
+        workgroupBarrier();
+        if scanning {
+            let end = min(WORKGROUP_SIZE, n - min(start, n));
+            for (var j = 0u; j < end; j++) {
+                if start + j <= p {
+                    continue;
+                }
+                let other = candidates[j];
+                // Sorted by lower bound: once one starts past our upper bound, all do.
+                if other.lo_0 > me.hi_0 {
+                    scanning = false;
+                    break;
+                }
+                test_pair(me, other);
+            }
+            if start + WORKGROUP_SIZE >= n {
+                scanning = false;
+            }
+        }
+        if scanning {
+            atomicOr(&still_scanning, 1u);
+        }
+        workgroupBarrier();
+        if local == 0u {
+            continue_flag = atomicLoad(&still_scanning);
+        }
+        // The barrier inside the uniform load also keeps the next tile's loads after every
+        // thread is done reading this one.
+        if workgroupUniformLoad(&continue_flag) == 0u {
             break;
         }
-        let overlaps = other.lo_1 <= me.hi_1 && me.lo_1 <= other.hi_1
-            && other.lo_2 <= me.hi_2 && me.lo_2 <= other.hi_2;
-        if !overlaps || (is_static && (other.flags & BODY_STATIC) != 0u) {
-            continue;
-        }
-        let slot = atomicAdd(&counter[0], 1u);
-        if slot < params.pair_capacity {
-            pair_a[slot] = min(me.body, other.body);
-            pair_b[slot] = max(me.body, other.body);
-        }
+        start += WORKGROUP_SIZE;
     }
 }

@@ -39,7 +39,9 @@ pub use constraint::{
     ConstraintPoint, ContactConstraint, PrepareContext, patch_radius, prepare_contact,
 };
 pub use contact::{Contact, PointImpulse};
-pub use contact_cache::{CachedManifold, ContactCache, PairKey};
+pub use contact_cache::{
+    CachedManifold, ContactCache, PERSIST_DISTANCE, PERSIST_NORMAL_COS, PairKey,
+};
 pub use contact_solver::{PassContext, restitution_contact, solve_contact, warm_start_contact};
 pub use error::{InvalidParameter, require_finite3, require_non_negative, require_positive};
 pub use gyroscopic::gyroscopic_midpoint;

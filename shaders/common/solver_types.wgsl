@@ -60,7 +60,7 @@ struct GpuConstraintPoint {
     _pad: f32,
 }
 
-// The constraint of one manifold. 336 bytes.
+// The constraint of one manifold. 368 bytes.
 struct GpuConstraint {
     body_a: u32,
     body_b: u32,
@@ -75,7 +75,26 @@ struct GpuConstraint {
     tangent2: vec4<f32>,
     // Position feedback: bias_rate (1/s), mass_scale, impulse_scale; w unused.
     softness: vec4<f32>,
+    // Effective masses of the two tilt rows (relative rotation about tangent1, tangent2).
+    tilt_mass_1: f32,
+    tilt_mass_2: f32,
+    // Accumulated angular impulses of the tilt rows (N m s).
+    tilt_impulse_1: f32,
+    tilt_impulse_2: f32,
+    // Radius of the disc inscribed in the contact patch (m); 0 below three points.
+    patch_radius: f32,
+    _pad0: f32,
+    _pad1: f32,
+    _pad2: f32,
     points: array<GpuConstraintPoint, MAX_MANIFOLD_POINTS>,
+}
+
+// A manifold's tilt impulse kept for the next step. 32 bytes.
+struct GpuTilt {
+    // The patch's tilt impulse as a world vector (N m s); w unused.
+    impulse: vec4<f32>,
+    // The manifold normal in body A's frame at the start of the step; w unused.
+    local_normal: vec4<f32>,
 }
 
 // Step-wide solver values, one uniform block. 96 bytes.

@@ -1,10 +1,12 @@
 // integrate_positions: one thread per body advances its in-step deltas by one substep
-// (dynamic bodies' speeds clamped first; fixed bodies stay).
+// (dynamic bodies' speeds clamped first, the second half of their gyroscopic update after;
+// fixed bodies stay).
 
 @group(0) @binding(0) var<uniform> params: SolverParams;
 @group(0) @binding(1) var<storage, read> bodies: array<GpuBody>;
-@group(0) @binding(2) var<storage, read_write> velocities: array<GpuVelocity>;
-@group(0) @binding(3) var<storage, read_write> solver_bodies: array<GpuSolverBody>;
+@group(0) @binding(2) var<storage, read> poses: array<GpuPose>;
+@group(0) @binding(3) var<storage, read_write> velocities: array<GpuVelocity>;
+@group(0) @binding(4) var<storage, read_write> solver_bodies: array<GpuSolverBody>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn main(
@@ -18,7 +20,7 @@ fn main(
     }
     var velocity = velocities[i];
     var state = solver_bodies[i];
-    integrate_position(bodies[i].kind, &velocity, &state, params.h);
+    integrate_position(bodies[i], poses[i].rotation, &velocity, &state, params.h);
     velocities[i] = velocity;
     solver_bodies[i] = state;
 }

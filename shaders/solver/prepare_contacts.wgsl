@@ -10,7 +10,8 @@
 @group(0) @binding(5) var<storage, read> poses: array<GpuPose>;
 @group(0) @binding(6) var<storage, read> velocities: array<GpuVelocity>;
 @group(0) @binding(7) var<storage, read> solver_bodies: array<GpuSolverBody>;
-@group(0) @binding(8) var<storage, read_write> constraints: array<GpuConstraint>;
+@group(0) @binding(8) var<storage, read> previous_tilts: array<GpuTilt>;
+@group(0) @binding(9) var<storage, read_write> constraints: array<GpuConstraint>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn main(
@@ -27,10 +28,12 @@ fn main(
     let b = manifold.body_b;
     let sim_a = body_sim(velocities[a], solver_bodies[a]);
     let sim_b = body_sim(velocities[b], solver_bodies[b]);
-    var c = begin_constraint(manifold, bodies[a], bodies[b], params);
+    let tilt = carried_tilt(manifold, previous_tilts[min(manifold.previous, arrayLength(&previous_tilts) - 1u)], poses[a].rotation);
+    var c = begin_constraint(manifold, bodies[a], bodies[b], tilt, params);
     for (var p = 0u; p < c.point_count; p++) {
         let point = contacts[i * MAX_MANIFOLD_POINTS + p];
         c.points[p] = prepare_point(c, point, poses[a].position.xyz, poses[b].position.xyz, sim_a, sim_b, params.warm_start_scale);
     }
+    finish_constraint(&c, sim_a, sim_b);
     constraints[i] = c;
 }

@@ -20,6 +20,8 @@
 @group(0) @binding(12) var<storage, read_write> velocities: array<GpuVelocity>;
 @group(0) @binding(13) var<storage, read_write> solver_bodies: array<GpuSolverBody>;
 @group(0) @binding(14) var<storage, read_write> constraints: array<GpuConstraint>;
+@group(0) @binding(15) var<storage, read> previous_tilts: array<GpuTilt>;
+@group(0) @binding(16) var<storage, read_write> tilts: array<GpuTilt>;
 
 // Thread c lays out the constraints of color c in ascending index order: the same stable
 // order the wide path's radix sort produces.
@@ -75,11 +77,13 @@ fn main(@builtin(local_invocation_index) local: u32) {
         let b = manifold.body_b;
         let sim_a = body_sim(velocities[a], solver_bodies[a]);
         let sim_b = body_sim(velocities[b], solver_bodies[b]);
-        var c = begin_constraint(manifold, bodies[a], bodies[b], params);
+        let tilt = carried_tilt(manifold, previous_tilts[min(manifold.previous, arrayLength(&previous_tilts) - 1u)], poses[a].rotation);
+        var c = begin_constraint(manifold, bodies[a], bodies[b], tilt, params);
         for (var p = 0u; p < c.point_count; p++) {
             let point = contacts[i * MAX_MANIFOLD_POINTS + p];
             c.points[p] = prepare_point(c, point, poses[a].position.xyz, poses[b].position.xyz, sim_a, sim_b, params.warm_start_scale);
         }
+        finish_constraint(&c, sim_a, sim_b);
         constraints[i] = c;
     }
     sync_workgroup();
@@ -104,7 +108,7 @@ fn main(@builtin(local_invocation_index) local: u32) {
         for (var b = local; b < body_count; b += WORKGROUP_SIZE) {
             var velocity = velocities[b];
             var state = solver_bodies[b];
-            integrate_position(bodies[b].kind, &velocity, &state, params.h);
+            integrate_position(bodies[b], poses[b].rotation, &velocity, &state, params.h);
             velocities[b] = velocity;
             solver_bodies[b] = state;
         }
@@ -124,7 +128,10 @@ fn main(@builtin(local_invocation_index) local: u32) {
             let slot = i * MAX_MANIFOLD_POINTS + p;
             contacts[slot] = stored_point(c, p, contacts[slot]);
         }
+        tilts[i] = stored_tilt(c, poses[c.body_a].rotation);
     }
+    // The tilts read the poses the manifolds were made from: finalize only after them.
+    sync_workgroup();
     for (var b = local; b < body_count; b += WORKGROUP_SIZE) {
         poses[b] = finalize_pose(bodies[b].kind, poses[b], solver_bodies[b]);
     }

@@ -318,7 +318,9 @@ fn check_coloring(
         let previous: Vec<u32> = (0..n as u32)
             .map(|k| if step == 0 { NO_PREVIOUS } else { k })
             .collect();
-        world.step_with_contacts(contacts, &previous).unwrap();
+        world
+            .step_with_contacts(contacts, &previous, bodies)
+            .unwrap();
         let (colors, order, offsets) = read_coloring(ctx, world, n);
         let candidates: Vec<ColorCandidate> = pairs
             .iter()
@@ -526,7 +528,7 @@ fn prepared_bodies_and_constraints_match_the_cpu_preparation() {
     let mut world = solver_world(&ctx, SolvePath::Wide);
     world.set_bodies(&bodies, &states).unwrap();
     world
-        .step_with_contacts(&contacts, &vec![NO_PREVIOUS; contacts.len()])
+        .step_with_contacts(&contacts, &vec![NO_PREVIOUS; contacts.len()], &bodies)
         .unwrap();
     let solver = world.solver();
     let gpu_bodies: Vec<GpuSolverBody> = ctx
@@ -572,6 +574,29 @@ fn prepared_bodies_and_constraints_match_the_cpu_preparation() {
         ] {
             assert_close("constraint rows", &x, &y, 1e-5, 1e-5, 1.0);
         }
+        // The patch radius (~0.5 m, from in-plane distances to the centroid: the GPU takes
+        // them from anchors, the CPU from positions) and the tilt masses (~0.1 to 1 kg m^2).
+        assert_close(
+            "patch radius",
+            &[g.patch_radius],
+            &[c.patch_radius],
+            1e-5,
+            1e-5,
+            1.0,
+        );
+        assert_close(
+            "tilt masses",
+            &[g.tilt_mass_1, g.tilt_mass_2],
+            &[c.tilt_mass_1, c.tilt_mass_2],
+            1e-6,
+            1e-5,
+            c.tilt_mass_1.max(c.tilt_mass_2),
+        );
+        assert!(
+            g.point_count < 3 || g.patch_radius > 0.1,
+            "constraint {k}: patch radius {}",
+            g.patch_radius
+        );
         for i in 0..g.point_count as usize {
             let (gp, cp) = (&g.points[i], &c.points[i]);
             // Anchors (~1 m) and base separations (~1 cm): 1e-5 m is far below anything
@@ -633,7 +658,9 @@ fn solve_step_matches_cpu(ctx: &GpuContext, world: &mut GpuWorld, config: Solver
                     .map_or(NO_PREVIOUS, |i| i as u32)
             })
             .collect();
-        world.step_with_contacts(&contacts, &previous).unwrap();
+        world
+            .step_with_contacts(&contacts, &previous, &cpu_bodies)
+            .unwrap();
         let snap = world.read_now(ReadRequest::ALL).unwrap();
         let slots: Vec<ColorSlot> = ctx
             .read_buffer(world.solver().colors(), 0, contacts.len() as u64)
@@ -649,6 +676,9 @@ fn solve_step_matches_cpu(ctx: &GpuContext, world: &mut GpuWorld, config: Solver
             DT,
             &gravity(),
         );
+        // The cache keeps points and normals in A's frame at the poses the manifolds came
+        // from, so it is written before the poses move (as the facade's finish stage does).
+        cache.store(&keys, &cpu_contacts, &cpu_bodies);
         finalize_bodies(&mut cpu_bodies, &mut cpu_states);
         // Tolerances: both sides run the same operations in the same order per constraint,
         // but the GPU may fuse multiply-adds and WGSL allows 2.5 ulp for division and
@@ -698,6 +728,10 @@ fn solve_step_matches_cpu(ctx: &GpuContext, world: &mut GpuWorld, config: Solver
             .iter()
             .flat_map(|c| c.impulses.iter().map(|j| j.normal))
             .fold(0.0, Real::max);
+        let largest_total = cpu_contacts
+            .iter()
+            .flat_map(|c| c.total_normal_impulse)
+            .fold(0.0, Real::max);
         for (g, c) in gpu_contacts.iter().zip(&cpu_contacts) {
             let normals = |x: &Contact| x.impulses.iter().map(|j| j.normal).collect::<Vec<_>>();
             assert_close(
@@ -714,10 +748,19 @@ fn solve_step_matches_cpu(ctx: &GpuContext, world: &mut GpuWorld, config: Solver
                 &c.total_normal_impulse,
                 1e-6,
                 1e-4,
+                largest_total,
+            );
+            // Tilt impulses are a torque over the patch radius (~0.5 m): the same relative
+            // bound on the scale of the normal impulses.
+            assert_close(
+                "tilt impulses",
+                g.tilt_impulse.as_slice(),
+                c.tilt_impulse.as_slice(),
+                1e-6,
+                1e-4,
                 largest,
             );
         }
-        cache.store(&keys, &cpu_contacts, &cpu_bodies);
         previous_keys = keys;
     }
 }
@@ -800,25 +843,19 @@ fn spinning_box_keeps_its_angular_momentum_and_follows_the_cpu() {
     let Some(ctx) = GpuContext::for_tests() else {
         return;
     };
-    // A 1 x 2 x 3 box spun near its unstable middle axis tumbles (Dzhanibekov).
-    let body = Body::new(
-        BodyKind::Dynamic,
-        Cuboid::new(Vec3::new(0.5, 1.0, 1.5)),
-        Pose::new(Vec3::new(0.0, 5.0, 0.0), Vec3::new(0.1, 0.2, 0.3)),
-        1.0,
-        Material::default(),
-    )
-    .unwrap();
-    let state = BodyState::moving(Vec3::zeros(), Vec3::new(0.3, 2.0, 0.4));
-    let mut world = gpu_world(&ctx, Vec3::zeros(), &[body], &[state]);
-    let (mut cpu_bodies, mut cpu_states) = (vec![body], vec![state]);
-    let momentum = |b: &Body, s: &BodyState| -> (Real, Real) {
+    // The canonical 1 x 2 x 3 box spinning about its major axis with a wobble, zero gravity.
+    let (bodies, states) = bodies_of(&tumble_scenes::spinning_box());
+    let (body, state) = (bodies[0], states[0]);
+    let mut world = gpu_world(&ctx, Vec3::zeros(), &bodies, &states);
+    let (mut cpu_bodies, mut cpu_states) = (bodies.clone(), states.clone());
+    // World angular momentum and kinetic energy.
+    let momentum = |b: &Body, s: &BodyState| -> (Vec3, Real) {
         let local = b
             .pose
             .rotation
             .inverse_transform_vector(&s.angular_velocity);
         let l = b.inertia_local().component_mul(&local);
-        (l.norm(), 0.5 * local.dot(&l))
+        (b.pose.rotation * l, 0.5 * local.dot(&l))
     };
     let (l0, e0) = momentum(&body, &state);
     let h = DT / 4.0;
@@ -836,14 +873,20 @@ fn spinning_box_keeps_its_angular_momentum_and_follows_the_cpu() {
         let mut gpu_body = body;
         gpu_body.pose = snap.pose(0);
         let (l, e) = momentum(&gpu_body, &snap.state(0));
-        // The stability suite's bound: |L| within 1%, and the energy does not grow (the
-        // implicit midpoint rule conserves both up to round-off).
-        assert!((l - l0).abs() < 0.01 * l0, "{second} s: |L| {l0} -> {l}");
-        assert!(e < e0 * 1.001, "{second} s: energy grew {e0} -> {e}");
+        // The stability suite's bounds: the momentum vector within 1%, no energy growth past
+        // 1e-4 (the split implicit-midpoint update conserves both up to round-off).
+        assert!(
+            (l - l0).norm() < MOMENTUM_TOLERANCE * l0.norm(),
+            "{second} s: L {l0} -> {l}"
+        );
+        assert!(
+            e <= e0 * (1.0 + ENERGY_GROWTH),
+            "{second} s: energy grew {e0} -> {e}"
+        );
         if second == 1 {
             // After 1 s the GPU follows the CPU integrator: both solve the same implicit
-            // equation by the same Newton steps; 1e-3 rad/s on 2 rad/s covers f32
-            // differences compounding over 240 substeps of a tumbling motion.
+            // equations by the same Newton steps; 1e-3 rad/s on ~6 rad/s covers f32
+            // differences compounding over 240 substeps.
             let (gw, cw) = (
                 snap.state(0).angular_velocity,
                 cpu_states[0].angular_velocity,
@@ -877,7 +920,9 @@ fn spinning_box_keeps_its_angular_momentum_and_follows_the_cpu() {
 // ---------------------------------------------------------------------------------------------
 
 use tumble_scenes::{BodyKind as SceneKind, Scene};
-use tumble_tests::stability::{COLUMN_DRIFT, PYRAMID_DRIFT, REST_SPEED, TEN_SECONDS};
+use tumble_tests::stability::{
+    COLUMN_DRIFT, ENERGY_GROWTH, MOMENTUM_TOLERANCE, PYRAMID_DRIFT, REST_SPEED, TEN_SECONDS,
+};
 
 /// The solver's bodies and states of a scene.
 fn bodies_of(scene: &Scene) -> (Vec<Body>, Vec<BodyState>) {

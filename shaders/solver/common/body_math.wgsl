@@ -95,8 +95,23 @@ fn prepare_body(body: GpuBody, pose: GpuPose) -> GpuSolverBody {
     );
 }
 
-// integrate_velocities for one body: gravity, the gyroscopic term, damping, locks. Fixed and
-// kinematic bodies keep their velocity.
+// Half of a substep's gyroscopic update (the implicit midpoint rule over h / 2), split around
+// the rotation update as on the CPU (gyroscopic_half_step): the rotation turns with the
+// angular velocity of mid-substep, keeping a free body's world angular momentum to second
+// order. `rotation` is the body's current world rotation. Locked bodies skip the term (it
+// would need the lock's reaction torque); equal moments make it zero.
+fn gyroscopic_half_step(body: GpuBody, rotation: vec4<f32>, w: vec3<f32>, h: f32) -> vec3<f32> {
+    let inertia = body.inertia.xyz;
+    let symmetric = inertia.x == inertia.y && inertia.y == inertia.z;
+    if !ENABLE_ROTATION || symmetric || rotation_locks(body.locks) != 0u || all(w == vec3<f32>(0.0)) {
+        return w;
+    }
+    let local = quat_rotate(quat_conjugate(rotation), w);
+    return quat_rotate(rotation, gyroscopic_midpoint(inertia, local, 0.5 * h));
+}
+
+// integrate_velocities for one body: gravity, the first half of the gyroscopic update,
+// damping, locks. Fixed and kinematic bodies keep their velocity.
 fn integrate_velocity(
     body: GpuBody,
     rotation: vec4<f32>,
@@ -115,17 +130,7 @@ fn integrate_velocity(
         v = v + gravity * h;
     }
     v = v * linear_damping;
-    var w = velocity.angular.xyz;
-    if ENABLE_ROTATION {
-        let inertia = body.inertia.xyz;
-        let symmetric = inertia.x == inertia.y && inertia.y == inertia.z;
-        // As on the CPU: locked bodies skip the term; equal moments make it zero.
-        if !symmetric && rotation_locks(body.locks) == 0u && any(w != vec3<f32>(0.0)) {
-            let q = quat_mul(delta_rotation, rotation);
-            let local = quat_rotate(quat_conjugate(q), w);
-            w = quat_rotate(q, gyroscopic_midpoint(inertia, local, h));
-        }
-    }
+    var w = gyroscopic_half_step(body, quat_mul(delta_rotation, rotation), velocity.angular.xyz, h);
     w = w * angular_damping;
     return GpuVelocity(
         vec4<f32>(v * translation_mask(body.locks), 0.0),
@@ -133,9 +138,18 @@ fn integrate_velocity(
     );
 }
 
-// integrate_positions for one body: clamps a dynamic body's speeds, then advances its deltas
-// by h (dp += h v, dq += h/2 (w, 0) dq, renormalized). Fixed bodies do not move.
-fn integrate_position(kind: u32, velocity: ptr<function, GpuVelocity>, state: ptr<function, GpuSolverBody>, h: f32) {
+// integrate_positions for one body: clamps a dynamic body's speeds, advances its deltas by h
+// (dp += h v, dq += h/2 (w, 0) dq, renormalized), then applies the second half of a dynamic
+// body's gyroscopic update. `rotation` is the pose's rotation at the start of the step. Fixed
+// bodies do not move.
+fn integrate_position(
+    body: GpuBody,
+    rotation: vec4<f32>,
+    velocity: ptr<function, GpuVelocity>,
+    state: ptr<function, GpuSolverBody>,
+    h: f32,
+) {
+    let kind = body.kind;
     if kind == BODY_FIXED {
         return;
     }
@@ -159,6 +173,10 @@ fn integrate_position(kind: u32, velocity: ptr<function, GpuVelocity>, state: pt
         let q = (*state).delta_rotation;
         let spin = quat_mul(vec4<f32>(w, 0.0), q) * (0.5 * h);
         (*state).delta_rotation = normalize(q + spin);
+    }
+    if kind == BODY_DYNAMIC {
+        let turned = quat_mul((*state).delta_rotation, rotation);
+        (*velocity).angular = vec4<f32>(gyroscopic_half_step(body, turned, (*velocity).angular.xyz, h), 0.0);
     }
 }
 

@@ -2,6 +2,8 @@
 // crates/tumble-solver (constraint.rs, contact_solver.rs, tangent_basis.rs) step for step, so
 // the GPU and the CPU solver pass the same stability suite.
 
+const PI: f32 = 3.14159265358979;
+
 // A body as the constraint passes see it.
 struct BodySim {
     linear_velocity: vec3<f32>,
@@ -81,7 +83,8 @@ fn apply_impulse(a: ptr<function, BodySim>, b: ptr<function, BodySim>, anchor_a:
 
 // The header of a manifold's constraint (prepare_contact): bodies, normal and tangents,
 // combined friction and restitution, softness. Its points come from prepare_point.
-fn begin_constraint(manifold: GpuManifold, body_a: GpuBody, body_b: GpuBody, params: SolverParams) -> GpuConstraint {
+// `tilt` is the pair's tilt impulse carried from the last step (world vector).
+fn begin_constraint(manifold: GpuManifold, body_a: GpuBody, body_b: GpuBody, tilt: vec3<f32>, params: SolverParams) -> GpuConstraint {
     let dynamic_a = body_a.kind == BODY_DYNAMIC;
     let dynamic_b = body_b.kind == BODY_DYNAMIC;
     let normal = manifold.normal.xyz;
@@ -101,7 +104,82 @@ fn begin_constraint(manifold: GpuManifold, body_a: GpuBody, body_b: GpuBody, par
     c.tangent1 = vec4<f32>(basis.t1, max(body_a.restitution, body_b.restitution));
     c.tangent2 = vec4<f32>(basis.t2, params.slop);
     c.softness = vec4<f32>(softness.xyz, 0.0);
+    c.tilt_impulse_1 = params.warm_start_scale * dot(tilt, basis.t1);
+    c.tilt_impulse_2 = params.warm_start_scale * dot(tilt, basis.t2);
     return c;
+}
+
+// The carried tilt impulse of a manifold: last step's, when the pair had a manifold then and
+// its normal turned by less than the angle of PERSIST_NORMAL_COS in body A's frame (the same
+// patch), else zero (also for a manifold without points, which is no contact).
+fn carried_tilt(manifold: GpuManifold, previous: GpuTilt, rotation_a: vec4<f32>) -> vec3<f32> {
+    if manifold.len == 0u || manifold.previous == NO_PREVIOUS {
+        return vec3<f32>(0.0);
+    }
+    let local = quat_rotate(quat_conjugate(rotation_a), manifold.normal.xyz);
+    if dot(local, previous.local_normal.xyz) >= PERSIST_NORMAL_COS {
+        return previous.impulse.xyz;
+    }
+    return vec3<f32>(0.0);
+}
+
+// Completes a constraint whose points are prepared: the patch's inscribed radius (from the
+// points' in-plane distances to their centroid, times cos(pi / n): exact for a regular
+// polygon; 0 below three points) and the tilt rows' effective masses.
+fn finish_constraint(c: ptr<function, GpuConstraint>, a: BodySim, b: BodySim) {
+    let n = (*c).point_count;
+    let normal = (*c).normal.xyz;
+    if n >= 3u {
+        var centroid = vec3<f32>(0.0);
+        for (var i = 0u; i < n; i++) {
+            centroid += (*c).points[i].anchor_a.xyz;
+        }
+        centroid = centroid / f32(n);
+        var nearest = 3.0e38;
+        for (var i = 0u; i < n; i++) {
+            let d = (*c).points[i].anchor_a.xyz - centroid;
+            nearest = min(nearest, length(d - normal * dot(d, normal)));
+        }
+        (*c).patch_radius = nearest * cos(PI / f32(n));
+    }
+    let angular = a.inverse_inertia + b.inverse_inertia;
+    let k1 = dot((*c).tangent1.xyz, angular * (*c).tangent1.xyz);
+    let k2 = dot((*c).tangent2.xyz, angular * (*c).tangent2.xyz);
+    (*c).tilt_mass_1 = select(0.0, 1.0 / k1, k1 > 0.0);
+    (*c).tilt_mass_2 = select(0.0, 1.0 / k2, k2 > 0.0);
+}
+
+// Applies angular impulse `torque`: -torque on A, +torque on B.
+fn apply_torque(a: ptr<function, BodySim>, b: ptr<function, BodySim>, torque: vec3<f32>) {
+    if ENABLE_ROTATION {
+        (*a).angular_velocity -= (*a).inverse_inertia * torque;
+        (*b).angular_velocity += (*b).inverse_inertia * torque;
+    }
+}
+
+// The tilt rows of a face patch: no relative rotation about the two tangents, within the
+// torque n * r * min(lambda_i) the patch can add before its least loaded point lets go
+// (solve_tilt on the CPU).
+fn solve_tilt(c: ptr<function, GpuConstraint>, a: ptr<function, BodySim>, b: ptr<function, BodySim>) {
+    let n = (*c).point_count;
+    var least = 3.0e38;
+    for (var i = 0u; i < n; i++) {
+        least = min(least, (*c).points[i].normal_impulse);
+    }
+    let limit = f32(n) * (*c).patch_radius * max(least, 0.0);
+    let t1 = (*c).tangent1.xyz;
+    let t2 = (*c).tangent2.xyz;
+    let relative = (*b).angular_velocity - (*a).angular_velocity;
+    let old = vec2<f32>((*c).tilt_impulse_1, (*c).tilt_impulse_2);
+    var updated = vec2<f32>(old.x - (*c).tilt_mass_1 * dot(relative, t1), old.y - (*c).tilt_mass_2 * dot(relative, t2));
+    let length = sqrt(updated.x * updated.x + updated.y * updated.y);
+    if length > limit {
+        let scale = select(0.0, limit / length, length > 0.0);
+        updated = vec2<f32>(updated.x * scale, updated.y * scale);
+    }
+    (*c).tilt_impulse_1 = updated.x;
+    (*c).tilt_impulse_2 = updated.y;
+    apply_torque(a, b, t1 * (updated.x - old.x) + t2 * (updated.y - old.y));
 }
 
 // One point of a constraint: anchors from the bodies' centres at the start of the step, base
@@ -146,6 +224,7 @@ fn warm_start_points(c: ptr<function, GpuConstraint>, a: ptr<function, BodySim>,
         (*c).points[i].total_normal_impulse += cp.normal_impulse;
         apply_impulse(a, b, cp.anchor_a.xyz, cp.anchor_b.xyz, p);
     }
+    apply_torque(a, b, t1 * (*c).tilt_impulse_1 + t2 * (*c).tilt_impulse_2);
 }
 
 // One pass over the points: non-penetration (speculative, soft-biased or relaxed), then
@@ -189,6 +268,10 @@ fn solve_points(
         (*c).points[i].normal_impulse = accumulated;
         (*c).points[i].total_normal_impulse += applied;
         apply_impulse(a, b, anchor_a, anchor_b, normal * applied);
+    }
+
+    if (*c).patch_radius > 0.0 {
+        solve_tilt(c, a, b);
     }
 
     let friction = (*c).normal.w;
@@ -236,6 +319,14 @@ fn restitution_points(c: ptr<function, GpuConstraint>, a: ptr<function, BodySim>
         (*c).points[i].total_normal_impulse += applied;
         apply_impulse(a, b, cp.anchor_a.xyz, cp.anchor_b.xyz, normal * applied);
     }
+}
+
+// The constraint's tilt impulse kept for the next step, with the normal in A's frame
+// (`rotation_a`: A's rotation at the start of the step, when the manifold was made).
+fn stored_tilt(c: GpuConstraint, rotation_a: vec4<f32>) -> GpuTilt {
+    let impulse = c.tangent1.xyz * c.tilt_impulse_1 + c.tangent2.xyz * c.tilt_impulse_2;
+    let local = quat_rotate(quat_conjugate(rotation_a), c.normal.xyz);
+    return GpuTilt(vec4<f32>(impulse, 0.0), vec4<f32>(local, 0.0));
 }
 
 // Point i of a contact with the constraint's final impulses, for the next step's warm start.

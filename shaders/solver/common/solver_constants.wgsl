@@ -24,6 +24,9 @@ override CONSTRAINT_DYNAMIC_B: u32;
 // Guards of integrate_positions (tumble_solver's MAX_ROTATION_PER_SUBSTEP, MAX_LINEAR_SPEED).
 override MAX_ROTATION_PER_SUBSTEP: f32;
 override MAX_LINEAR_SPEED: f32;
+// Smallest cosine between last step's normal and this step's (in body A's frame) for a
+// pair's tilt impulse to carry over (tumble-solver's PERSIST_NORMAL_COS).
+override PERSIST_NORMAL_COS: f32;
 // What a per-color pass does to each constraint.
 override PASS_WARM_START: u32;
 override PASS_SOLVE: u32;

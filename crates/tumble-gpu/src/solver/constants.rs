@@ -49,6 +49,11 @@ pub const CONSTRAINT_DYNAMIC_B: u32 = 2;
 /// GPU-versus-CPU spin test fails if the two drift apart.
 pub const GYROSCOPIC_NEWTON_ITERATIONS: u32 = 3;
 
+/// Smallest cosine between a pair's normal last step and now (in body A's frame) for its tilt
+/// impulse to carry over: the cosine of 5 degrees, as tumble-solver's contact cache (its
+/// `PERSIST_NORMAL_COS`, Jolt's `mContactNormalCosMaxDeltaRotation`), which it keeps private.
+pub const PERSIST_NORMAL_COS: f32 = 0.996;
+
 /// What a per-color pass does: re-apply the accumulated impulses.
 pub const PASS_WARM_START: u32 = 0;
 /// Biased solve (position feedback on).
@@ -81,6 +86,7 @@ pub fn solver_constants() -> Vec<(&'static str, f64)> {
             "MAX_LINEAR_SPEED",
             f64::from(tumble_solver::MAX_LINEAR_SPEED),
         ),
+        ("PERSIST_NORMAL_COS", f64::from(PERSIST_NORMAL_COS)),
         ("PASS_WARM_START", f64::from(PASS_WARM_START)),
         ("PASS_SOLVE", f64::from(PASS_SOLVE)),
         ("PASS_RELAX", f64::from(PASS_RELAX)),

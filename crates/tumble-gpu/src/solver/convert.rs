@@ -12,7 +12,7 @@ use super::constants::{
     BODY_DYNAMIC, BODY_FIXED, BODY_KINEMATIC, CONSTRAINT_DYNAMIC_A, CONSTRAINT_DYNAMIC_B,
     LOCK_ROTATION_SHIFT,
 };
-use super::layout::{GpuBody, GpuConstraint, GpuConstraintPoint, GpuSolverBody};
+use super::layout::{GpuBody, GpuConstraint, GpuConstraintPoint, GpuSolverBody, GpuTilt};
 
 fn vec4(v: &Vec3, w: f32) -> [f32; 4] {
     [v.x, v.y, v.z, w]
@@ -143,9 +143,15 @@ pub fn gpu_manifold(
     (manifold, points)
 }
 
-/// Copies the solved impulses of `points` (a manifold's GPU points) and the step totals of
-/// its constraint into `contact`.
-pub fn read_impulses(points: &[GpuContact], constraint: &GpuConstraint, contact: &mut Contact) {
+/// Copies the solved impulses of `points` (a manifold's GPU points), the step totals of its
+/// constraint and its tilt impulse into `contact`.
+pub fn read_impulses(
+    points: &[GpuContact],
+    constraint: &GpuConstraint,
+    tilt: &GpuTilt,
+    contact: &mut Contact,
+) {
+    contact.tilt_impulse = vec3(&tilt.impulse);
     let n = (contact.manifold.len as usize).min(MAX_MANIFOLD_POINTS);
     for i in 0..n {
         contact.impulses[i].normal = points[i].normal_impulse;
@@ -187,6 +193,27 @@ pub fn gpu_constraint(c: &ContactConstraint) -> GpuConstraint {
             c.softness.impulse_scale,
             0.0,
         ],
+        tilt_mass_1: c.tilt_mass[0],
+        tilt_mass_2: c.tilt_mass[1],
+        tilt_impulse_1: c.tilt_impulse[0],
+        tilt_impulse_2: c.tilt_impulse[1],
+        patch_radius: c.patch_radius,
+        _pad0: 0.0,
+        _pad1: 0.0,
+        _pad2: 0.0,
         points,
+    }
+}
+
+/// The tilt slot a host-made contact leaves for the next step: its carried tilt impulse and
+/// its normal in body A's frame at `pose_a` (so the GPU's normal check passes exactly when the
+/// host's warm start already decided to carry it).
+pub fn gpu_tilt(contact: &Contact, pose_a: &Pose) -> GpuTilt {
+    let local = pose_a
+        .rotation
+        .inverse_transform_vector(&contact.manifold.normal);
+    GpuTilt {
+        impulse: vec4(&contact.tilt_impulse, 0.0),
+        local_normal: vec4(&local, 0.0),
     }
 }

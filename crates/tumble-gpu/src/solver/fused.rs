@@ -30,6 +30,8 @@ pub static SOLVE_FUSED: KernelSpec = KernelSpec {
         Binding::StorageReadWrite,
         Binding::StorageReadWrite,
         Binding::StorageReadWrite,
+        Binding::StorageRead,
+        Binding::StorageReadWrite,
     ],
 };
 
@@ -65,6 +67,10 @@ pub struct SolveFusedArgs<'a> {
     pub solver_bodies: &'a wgpu::Buffer,
     /// `array<GpuConstraint>`.
     pub constraints: &'a wgpu::Buffer,
+    /// Last step's `array<GpuTilt>`.
+    pub previous_tilts: &'a wgpu::Buffer,
+    /// This step's `array<GpuTilt>`.
+    pub tilts: &'a wgpu::Buffer,
 }
 
 impl KernelArgs for SolveFusedArgs<'_> {
@@ -85,6 +91,8 @@ impl KernelArgs for SolveFusedArgs<'_> {
             self.velocities,
             self.solver_bodies,
             self.constraints,
+            self.previous_tilts,
+            self.tilts,
         ]
     }
 }

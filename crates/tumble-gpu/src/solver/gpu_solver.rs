@@ -18,7 +18,7 @@ use super::constants::{COLOR_OFFSETS_LEN, COLOR_SLOTS, GRAPH_COLOR_COUNT};
 use super::effects::Effects;
 use super::fused::SolveFusedArgs;
 use super::integrate::{FinalizeBodiesArgs, IntegratePositionsArgs, IntegrateVelocitiesArgs};
-use super::layout::{ColorPass, ColorSlot, GpuConstraint, GpuSolverBody, SolverParams};
+use super::layout::{ColorPass, ColorSlot, GpuConstraint, GpuSolverBody, GpuTilt, SolverParams};
 use super::path::SolvePath;
 use super::pipelines::SolverPipelines;
 use super::prepare::{PrepareBodiesArgs, PrepareContactsArgs};
@@ -28,6 +28,7 @@ use super::store::StoreImpulsesArgs;
 const SOLVER_BODIES: &str = "solver_bodies";
 const CONSTRAINTS: &str = "constraints";
 const COLOR_STATE: [&str; 2] = ["color_state_0", "color_state_1"];
+const TILTS: [&str; 2] = ["tilts_0", "tilts_1"];
 const COLOR_MARKS: &str = "color_marks";
 const COLOR_SCRATCH: &str = "color_scratch";
 const COLOR_OFFSETS: &str = "color_offsets";
@@ -74,11 +75,11 @@ struct BindGroups {
     color_finish: [wgpu::BindGroup; 2],
     radix: RadixBindGroups,
     prepare_bodies: wgpu::BindGroup,
-    prepare_contacts: wgpu::BindGroup,
+    prepare_contacts: [wgpu::BindGroup; 2],
     integrate_velocities: wgpu::BindGroup,
     integrate_positions: wgpu::BindGroup,
     finalize_bodies: wgpu::BindGroup,
-    store_impulses: wgpu::BindGroup,
+    store_impulses: [wgpu::BindGroup; 2],
     /// `[pass][color slot]`.
     passes: Vec<Vec<wgpu::BindGroup>>,
     solve_fused: [wgpu::BindGroup; 2],
@@ -164,7 +165,9 @@ impl GpuSolver {
     fn ensure(&mut self, bodies: u32, capacity: u32) -> Result<(), GpuError> {
         let (n, cap) = (u64::from(bodies.max(1)), u64::from(capacity.max(1)));
         let u32_bytes = 4u64;
-        let sizes: [(&'static str, u64); 8] = [
+        let sizes: [(&'static str, u64); 10] = [
+            (TILTS[0], cap * std::mem::size_of::<GpuTilt>() as u64),
+            (TILTS[1], cap * std::mem::size_of::<GpuTilt>() as u64),
             (
                 SOLVER_BODIES,
                 n * std::mem::size_of::<GpuSolverBody>() as u64,
@@ -210,6 +213,32 @@ impl GpuSolver {
     /// This step's coloring state (`array<ColorSlot>`) after the last recorded step.
     pub fn colors(&self) -> &wgpu::Buffer {
         self.pool.get(COLOR_STATE[1 - self.parity])
+    }
+
+    /// This step's tilt impulses (`array<GpuTilt>`) after the last recorded step.
+    pub fn tilts(&self) -> &wgpu::Buffer {
+        self.pool.get(TILTS[1 - self.parity])
+    }
+
+    /// Writes last step's tilt impulses for the next record (`(previous index, tilt)`), for
+    /// manifolds made by the host; makes room for `capacity` manifolds first.
+    pub fn write_previous_tilts(
+        &mut self,
+        bodies: u32,
+        capacity: u32,
+        tilts: &[(u32, GpuTilt)],
+    ) -> Result<(), GpuError> {
+        self.ensure(bodies, capacity)?;
+        let buffer = self.pool.get(TILTS[1 - self.parity]);
+        let stride = std::mem::size_of::<GpuTilt>() as u64;
+        for (slot, tilt) in tilts {
+            self.ctx.queue.write_buffer(
+                buffer,
+                u64::from(*slot) * stride,
+                bytemuck::bytes_of(tilt),
+            );
+        }
+        Ok(())
     }
 
     /// Constraint indices grouped by color (ascending color, ascending index within a color).
@@ -296,7 +325,7 @@ impl GpuSolver {
                         .dispatch(&mut pass, &groups.prepare_bodies, inputs.body_count);
                     k.prepare_contacts.dispatch_indirect(
                         &mut pass,
-                        &groups.prepare_contacts,
+                        &groups.prepare_contacts[p],
                         work,
                         WORK_LIST_GROUPS_OFFSET,
                     );
@@ -334,7 +363,7 @@ impl GpuSolver {
                     let mut pass = timer.begin_pass(encoder, "finish");
                     k.store_impulses.dispatch_indirect(
                         &mut pass,
-                        &groups.store_impulses,
+                        &groups.store_impulses[p],
                         work,
                         WORK_LIST_GROUPS_OFFSET,
                     );
@@ -444,20 +473,23 @@ impl GpuSolver {
                     solver_bodies: get(SOLVER_BODIES),
                 },
             ),
-            prepare_contacts: k.prepare_contacts.bind(
-                ctx,
-                &PrepareContactsArgs {
-                    params: &self.params,
-                    contact_work: inputs.contact_work,
-                    manifolds: inputs.manifolds,
-                    contacts: inputs.contacts,
-                    bodies: inputs.bodies,
-                    poses: inputs.poses,
-                    velocities: inputs.velocities,
-                    solver_bodies: get(SOLVER_BODIES),
-                    constraints: get(CONSTRAINTS),
-                },
-            ),
+            prepare_contacts: both(&|p| {
+                k.prepare_contacts.bind(
+                    ctx,
+                    &PrepareContactsArgs {
+                        params: &self.params,
+                        contact_work: inputs.contact_work,
+                        manifolds: inputs.manifolds,
+                        contacts: inputs.contacts,
+                        bodies: inputs.bodies,
+                        poses: inputs.poses,
+                        velocities: inputs.velocities,
+                        solver_bodies: get(SOLVER_BODIES),
+                        previous_tilts: get(TILTS[1 - p]),
+                        constraints: get(CONSTRAINTS),
+                    },
+                )
+            }),
             integrate_velocities: k.integrate_velocities.bind(
                 ctx,
                 &IntegrateVelocitiesArgs {
@@ -473,6 +505,7 @@ impl GpuSolver {
                 &IntegratePositionsArgs {
                     params: &self.params,
                     bodies: inputs.bodies,
+                    poses: inputs.poses,
                     velocities: inputs.velocities,
                     solver_bodies: get(SOLVER_BODIES),
                 },
@@ -486,14 +519,18 @@ impl GpuSolver {
                     poses: inputs.poses,
                 },
             ),
-            store_impulses: k.store_impulses.bind(
-                ctx,
-                &StoreImpulsesArgs {
-                    contact_work: inputs.contact_work,
-                    constraints: get(CONSTRAINTS),
-                    contacts: inputs.contacts,
-                },
-            ),
+            store_impulses: both(&|p| {
+                k.store_impulses.bind(
+                    ctx,
+                    &StoreImpulsesArgs {
+                        contact_work: inputs.contact_work,
+                        constraints: get(CONSTRAINTS),
+                        poses: inputs.poses,
+                        contacts: inputs.contacts,
+                        tilts: get(TILTS[p]),
+                    },
+                )
+            }),
             passes,
             solve_fused: both(&|p| {
                 k.solve_fused.bind(
@@ -514,6 +551,8 @@ impl GpuSolver {
                         velocities: inputs.velocities,
                         solver_bodies: get(SOLVER_BODIES),
                         constraints: get(CONSTRAINTS),
+                        previous_tilts: get(TILTS[1 - p]),
+                        tilts: get(TILTS[p]),
                     },
                 )
             }),

@@ -34,6 +34,7 @@ pub static INTEGRATE_POSITIONS: KernelSpec = KernelSpec {
     bindings: &[
         Binding::Uniform,
         Binding::StorageRead,
+        Binding::StorageRead,
         Binding::StorageReadWrite,
         Binding::StorageReadWrite,
     ],
@@ -86,7 +87,9 @@ pub struct IntegratePositionsArgs<'a> {
     pub params: &'a wgpu::Buffer,
     /// `array<GpuBody>`.
     pub bodies: &'a wgpu::Buffer,
-    /// `array<GpuVelocity>` (clamped in place).
+    /// `array<GpuPose>` (start of step, for the gyroscopic half step).
+    pub poses: &'a wgpu::Buffer,
+    /// `array<GpuVelocity>` (clamped, and turned by the gyroscopic half step, in place).
     pub velocities: &'a wgpu::Buffer,
     /// `array<GpuSolverBody>`, deltas updated.
     pub solver_bodies: &'a wgpu::Buffer,
@@ -97,6 +100,7 @@ impl KernelArgs for IntegratePositionsArgs<'_> {
         vec![
             self.params,
             self.bodies,
+            self.poses,
             self.velocities,
             self.solver_bodies,
         ]

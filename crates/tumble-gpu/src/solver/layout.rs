@@ -78,7 +78,7 @@ pub struct GpuConstraintPoint {
     pub _pad: f32,
 }
 
-/// The constraint of one manifold. 336 bytes.
+/// The constraint of one manifold. 368 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuConstraint {
@@ -98,8 +98,34 @@ pub struct GpuConstraint {
     pub tangent2: [f32; 4],
     /// `bias_rate`, `mass_scale`, `impulse_scale`; `w` unused.
     pub softness: [f32; 4],
+    /// Effective mass of the tilt row about `tangent1`.
+    pub tilt_mass_1: f32,
+    /// Effective mass of the tilt row about `tangent2`.
+    pub tilt_mass_2: f32,
+    /// Accumulated angular impulse about `tangent1`, N m s.
+    pub tilt_impulse_1: f32,
+    /// Accumulated angular impulse about `tangent2`, N m s.
+    pub tilt_impulse_2: f32,
+    /// Radius of the disc inscribed in the contact patch, m (0 below three points).
+    pub patch_radius: f32,
+    /// Padding.
+    pub _pad0: f32,
+    /// Padding.
+    pub _pad1: f32,
+    /// Padding.
+    pub _pad2: f32,
     /// The points.
     pub points: [GpuConstraintPoint; MAX_MANIFOLD_POINTS],
+}
+
+/// A manifold's tilt impulse kept for the next step. 32 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuTilt {
+    /// Tilt impulse as a world vector, N m s; `w` unused.
+    pub impulse: [f32; 4],
+    /// The manifold normal in body A's frame at the start of the step; `w` unused.
+    pub local_normal: [f32; 4],
 }
 
 /// Step-wide solver values. 96 bytes.
@@ -235,7 +261,19 @@ pub fn solver_struct_layouts() -> Vec<StructLayout> {
             tangent1,
             tangent2,
             softness,
+            tilt_mass_1,
+            tilt_mass_2,
+            tilt_impulse_1,
+            tilt_impulse_2,
+            patch_radius,
+            _pad0,
+            _pad1,
+            _pad2,
             points
+        }),
+        solver_struct_layout!(GpuTilt {
+            impulse,
+            local_normal
         }),
         solver_struct_layout!(SolverParams {
             gravity,

@@ -43,6 +43,7 @@ pub static PREPARE_CONTACTS: KernelSpec = KernelSpec {
         Binding::StorageRead,
         Binding::StorageRead,
         Binding::StorageRead,
+        Binding::StorageRead,
         Binding::StorageReadWrite,
     ],
 };
@@ -83,6 +84,8 @@ pub struct PrepareContactsArgs<'a> {
     pub velocities: &'a wgpu::Buffer,
     /// `array<GpuSolverBody>` from `prepare_bodies`.
     pub solver_bodies: &'a wgpu::Buffer,
+    /// Last step's `array<GpuTilt>`, indexed by the manifolds' `previous`.
+    pub previous_tilts: &'a wgpu::Buffer,
     /// Output `array<GpuConstraint>`.
     pub constraints: &'a wgpu::Buffer,
 }
@@ -98,6 +101,7 @@ impl KernelArgs for PrepareContactsArgs<'_> {
             self.poses,
             self.velocities,
             self.solver_bodies,
+            self.previous_tilts,
             self.constraints,
         ]
     }

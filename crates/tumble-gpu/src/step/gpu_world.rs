@@ -13,8 +13,8 @@ use crate::collision::GpuCollision;
 use crate::layout::{GpuContact, GpuManifold, GpuPose, GpuVelocity, WorkList};
 use crate::readback::{Readback, Region, Ticket};
 use crate::solver::apply_impulses::ApplyImpulsesArgs;
-use crate::solver::convert::{gpu_body, gpu_manifold, gpu_pose, gpu_shape, gpu_velocity};
-use crate::solver::layout::{GpuBody, GpuConstraint, GpuImpulse};
+use crate::solver::convert::{gpu_body, gpu_manifold, gpu_pose, gpu_shape, gpu_tilt, gpu_velocity};
+use crate::solver::layout::{GpuBody, GpuConstraint, GpuImpulse, GpuTilt};
 use crate::solver::{Effects, GpuSolver, SolvePath, SolverInputs, StepParams};
 use crate::{GpuContext, GpuError, MAX_MANIFOLD_POINTS, StageTimer};
 
@@ -36,6 +36,10 @@ pub const ESTIMATED_PAIRS_PER_BODY: u32 = 7;
 /// [`ContactSnapshot::work`]) and [`GpuWorld::read_now`] gives the exact list.
 const READ_HEADROOM: f32 = 0.25;
 const READ_MIN_MANIFOLDS: u32 = 1024;
+
+/// Longest wait for a readback before reporting a device error: far beyond any step (a lost
+/// device, not a slow one).
+const READ_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(60);
 
 /// Where the manifolds of the last step came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -387,14 +391,22 @@ impl GpuWorld {
     }
 
     /// One step of the solver stages on manifolds made by the host (the CPU narrow phase):
-    /// `contacts` with their warm-start impulses, and for each the index of its pair's
-    /// manifold in the previous call's list (or `NO_PREVIOUS`), which seeds its color. The
-    /// GPU collision stages do not run. The solved impulses come back with a contact readback.
+    /// `contacts` with their warm-start impulses (tilt included), and for each the index of
+    /// its pair's manifold in the previous call's list (or `NO_PREVIOUS`), which seeds its
+    /// color. `bodies` holds the poses the manifolds were made from. The GPU collision stages
+    /// do not run. The solved impulses come back with a contact readback.
     pub fn step_with_contacts(
         &mut self,
         contacts: &[Contact],
         previous: &[u32],
+        bodies: &[Body],
     ) -> Result<(), GpuError> {
+        if bodies.len() != self.bodies.len() {
+            return Err(invalid(
+                "bodies.len()",
+                format!("{} for {} uploaded bodies", bodies.len(), self.bodies.len()),
+            ));
+        }
         if previous.len() != contacts.len() {
             return Err(invalid(
                 "previous.len()",
@@ -417,7 +429,22 @@ impl GpuWorld {
             return Ok(());
         }
         let count = contacts.len() as u32;
-        let capacity = count.max(1);
+        let max_previous = previous
+            .iter()
+            .filter(|&&p| p != crate::constants::NO_PREVIOUS)
+            .map(|&p| p + 1)
+            .max()
+            .unwrap_or(0);
+        let capacity = count.max(max_previous).max(1);
+        // The carried tilt impulses go where the manifolds' `previous` points, with the normal
+        // in A's frame at the manifold's pose, so the GPU's normal check accepts them.
+        let tilts: Vec<(u32, GpuTilt)> = contacts
+            .iter()
+            .zip(previous)
+            .filter(|&(_, &p)| p != crate::constants::NO_PREVIOUS)
+            .map(|(c, &p)| (p, gpu_tilt(c, &bodies[c.body_a as usize].pose)))
+            .collect();
+        self.solver.write_previous_tilts(n, capacity, &tilts)?;
         let mut manifolds = Vec::with_capacity(contacts.len());
         let mut points = Vec::with_capacity(contacts.len() * MAX_MANIFOLD_POINTS as usize);
         for (c, &p) in contacts.iter().zip(previous) {
@@ -575,6 +602,7 @@ impl GpuWorld {
                 0,
                 sizes.constraints,
             ));
+            regions.push(rb.copy(encoder, slot, self.solver.tilts(), 0, sizes.tilts));
         }
         Ok((slot, regions))
     }
@@ -601,8 +629,18 @@ impl GpuWorld {
         let Some(last) = self.pending.pop_front() else {
             return Ok(None);
         };
-        let bytes = self.readback.wait(last.ticket, &last.regions)?;
-        Ok(Some(decode(&last.request, last.step, bytes)))
+        // Polls until the map callback has run: another user of the device may be running it
+        // in its own poll when a plain wait returns.
+        let deadline = std::time::Instant::now() + READ_TIMEOUT;
+        loop {
+            if let Some(bytes) = self.readback.try_read(&last.ticket, &last.regions) {
+                return Ok(Some(decode(&last.request, last.step, bytes?)));
+            }
+            if std::time::Instant::now() > deadline {
+                return Err(GpuError::Device("readback was not mapped in time".into()));
+            }
+            self.ctx.wait_idle()?;
+        }
     }
 
     /// Reads `request` from the current state now, blocking (queued impulses are applied
@@ -635,6 +673,7 @@ impl GpuWorld {
                     .ctx
                     .read_buffer(&points, 0, count * u64::from(MAX_MANIFOLD_POINTS))?,
                 constraints: self.ctx.read_buffer(self.solver.constraints(), 0, count)?,
+                tilts: self.ctx.read_buffer(self.solver.tilts(), 0, count)?,
             });
         }
         Ok(snapshot)
@@ -654,6 +693,7 @@ struct ReadSizes {
     manifolds: u64,
     points: u64,
     constraints: u64,
+    tilts: u64,
 }
 
 impl ReadSizes {
@@ -669,6 +709,7 @@ impl ReadSizes {
                 manifolds * u64::from(MAX_MANIFOLD_POINTS),
             ),
             constraints: size(std::mem::size_of::<GpuConstraint>(), manifolds),
+            tilts: size(std::mem::size_of::<GpuTilt>(), manifolds),
         }
     }
 
@@ -683,7 +724,12 @@ impl ReadSizes {
             total += self.velocities + slack;
         }
         if request.contacts {
-            total += self.work + self.manifolds + self.points + self.constraints + 4 * slack;
+            total += self.work
+                + self.manifolds
+                + self.points
+                + self.constraints
+                + self.tilts
+                + 5 * slack;
         }
         total
     }
@@ -708,16 +754,19 @@ fn decode(request: &ReadRequest, step: u64, bytes: Vec<Vec<u8>>) -> Snapshot {
         let mut manifolds: Vec<GpuManifold> = bytemuck::pod_collect_to_vec(&next());
         let mut points: Vec<GpuContact> = bytemuck::pod_collect_to_vec(&next());
         let mut constraints: Vec<GpuConstraint> = bytemuck::pod_collect_to_vec(&next());
+        let mut tilts: Vec<GpuTilt> = bytemuck::pod_collect_to_vec(&next());
         // Keep this step's manifolds only (the copy may be longer than the count).
         let count = (work.count as usize).min(manifolds.len());
         manifolds.truncate(count);
         points.truncate(count * MAX_MANIFOLD_POINTS as usize);
         constraints.truncate(count);
+        tilts.truncate(count);
         snapshot.contacts = Some(ContactSnapshot {
             work,
             manifolds,
             points,
             constraints,
+            tilts,
         });
     }
     snapshot

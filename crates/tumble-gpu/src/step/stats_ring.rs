@@ -14,6 +14,10 @@ pub const STATS_LAG: usize = 2;
 
 type MapResult = Arc<Mutex<Option<Result<(), String>>>>;
 
+/// Longest wait for a step's work list to be mapped before reporting a device error: far
+/// beyond any step (a lost device, not a slow one).
+const MAP_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(60);
+
 #[derive(Debug)]
 struct Slot {
     buffer: wgpu::Buffer,
@@ -56,18 +60,27 @@ impl StatsRing {
         let Some((index, mapped)) = slot.pending.take() else {
             return Ok(None);
         };
-        self.ctx
-            .device
-            .poll(wgpu::PollType::Wait {
-                submission_index: Some(index),
-                timeout: None,
-            })
-            .map_err(|e| GpuError::Device(e.to_string()))?;
-        let status = mapped
-            .lock()
-            .expect("stats map lock")
-            .take()
-            .ok_or_else(|| GpuError::Device("step stats were not mapped".into()))?;
+        // The map callback runs inside some thread's poll: ours, or another user's of the same
+        // device, which may still be inside it when our wait returns. Poll until it has run.
+        let deadline = std::time::Instant::now() + MAP_TIMEOUT;
+        let status = loop {
+            if let Some(status) = mapped.lock().expect("stats map lock").take() {
+                break status;
+            }
+            if std::time::Instant::now() > deadline {
+                return Err(GpuError::Device(
+                    "step stats were not mapped in time".into(),
+                ));
+            }
+            self.ctx
+                .device
+                .poll(wgpu::PollType::Wait {
+                    submission_index: Some(index.clone()),
+                    timeout: None,
+                })
+                .map_err(|e| GpuError::Device(e.to_string()))?;
+            std::thread::yield_now();
+        };
         status.map_err(GpuError::Device)?;
         let work = {
             let view = slot

@@ -5,6 +5,8 @@
 //!
 //! Runs on any adapter (lavapipe in CI, with `TUMBLE_REQUIRE_GPU=1` so a missing adapter
 //! fails); without one and without that variable, each test prints "skipped" and passes.
+// Tolerance checks are written `!(difference <= tolerance)` so that a NaN fails them.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

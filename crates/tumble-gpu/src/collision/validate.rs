@@ -28,8 +28,9 @@ pub fn check_poses(poses: &[GpuPose]) -> Result<(), GpuError> {
             return Err(invalid(format!("poses[{i}].position"), p.position));
         }
         let q = p.rotation;
-        let norm = q.iter().map(|x| x * x).sum::<f32>().sqrt();
-        if !(norm - 1.0).abs().le(&UNIT_QUATERNION_TOLERANCE) {
+        let off_unit = (q.iter().map(|x| x * x).sum::<f32>().sqrt() - 1.0).abs();
+        // A NaN component makes the norm NaN, refused here too.
+        if off_unit.is_nan() || off_unit > UNIT_QUATERNION_TOLERANCE {
             return Err(invalid(format!("poses[{i}].rotation"), q));
         }
     }

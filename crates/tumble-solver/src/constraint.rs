@@ -11,6 +11,40 @@ use tumble_geometry::{ContactPoint, MAX_MANIFOLD_POINTS, Real, Vec3};
 
 use crate::{Body, BodyState, Contact, Mat3, Softness, SolverKind, tangent_basis};
 
+/// The angular part of one row `J = [-d, -(r_a x d), d, r_b x d]`, precomputed so the passes
+/// need dot products only: a row's velocity is `d . (v_b - v_a) + arm_b . w_b - arm_a . w_a`,
+/// and an impulse `lambda` turns the bodies by `-push_a lambda` and `+push_b lambda`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AngularRow {
+    /// `r_a x d`.
+    pub arm_a: Vec3,
+    /// `r_b x d`.
+    pub arm_b: Vec3,
+    /// `I_a^-1 (r_a x d)`: body A's change of angular velocity per unit impulse.
+    pub push_a: Vec3,
+    /// `I_b^-1 (r_b x d)`.
+    pub push_b: Vec3,
+}
+
+impl AngularRow {
+    /// The row of direction `d` at anchors `r_a`, `r_b` for world inverse inertias `ia`, `ib`.
+    pub fn new(ia: &Mat3, ib: &Mat3, anchor_a: &Vec3, anchor_b: &Vec3, d: &Vec3) -> Self {
+        let arm_a = anchor_a.cross(d);
+        let arm_b = anchor_b.cross(d);
+        Self {
+            arm_a,
+            arm_b,
+            push_a: ia * arm_a,
+            push_b: ib * arm_b,
+        }
+    }
+
+    /// The angular part of `J M^-1 J^T`.
+    pub fn angular_inverse_mass(&self) -> Real {
+        self.arm_a.dot(&self.push_a) + self.arm_b.dot(&self.push_b)
+    }
+}
+
 /// One point of a contact constraint.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ConstraintPoint {
@@ -33,6 +67,10 @@ pub struct ConstraintPoint {
     pub total_normal_impulse: Real,
     /// Normal relative velocity at preparation (negative = approaching), for restitution.
     pub relative_velocity: Real,
+    /// Angular part of the normal row.
+    pub normal_row: AngularRow,
+    /// Angular parts of the two friction rows.
+    pub tangent_rows: [AngularRow; 2],
 }
 
 /// The constraint of one manifold.
@@ -83,6 +121,10 @@ pub struct ContactConstraint {
     pub tilt_mass: [Real; 2],
     /// Accumulated angular impulses of the tilt rows, N m s.
     pub tilt_impulse: [Real; 2],
+    /// `I_a^-1 t_k`: body A's change of angular velocity per unit tilt impulse about `t_k`.
+    pub tilt_push_a: [Vec3; 2],
+    /// `I_b^-1 t_k`.
+    pub tilt_push_b: [Vec3; 2],
 }
 
 /// Step-wide values that [`prepare_contact`] needs.
@@ -102,24 +144,13 @@ pub struct PrepareContext {
     pub warm_start_scale: Real,
 }
 
-/// `(r x d) . I^-1 (r x d)`: the angular part of a row's inverse effective mass.
-fn angular_term(inverse_inertia: &Mat3, r: &Vec3, d: &Vec3) -> Real {
-    let rd = r.cross(d);
-    rd.dot(&(inverse_inertia * rd))
-}
-
-/// Inverse of a row's `J M^-1 J^T`, or 0 when both bodies are immovable along it.
-fn row_mass(
-    constraint: &ContactConstraint,
-    anchor_a: &Vec3,
-    anchor_b: &Vec3,
-    direction: &Vec3,
-) -> Real {
-    let d2 = direction.component_mul(direction);
+/// Inverse of a row's `J M^-1 J^T` for direction `d`, or 0 when both bodies are immovable
+/// along it.
+fn row_mass(constraint: &ContactConstraint, row: &AngularRow, d: &Vec3) -> Real {
+    let d2 = d.component_mul(d);
     let k = constraint.inverse_mass_a.dot(&d2)
         + constraint.inverse_mass_b.dot(&d2)
-        + angular_term(&constraint.inverse_inertia_a, anchor_a, direction)
-        + angular_term(&constraint.inverse_inertia_b, anchor_b, direction);
+        + row.angular_inverse_mass();
     if k > 0.0 { 1.0 / k } else { 0.0 }
 }
 
@@ -189,6 +220,14 @@ pub fn prepare_contact(
         points: [ConstraintPoint::default(); MAX_MANIFOLD_POINTS],
         patch_radius: patch_radius(contact.manifold.points(), &normal),
         tilt_mass: [0.0; 2],
+        tilt_push_a: [
+            inverse_inertia[ia] * tangent1,
+            inverse_inertia[ia] * tangent2,
+        ],
+        tilt_push_b: [
+            inverse_inertia[ib] * tangent1,
+            inverse_inertia[ib] * tangent2,
+        ],
         tilt_impulse: [
             ctx.warm_start_scale * contact.tilt_impulse.dot(&tangent1),
             ctx.warm_start_scale * contact.tilt_impulse.dot(&tangent2),
@@ -208,7 +247,13 @@ pub fn prepare_contact(
         let dv = sb.linear_velocity + sb.angular_velocity.cross(&anchor_b)
             - sa.linear_velocity
             - sa.angular_velocity.cross(&anchor_a);
-        let normal_mass = row_mass(&c, &anchor_a, &anchor_b, &normal);
+        let (ii_a, ii_b) = (&inverse_inertia[ia], &inverse_inertia[ib]);
+        let normal_row = AngularRow::new(ii_a, ii_b, &anchor_a, &anchor_b, &normal);
+        let tangent_rows = [
+            AngularRow::new(ii_a, ii_b, &anchor_a, &anchor_b, &tangent1),
+            AngularRow::new(ii_a, ii_b, &anchor_a, &anchor_b, &tangent2),
+        ];
+        let normal_mass = row_mass(&c, &normal_row, &normal);
         let normal_impulse = ctx.warm_start_scale * warm.normal;
         c.points[i] = ConstraintPoint {
             anchor_a,
@@ -216,8 +261,8 @@ pub fn prepare_contact(
             base_separation: -p.depth - (anchor_b - anchor_a).dot(&normal),
             normal_mass,
             tangent_mass: [
-                row_mass(&c, &anchor_a, &anchor_b, &tangent1),
-                row_mass(&c, &anchor_a, &anchor_b, &tangent2),
+                row_mass(&c, &tangent_rows[0], &tangent1),
+                row_mass(&c, &tangent_rows[1], &tangent2),
             ],
             normal_impulse,
             tangent_impulse: [
@@ -226,6 +271,8 @@ pub fn prepare_contact(
             ],
             total_normal_impulse: 0.0,
             relative_velocity: dv.dot(&normal),
+            normal_row,
+            tangent_rows,
         };
     }
     c

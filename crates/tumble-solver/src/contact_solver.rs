@@ -6,7 +6,7 @@
 
 use tumble_geometry::{Real, Vec3};
 
-use crate::{BodyState, ContactConstraint};
+use crate::{AngularRow, BodyState, ContactConstraint};
 
 /// Per-pass values shared by every constraint.
 #[derive(Clone, Copy, Debug)]
@@ -19,49 +19,53 @@ pub struct PassContext {
     pub max_push_out: Real,
 }
 
-/// Applies impulse `p` (world vector) at the anchors: `-p` on A, `+p` on B.
+/// Velocity of row `d` (with angular part `row`): `d . (v_b - v_a) + arm_b . w_b - arm_a . w_a`.
 #[inline]
-fn apply(
+fn row_velocity(a: &BodyState, b: &BodyState, d: &Vec3, row: &AngularRow) -> Real {
+    d.dot(&(b.linear_velocity - a.linear_velocity)) + row.arm_b.dot(&b.angular_velocity)
+        - row.arm_a.dot(&a.angular_velocity)
+}
+
+/// Applies impulse `lambda` along row `d`: `-lambda` on A, `+lambda` on B.
+#[inline]
+fn apply_row(
     c: &ContactConstraint,
     a: &mut BodyState,
     b: &mut BodyState,
-    anchor_a: &Vec3,
-    anchor_b: &Vec3,
-    p: &Vec3,
+    d: &Vec3,
+    row: &AngularRow,
+    lambda: Real,
 ) {
-    a.linear_velocity -= c.inverse_mass_a.component_mul(p);
-    a.angular_velocity -= c.inverse_inertia_a * anchor_a.cross(p);
-    b.linear_velocity += c.inverse_mass_b.component_mul(p);
-    b.angular_velocity += c.inverse_inertia_b * anchor_b.cross(p);
+    a.linear_velocity -= c.inverse_mass_a.component_mul(d) * lambda;
+    a.angular_velocity -= row.push_a * lambda;
+    b.linear_velocity += c.inverse_mass_b.component_mul(d) * lambda;
+    b.angular_velocity += row.push_b * lambda;
 }
 
-/// Velocity of B's anchor relative to A's anchor.
-#[inline]
-fn relative_velocity(a: &BodyState, b: &BodyState, anchor_a: &Vec3, anchor_b: &Vec3) -> Vec3 {
-    b.linear_velocity + b.angular_velocity.cross(anchor_b)
-        - a.linear_velocity
-        - a.angular_velocity.cross(anchor_a)
-}
-
-/// Re-applies the accumulated impulses (normal and friction) at the start of a substep.
+/// Re-applies the accumulated impulses (normal, friction, tilt) at the start of a substep.
 pub fn warm_start_contact(c: &mut ContactConstraint, a: &mut BodyState, b: &mut BodyState) {
-    let (normal, t1, t2) = (c.normal, c.tangent1, c.tangent2);
+    let directions = [c.normal, c.tangent1, c.tangent2];
     for i in 0..c.point_count as usize {
         let cp = c.points[i];
-        let p =
-            normal * cp.normal_impulse + t1 * cp.tangent_impulse[0] + t2 * cp.tangent_impulse[1];
         c.points[i].total_normal_impulse += cp.normal_impulse;
-        apply(c, a, b, &cp.anchor_a, &cp.anchor_b, &p);
+        let rows = [cp.normal_row, cp.tangent_rows[0], cp.tangent_rows[1]];
+        let impulses = [
+            cp.normal_impulse,
+            cp.tangent_impulse[0],
+            cp.tangent_impulse[1],
+        ];
+        for ((d, row), lambda) in directions.iter().zip(&rows).zip(impulses) {
+            apply_row(c, a, b, d, row, lambda);
+        }
     }
-    let torque = t1 * c.tilt_impulse[0] + t2 * c.tilt_impulse[1];
-    apply_torque(c, a, b, &torque);
+    apply_tilt(c, a, b, c.tilt_impulse);
 }
 
-/// Applies angular impulse `torque`: `-torque` on A, `+torque` on B.
+/// Applies tilt impulses `lambda` about the two tangents: `-` on A, `+` on B.
 #[inline]
-fn apply_torque(c: &ContactConstraint, a: &mut BodyState, b: &mut BodyState, torque: &Vec3) {
-    a.angular_velocity -= c.inverse_inertia_a * torque;
-    b.angular_velocity += c.inverse_inertia_b * torque;
+fn apply_tilt(c: &ContactConstraint, a: &mut BodyState, b: &mut BodyState, lambda: [Real; 2]) {
+    a.angular_velocity -= c.tilt_push_a[0] * lambda[0] + c.tilt_push_a[1] * lambda[1];
+    b.angular_velocity += c.tilt_push_b[0] * lambda[0] + c.tilt_push_b[1] * lambda[1];
 }
 
 /// The tilt rows of a face patch: no relative rotation about the two tangents, within the
@@ -94,7 +98,7 @@ fn solve_tilt(c: &mut ContactConstraint, a: &mut BodyState, b: &mut BodyState) {
         new = [new[0] * scale, new[1] * scale];
     }
     c.tilt_impulse = new;
-    apply_torque(c, a, b, &(t1 * (new[0] - old[0]) + t2 * (new[1] - old[1])));
+    apply_tilt(c, a, b, [new[0] - old[0], new[1] - old[1]]);
 }
 
 /// One pass over the constraint's points: non-penetration first, then Coulomb friction.
@@ -130,13 +134,13 @@ pub fn solve_contact(
         } else {
             (0.0, 1.0, 0.0)
         };
-        let vn = relative_velocity(a, b, &cp.anchor_a, &cp.anchor_b).dot(&normal);
+        let vn = row_velocity(a, b, &normal, &cp.normal_row);
         let delta = -cp.normal_mass * (mass_scale * vn + bias) - impulse_scale * cp.normal_impulse;
         let accumulated = (cp.normal_impulse + delta).max(0.0);
         let applied = accumulated - cp.normal_impulse;
         c.points[i].normal_impulse = accumulated;
         c.points[i].total_normal_impulse += applied;
-        apply(c, a, b, &cp.anchor_a, &cp.anchor_b, &(normal * applied));
+        apply_row(c, a, b, &normal, &cp.normal_row, applied);
     }
 
     if c.patch_radius > 0.0 {
@@ -150,11 +154,10 @@ pub fn solve_contact(
     let (t1, t2) = (c.tangent1, c.tangent2);
     for i in 0..count {
         let cp = c.points[i];
-        let dv = relative_velocity(a, b, &cp.anchor_a, &cp.anchor_b);
         let old = cp.tangent_impulse;
         let mut new = [
-            old[0] - cp.tangent_mass[0] * dv.dot(&t1),
-            old[1] - cp.tangent_mass[1] * dv.dot(&t2),
+            old[0] - cp.tangent_mass[0] * row_velocity(a, b, &t1, &cp.tangent_rows[0]),
+            old[1] - cp.tangent_mass[1] * row_velocity(a, b, &t2, &cp.tangent_rows[1]),
         ];
         let limit = c.friction * cp.normal_impulse;
         let length = (new[0] * new[0] + new[1] * new[1]).sqrt();
@@ -163,8 +166,8 @@ pub fn solve_contact(
             new = [new[0] * scale, new[1] * scale];
         }
         c.points[i].tangent_impulse = new;
-        let p = t1 * (new[0] - old[0]) + t2 * (new[1] - old[1]);
-        apply(c, a, b, &cp.anchor_a, &cp.anchor_b, &p);
+        apply_row(c, a, b, &t1, &cp.tangent_rows[0], new[0] - old[0]);
+        apply_row(c, a, b, &t2, &cp.tangent_rows[1], new[1] - old[1]);
     }
 }
 
@@ -186,12 +189,12 @@ pub fn restitution_contact(
         if cp.relative_velocity > -threshold || cp.total_normal_impulse == 0.0 {
             continue;
         }
-        let vn = relative_velocity(a, b, &cp.anchor_a, &cp.anchor_b).dot(&normal);
+        let vn = row_velocity(a, b, &normal, &cp.normal_row);
         let delta = -cp.normal_mass * (vn + c.restitution * cp.relative_velocity);
         let accumulated = (cp.normal_impulse + delta).max(0.0);
         let applied = accumulated - cp.normal_impulse;
         c.points[i].normal_impulse = accumulated;
         c.points[i].total_normal_impulse += applied;
-        apply(c, a, b, &cp.anchor_a, &cp.anchor_b, &(normal * applied));
+        apply_row(c, a, b, &normal, &cp.normal_row, applied);
     }
 }

@@ -36,7 +36,7 @@ pub use config::{
     SolveOrder, SolverConfig, SolverKind,
 };
 pub use constraint::{
-    ConstraintPoint, ContactConstraint, PrepareContext, patch_radius, prepare_contact,
+    AngularRow, ConstraintPoint, ContactConstraint, PrepareContext, patch_radius, prepare_contact,
 };
 pub use contact::{Contact, PointImpulse};
 pub use contact_cache::{

@@ -24,15 +24,35 @@ pub fn begin_step(states: &mut [BodyState]) {
 /// Advances dynamic bodies' velocities by one substep `h`: gravity, the first half of the
 /// implicit gyroscopic term, damping, locks. Fixed and kinematic bodies keep their velocities.
 pub fn integrate_velocities(bodies: &[Body], states: &mut [BodyState], gravity: &Vec3, h: Real) {
+    integrate_velocities_with(bodies, states, Some(gravity), true, h);
+}
+
+/// [`integrate_velocities`] with effects left out: no gravity term when `gravity` is `None`,
+/// no angular update (gyroscopic term, damping, locks) when `rotation` is false. For a scene
+/// without gravity, or whose moving bodies all have their rotations locked, the result is
+/// the same as the full update: the terms left out add zero.
+pub fn integrate_velocities_with(
+    bodies: &[Body],
+    states: &mut [BodyState],
+    gravity: Option<&Vec3>,
+    rotation: bool,
+    h: Real,
+) {
     for (body, state) in bodies.iter().zip(states.iter_mut()) {
         if body.kind != BodyKind::Dynamic {
             continue;
         }
         let linear_damping = 1.0 / (1.0 + h * body.linear_damping);
-        let angular_damping = 1.0 / (1.0 + h * body.angular_damping);
-        let v = (state.linear_velocity + gravity * h) * linear_damping;
+        let v = match gravity {
+            Some(g) => (state.linear_velocity + g * h) * linear_damping,
+            None => state.linear_velocity * linear_damping,
+        };
         state.linear_velocity = v.component_mul(&body.locks.translation_mask());
+        if !rotation {
+            continue;
+        }
 
+        let angular_damping = 1.0 / (1.0 + h * body.angular_damping);
         gyroscopic_half_step(body, state, h);
         let w = state.angular_velocity * angular_damping;
         state.angular_velocity = w.component_mul(&body.locks.rotation_mask());

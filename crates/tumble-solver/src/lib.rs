@@ -15,9 +15,11 @@ mod constraint;
 mod contact;
 mod contact_cache;
 mod contact_solver;
+mod effects;
 mod error;
 mod gyroscopic;
 mod integrate;
+mod islands;
 mod mass;
 mod material;
 mod softness;
@@ -43,16 +45,18 @@ pub use contact_cache::{
     CachedManifold, ContactCache, PERSIST_DISTANCE, PERSIST_NORMAL_COS, PairKey,
 };
 pub use contact_solver::{PassContext, restitution_contact, solve_contact, warm_start_contact};
+pub use effects::Effects;
 pub use error::{InvalidParameter, require_finite3, require_non_negative, require_positive};
 pub use gyroscopic::gyroscopic_midpoint;
 pub use integrate::{
     MAX_LINEAR_SPEED, MAX_ROTATION_PER_SUBSTEP, begin_step, finalize_bodies, integrate_positions,
-    integrate_velocities,
+    integrate_velocities, integrate_velocities_with,
 };
+pub use islands::Islands;
 pub use mass::MassProperties;
 pub use material::{DEFAULT_FRICTION, Material, mix_friction, mix_restitution};
 pub use softness::Softness;
-pub use solve::{SolveStats, solve};
+pub use solve::{SolveStats, solve, solve_with_effects};
 pub use sweep::{Batch, sweep};
 pub use tangent_basis::tangent_basis;
 

@@ -11,10 +11,10 @@ use rayon::prelude::*;
 use tumble_geometry::{Real, Vec3};
 
 use crate::{
-    Batch, Body, BodyState, Coloring, Contact, ContactConstraint, Mat3, OVERFLOW_COLOR,
+    Batch, Body, BodyState, Coloring, Contact, ContactConstraint, Effects, Mat3, OVERFLOW_COLOR,
     PassContext, PrepareContext, Softness, SolveOrder, SolverConfig, SolverKind, begin_step,
-    integrate_positions, integrate_velocities, prepare_contact, restitution_contact, solve_contact,
-    sweep, warm_start_contact,
+    integrate_positions, integrate_velocities_with, prepare_contact, restitution_contact,
+    solve_contact, sweep, warm_start_contact,
 };
 
 /// Box2D v3 caps the contact stiffness at a quarter of the substep rate: a stiffer spring
@@ -82,6 +82,34 @@ pub fn solve(
     dt: Real,
     gravity: &Vec3,
 ) -> SolveStats {
+    solve_with_effects(
+        bodies,
+        states,
+        contacts,
+        coloring,
+        config,
+        dt,
+        gravity,
+        &Effects::ALL,
+    )
+}
+
+/// [`solve`] with the effects that are off left out: no gravity term, no friction rows, no
+/// angular velocity update, no restitution pass. With an effect on, the general code runs and
+/// decides per constraint (a contact of zero friction skips its friction rows, one of zero
+/// restitution its restitution rows), so for a scene that does not use an effect both give
+/// the same bits; an effect turned off that the scene does use is left out all the same.
+#[allow(clippy::too_many_arguments)]
+pub fn solve_with_effects(
+    bodies: &[Body],
+    states: &mut [BodyState],
+    contacts: &mut [Contact],
+    coloring: &Coloring,
+    config: &SolverConfig,
+    dt: Real,
+    gravity: &Vec3,
+    effects: &Effects,
+) -> SolveStats {
     let substeps = config.substeps.max(1);
     let h = dt / substeps as Real;
     let inv_h = 1.0 / h;
@@ -127,6 +155,17 @@ pub fn solve(
     } else {
         order.iter().map(prepare).collect()
     };
+    if !effects.friction {
+        // A zero coefficient is what makes the passes skip the tangent rows; the warm start
+        // must not re-apply friction impulses carried from before the effect went off.
+        for c in &mut constraints {
+            c.friction = 0.0;
+            for p in &mut c.points {
+                p.tangent_impulse = [0.0; 2];
+            }
+        }
+    }
+    let gravity = effects.gravity.then_some(gravity);
 
     let mut scratch = Vec::new();
     let solve_pass = |use_bias| PassContext {
@@ -137,7 +176,7 @@ pub fn solve(
     let biased = solve_pass(true);
     let relaxed = solve_pass(false);
     for _ in 0..substeps {
-        integrate_velocities(bodies, states, gravity, h);
+        integrate_velocities_with(bodies, states, gravity, effects.rotation, h);
         sweep(
             &mut constraints,
             &batches,
@@ -165,7 +204,7 @@ pub fn solve(
             );
         }
     }
-    if constraints.iter().any(|c| c.restitution > 0.0) {
+    if effects.restitution && constraints.iter().any(|c| c.restitution > 0.0) {
         let threshold = config.restitution_threshold;
         sweep(
             &mut constraints,

@@ -20,6 +20,7 @@ mod body_desc;
 mod config;
 mod contact_report;
 mod error;
+mod gpu_backend;
 mod handle;
 mod scene;
 pub mod stages;

@@ -7,7 +7,7 @@ use tumble_geometry::Real;
 use tumble_solver::{Body, BodyState, Contact, ContactCache};
 
 use crate::{
-    Backend, BodyHandle, ContactPointReport, ContactReport, Error, StageTimings, StepStats,
+    BodyHandle, ContactPointReport, ContactReport, Error, StageTimings, StepStats,
     WorldConfig, handle::HandleMap, stages,
 };
 
@@ -29,22 +29,15 @@ pub struct World {
     sap: SweepAndPrune,
     stats: StepStats,
     steps: u64,
+    /// The GPU side of `Backend::Gpu` and `Backend::Hybrid`.
+    pub(crate) gpu: Option<crate::gpu_backend::GpuBackend>,
 }
 
 impl World {
     /// An empty world. Errs on a bad config (naming the field) or an unavailable backend.
     pub fn new(config: WorldConfig) -> Result<Self, Error> {
         config.validate()?;
-        match config.backend {
-            Backend::Cpu => {}
-            backend @ (Backend::Gpu | Backend::Hybrid) => {
-                return Err(Error::BackendUnavailable {
-                    backend,
-                    reason: "the GPU stages are not wired into the world yet; use Backend::Cpu"
-                        .into(),
-                });
-            }
-        }
+        let gpu = crate::gpu_backend::GpuBackend::new(&config)?;
         Ok(Self {
             config,
             handles: HandleMap::default(),
@@ -56,6 +49,7 @@ impl World {
             sap: SweepAndPrune::new(),
             stats: StepStats::default(),
             steps: 0,
+            gpu,
         })
     }
 
@@ -76,6 +70,11 @@ impl World {
 
     /// Advances the world by `config.dt`.
     pub fn step(&mut self) -> Result<(), Error> {
+        if let Some(stats) = self.step_on_gpu()? {
+            self.stats = stats;
+            self.steps += 1;
+            return Ok(());
+        }
         let dt = self.config.dt;
         let mut timings = StageTimings::default();
         let mut clock = Instant::now();

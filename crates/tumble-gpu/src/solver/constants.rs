@@ -50,9 +50,8 @@ pub const CONSTRAINT_DYNAMIC_B: u32 = 2;
 pub const GYROSCOPIC_NEWTON_ITERATIONS: u32 = 3;
 
 /// Smallest cosine between a pair's normal last step and now (in body A's frame) for its tilt
-/// impulse to carry over: the cosine of 5 degrees, as tumble-solver's contact cache (its
-/// `PERSIST_NORMAL_COS`, Jolt's `mContactNormalCosMaxDeltaRotation`), which it keeps private.
-pub const PERSIST_NORMAL_COS: f32 = 0.996;
+/// impulse to carry over: tumble-solver's contact-cache tolerance (the cosine of 5 degrees).
+pub const PERSIST_NORMAL_COS: f32 = tumble_solver::PERSIST_NORMAL_COS;
 
 /// What a per-color pass does: re-apply the accumulated impulses.
 pub const PASS_WARM_START: u32 = 0;

@@ -2,10 +2,15 @@
 //! uploads the bodies' motion, runs the GPU collision stages, reads the manifolds back as
 //! the CPU's contacts (with the impulses the GPU matching carried over), and after the CPU
 //! solve writes the solved impulses back, so the next step's GPU matching warm starts them.
+//! The patch tilt impulses, which the collision stages do not carry, are kept here by pair
+//! slot and handed over through each manifold's `previous` index, with the CPU cache's normal
+//! check.
 
-use tumble_solver::{Body, BodyState, Contact};
+use tumble_geometry::Vec3;
+use tumble_solver::{Body, BodyState, Contact, PERSIST_NORMAL_COS};
 
 use crate::collision::{CollisionConfig, CollisionSnapshot, GpuCollision, ReadbackRequest};
+use crate::constants::NO_PREVIOUS;
 use crate::layout::GpuContact;
 use crate::solver::convert::{gpu_pose, gpu_shape, gpu_velocity};
 use crate::{GpuContext, GpuError, MAX_MANIFOLD_POINTS};
@@ -19,6 +24,10 @@ pub struct HybridCollision {
     shapes_uploaded: bool,
     /// Last step's points, as read back, to write the solved impulses into.
     last_points: Vec<GpuContact>,
+    /// This step's manifold normal in body A's frame, per pair slot (when it has points).
+    local_normals: Vec<Option<Vec3>>,
+    /// Last step's tilt impulse and normal in A's frame, per pair slot.
+    last_tilts: Vec<Option<(Vec3, Vec3)>>,
 }
 
 impl HybridCollision {
@@ -34,6 +43,8 @@ impl HybridCollision {
             collision: GpuCollision::new(ctx, config)?,
             shapes_uploaded: false,
             last_points: Vec::new(),
+            local_normals: Vec::new(),
+            last_tilts: Vec::new(),
         })
     }
 
@@ -41,6 +52,7 @@ impl HybridCollision {
     /// starts without matching history (after bodies were added, removed or reordered).
     pub fn invalidate(&mut self) {
         self.shapes_uploaded = false;
+        self.last_tilts.clear();
     }
 
     /// Runs the GPU collision stages on the bodies' current poses and velocities and returns
@@ -53,6 +65,7 @@ impl HybridCollision {
     ) -> Result<Vec<(u32, Contact)>, GpuError> {
         if bodies.is_empty() {
             self.last_points.clear();
+            self.last_tilts.clear();
             return Ok(Vec::new());
         }
         let poses: Vec<_> = bodies.iter().map(|b| gpu_pose(&b.pose)).collect();
@@ -63,16 +76,35 @@ impl HybridCollision {
             let shapes: Vec<_> = bodies.iter().map(gpu_shape).collect();
             self.collision.set_bodies(&poses, &velocities, &shapes)?;
             self.collision.forget_history();
+            self.last_tilts.clear();
             self.shapes_uploaded = true;
         }
         let snapshot: CollisionSnapshot =
             self.collision.step_and_read(ReadbackRequest::CONTACTS)?;
         self.last_points = snapshot.contacts.clone();
-        Ok(snapshot.solver_contacts())
+        let mut contacts = snapshot.solver_contacts();
+        self.local_normals = vec![None; snapshot.manifolds.len()];
+        for (slot, contact) in &mut contacts {
+            let k = *slot as usize;
+            let rotation = bodies[contact.body_a as usize].pose.rotation;
+            let local = rotation.inverse_transform_vector(&contact.manifold.normal);
+            self.local_normals[k] = Some(local);
+            // As the CPU cache's warm_tilt: last step's tilt when the normal turned by less
+            // than the angle of PERSIST_NORMAL_COS in A's frame.
+            let previous = snapshot.manifolds[k].previous;
+            if previous != NO_PREVIOUS
+                && let Some(Some((tilt, old_normal))) = self.last_tilts.get(previous as usize)
+                && local.dot(old_normal) >= PERSIST_NORMAL_COS
+            {
+                contact.tilt_impulse = *tilt;
+            }
+        }
+        Ok(contacts)
     }
 
     /// Writes the CPU solver's impulses of the last [`Self::collide`] back to the GPU, where
-    /// the next step's matching carries them to the points with the same feature ids.
+    /// the next step's matching carries them to the points with the same feature ids, and
+    /// keeps the tilt impulses for the next step.
     pub fn store_impulses(&mut self, solved: &[(u32, Contact)]) -> Result<(), GpuError> {
         if self.last_points.is_empty() {
             return Ok(());
@@ -91,6 +123,13 @@ impl HybridCollision {
             for (p, j) in points.iter_mut().zip(&contact.impulses) {
                 p.normal_impulse = j.normal;
                 p.friction_impulse = [j.friction.x, j.friction.y, j.friction.z, 0.0];
+            }
+        }
+        self.last_tilts = vec![None; self.local_normals.len()];
+        for (slot, contact) in solved {
+            let k = *slot as usize;
+            if let Some(Some(normal)) = self.local_normals.get(k) {
+                self.last_tilts[k] = Some((contact.tilt_impulse, *normal));
             }
         }
         let buffers = self.collision.buffers();

@@ -1,6 +1,8 @@
 //! World settings: gravity, time step, solver, backend.
 
 use tumble_geometry::{Real, Vec3};
+
+use crate::EffectOverrides;
 use tumble_solver::{
     InvalidParameter, SolverConfig, require_finite3, require_non_negative, require_positive,
 };
@@ -38,6 +40,9 @@ pub struct WorldConfig {
     /// Base speculative margin, m: AABBs grow by it and the narrow phase reports points this
     /// far apart. Each pair adds its relative speed times `dt` on top.
     pub margin: Real,
+    /// Effects forced on or off; by default each runs when the scene needs it, and sleep
+    /// is off.
+    pub effects: EffectOverrides,
 }
 
 impl Default for WorldConfig {
@@ -49,6 +54,7 @@ impl Default for WorldConfig {
             solver: SolverConfig::default(),
             backend: Backend::Cpu,
             margin: DEFAULT_MARGIN,
+            effects: EffectOverrides::default(),
         }
     }
 }

@@ -19,10 +19,12 @@
 mod body_desc;
 mod config;
 mod contact_report;
+mod effects;
 mod error;
 mod gpu_backend;
 mod handle;
 mod scene;
+mod sleep;
 pub mod stages;
 mod stats;
 mod world;
@@ -31,9 +33,11 @@ mod world_bodies;
 pub use body_desc::{BodyDesc, DEFAULT_HALF_EXTENTS};
 pub use config::{Backend, DEFAULT_MARGIN, STANDARD_GRAVITY, WorldConfig};
 pub use contact_report::{ContactPointReport, ContactReport};
+pub use effects::{EffectOverrides, EffectSwitch};
 pub use error::Error;
 pub use handle::BodyHandle;
 pub use scene::body_desc;
+pub use sleep::{ANGULAR_SLEEP_TOLERANCE, LINEAR_SLEEP_TOLERANCE, TIME_TO_SLEEP};
 pub use stats::{StageTimings, StepStats};
 pub use world::World;
 
@@ -41,7 +45,7 @@ pub use tumble_geometry as geometry;
 pub use tumble_geometry::{Aabb, Cuboid, Point3, Pose, Real, Rot, Vec3, nalgebra};
 pub use tumble_scenes as scenes;
 pub use tumble_solver as solver;
-pub use tumble_solver::{BodyKind, Locks, Material, SolveOrder, SolverConfig, SolverKind};
+pub use tumble_solver::{BodyKind, Effects, Locks, Material, SolveOrder, SolverConfig, SolverKind};
 
 /// The names most programs need, in one import.
 pub mod prelude {

@@ -7,8 +7,8 @@ use tumble_geometry::Real;
 use tumble_solver::{Body, BodyState, Contact, ContactCache};
 
 use crate::{
-    BodyHandle, ContactPointReport, ContactReport, Error, StageTimings, StepStats,
-    WorldConfig, handle::HandleMap, stages,
+    BodyHandle, ContactPointReport, ContactReport, Error, StageTimings, StepStats, WorldConfig,
+    handle::HandleMap, stages,
 };
 
 /// A simulated world of boxes.
@@ -26,6 +26,8 @@ pub struct World {
     /// The body handles of each of last step's manifolds.
     pub(crate) contact_handles: Vec<(BodyHandle, BodyHandle)>,
     pub(crate) cache: ContactCache,
+    /// Rest timers, sleeping islands and their contacts.
+    pub(crate) sleep: crate::sleep::SleepState,
     sap: SweepAndPrune,
     stats: StepStats,
     steps: u64,
@@ -46,6 +48,7 @@ impl World {
             contacts: Vec::new(),
             contact_handles: Vec::new(),
             cache: ContactCache::new(),
+            sleep: Default::default(),
             sap: SweepAndPrune::new(),
             stats: StepStats::default(),
             steps: 0,
@@ -71,6 +74,12 @@ impl World {
     /// Advances the world by `config.dt`.
     pub fn step(&mut self) -> Result<(), Error> {
         if let Some(stats) = self.step_on_gpu()? {
+            self.stats = stats;
+            self.steps += 1;
+            return Ok(());
+        }
+        let effects = self.effects();
+        if let Some(stats) = self.step_with_sleepers(&effects) {
             self.stats = stats;
             self.steps += 1;
             return Ok(());
@@ -111,7 +120,7 @@ impl World {
         let coloring = stages::color(&contacts, &self.bodies, self.config.solver.order);
         lap(&mut timings.color);
 
-        let solved = stages::solve(
+        let solved = stages::solve_with_effects(
             &self.bodies,
             &mut self.states,
             &mut contacts,
@@ -119,6 +128,7 @@ impl World {
             &self.config.solver,
             dt,
             &self.config.gravity,
+            &effects,
         );
         lap(&mut timings.solve);
 
@@ -155,6 +165,9 @@ impl World {
             .map(|c| (handles[c.body_a as usize], handles[c.body_b as usize]))
             .collect();
         self.contacts = contacts;
+        if effects.sleep {
+            self.update_sleep(&effects);
+        }
         self.steps += 1;
         Ok(())
     }

@@ -21,6 +21,7 @@ impl World {
         let (body, state) = desc.build()?;
         self.bodies.push(body);
         self.states.push(state);
+        self.sleep.push();
         Ok(self.handles.insert())
     }
 
@@ -29,6 +30,7 @@ impl World {
         let d = self.handles.dense(h)?;
         self.bodies.swap_remove(d);
         self.states.swap_remove(d);
+        self.sleep.swap_remove(d);
         self.handles.remove(h, d);
         self.forget_contacts_of(h);
         Ok(())
@@ -118,6 +120,7 @@ impl World {
         let mut pose = pose;
         pose.rotation.renormalize();
         self.bodies[d].pose = pose;
+        self.sleep.wake(d);
         Ok(())
     }
 
@@ -135,6 +138,7 @@ impl World {
             .into());
         }
         self.states[d].linear_velocity = v.component_mul(&body.locks.translation_mask());
+        self.sleep.wake(d);
         Ok(())
     }
 
@@ -152,6 +156,7 @@ impl World {
             .into());
         }
         self.states[d].angular_velocity = w.component_mul(&body.locks.rotation_mask());
+        self.sleep.wake(d);
         Ok(())
     }
 
@@ -194,6 +199,7 @@ impl World {
         let state = &mut self.states[d];
         state.linear_velocity += dv;
         state.angular_velocity += dw;
+        self.sleep.wake(d);
         Ok(())
     }
 }

@@ -16,5 +16,5 @@ pub use broad_phase::broad_phase;
 pub use color::color;
 pub use finish::finish;
 pub use narrow_phase::{NarrowPhaseOutput, narrow_phase, pair_margin};
-pub use solve::solve;
+pub use solve::{solve, solve_with_effects};
 pub use update_aabbs::update_aabbs;

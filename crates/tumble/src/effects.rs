@@ -1,0 +1,78 @@
+//! The effects a world's step runs: derived from its bodies at every step (so a body added,
+//! removed or changed is accounted for at once) and open to the user, who may force any of
+//! them on or off through [`WorldConfig::effects`](crate::WorldConfig::effects).
+
+use tumble_solver::Effects;
+
+use crate::World;
+
+/// How one effect is chosen.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum EffectSwitch {
+    /// On when the scene needs it (sleep: off, since sleeping changes results).
+    #[default]
+    Auto,
+    /// Always run, needed or not (the general step).
+    On,
+    /// Never run, even when the scene would need it.
+    Off,
+}
+
+impl EffectSwitch {
+    fn resolve(self, derived: bool) -> bool {
+        match self {
+            Self::Auto => derived,
+            Self::On => true,
+            Self::Off => false,
+        }
+    }
+}
+
+/// The user's choice per effect; `Auto` everywhere by default.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct EffectOverrides {
+    /// Gravity.
+    pub gravity: EffectSwitch,
+    /// Friction rows.
+    pub friction: EffectSwitch,
+    /// The restitution pass.
+    pub restitution: EffectSwitch,
+    /// Angular motion.
+    pub rotation: EffectSwitch,
+    /// Kinematic-body handling.
+    pub kinematic: EffectSwitch,
+    /// Islands and sleep (`Auto` means off: ask for it with `On`).
+    pub sleep: EffectSwitch,
+}
+
+impl EffectOverrides {
+    /// Every effect forced on: the general step, whatever the scene.
+    pub const ALL_ON: Self = Self {
+        gravity: EffectSwitch::On,
+        friction: EffectSwitch::On,
+        restitution: EffectSwitch::On,
+        rotation: EffectSwitch::On,
+        kinematic: EffectSwitch::On,
+        sleep: EffectSwitch::On,
+    };
+
+    /// The effects that run, given the ones the scene needs.
+    pub fn resolve(&self, derived: Effects) -> Effects {
+        Effects {
+            gravity: self.gravity.resolve(derived.gravity),
+            friction: self.friction.resolve(derived.friction),
+            restitution: self.restitution.resolve(derived.restitution),
+            rotation: self.rotation.resolve(derived.rotation),
+            kinematic: self.kinematic.resolve(derived.kinematic),
+            sleep: self.sleep.resolve(derived.sleep),
+        }
+    }
+}
+
+impl World {
+    /// The effects the next step runs: what the bodies need, with the config's overrides.
+    pub fn effects(&self) -> Effects {
+        let derived = Effects::of_bodies(&self.bodies, &self.config.gravity);
+        self.config.effects.resolve(derived)
+    }
+}

@@ -13,7 +13,15 @@ use crate::collision::{CollisionConfig, CollisionSnapshot, GpuCollision, Readbac
 use crate::constants::NO_PREVIOUS;
 use crate::layout::GpuContact;
 use crate::solver::convert::{gpu_pose, gpu_shape, gpu_velocity};
-use crate::{GpuContext, GpuError, MAX_MANIFOLD_POINTS};
+use crate::{GpuContext, GpuError, MAX_MANIFOLD_POINTS, StageTimer};
+
+/// Pair slots added on overflow: a quarter on top of what the step asked for, so a pile that
+/// is still getting denser does not overflow again at once.
+const GROWTH_DIVISOR: u32 = 4;
+
+/// Longest wait for a readback before reporting a device error: far beyond any step (a lost
+/// device, not a slow one).
+const READ_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(60);
 
 /// GPU collision for a CPU solver.
 #[derive(Debug)]
@@ -31,13 +39,9 @@ pub struct HybridCollision {
 }
 
 impl HybridCollision {
-    /// The collision stages on `ctx` with `config` (`auto_grow` is forced on: an overflowing
-    /// step is redone with larger buffers before anything is read).
+    /// The collision stages on `ctx` with `config`. A step whose pairs overflow the buffers is
+    /// run again with larger ones before anything is returned.
     pub fn new(ctx: &GpuContext, config: CollisionConfig) -> Result<Self, GpuError> {
-        let config = CollisionConfig {
-            auto_grow: true,
-            ..config
-        };
         Ok(Self {
             ctx: ctx.clone(),
             collision: GpuCollision::new(ctx, config)?,
@@ -79,8 +83,17 @@ impl HybridCollision {
             self.last_tilts.clear();
             self.shapes_uploaded = true;
         }
-        let snapshot: CollisionSnapshot =
-            self.collision.step_and_read(ReadbackRequest::CONTACTS)?;
+        let mut snapshot = self.run_once()?;
+        if snapshot.check_overflow().is_err() {
+            // More pairs than slots: grow (which drops the matching history) and run the
+            // same collision stages again; the bodies have not moved.
+            let requested = snapshot.work.requested;
+            self.collision
+                .reserve_pairs(requested.saturating_add(requested / GROWTH_DIVISOR))?;
+            self.last_tilts.clear();
+            snapshot = self.run_once()?;
+            snapshot.check_overflow()?;
+        }
         self.last_points = snapshot.contacts.clone();
         let mut contacts = snapshot.solver_contacts();
         self.local_normals = vec![None; snapshot.manifolds.len()];
@@ -100,6 +113,37 @@ impl HybridCollision {
             }
         }
         Ok(contacts)
+    }
+
+    /// Records the collision stages and a readback of their manifolds, submits, and waits for
+    /// the copy. The wait polls until the map callback has run: another user of the device
+    /// may be running it in its own poll when a plain wait returns.
+    fn run_once(&mut self) -> Result<CollisionSnapshot, GpuError> {
+        let mut encoder = self
+            .ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("hybrid collision"),
+            });
+        self.collision
+            .record(&mut encoder, &mut StageTimer::disabled(&self.ctx))?;
+        let plan = self
+            .collision
+            .record_readback(&mut encoder, ReadbackRequest::CONTACTS)?;
+        self.ctx.queue.submit([encoder.finish()]);
+        let pending = self.collision.submit_readback(plan);
+        let deadline = std::time::Instant::now() + READ_TIMEOUT;
+        loop {
+            if let Some(snapshot) = self.collision.try_receive(&pending) {
+                return snapshot;
+            }
+            if std::time::Instant::now() > deadline {
+                return Err(GpuError::Device(
+                    "collision readback was not mapped in time".into(),
+                ));
+            }
+            self.ctx.wait_idle()?;
+        }
     }
 
     /// Writes the CPU solver's impulses of the last [`Self::collide`] back to the GPU, where

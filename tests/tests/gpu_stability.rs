@@ -1,0 +1,101 @@
+//! The CPU stability suite's checks on `Backend::Gpu` (the whole step on the GPU) and
+//! `Backend::Hybrid` (collision on the GPU, solver on the CPU), through the facade, with the
+//! default soft-step solver: the same scenes, the same thresholds, the same code
+//! (`tumble_tests::stability`, `tumble_tests::bad_input`).
+//!
+//! Left out for run time on a software rasterizer: the 30-cube column, the 650-cube pyramid
+//! and the run of every canonical scene, which together take minutes on lavapipe; all pass on
+//! both backends with `tumble_tests::stability_suite!` (docs/gpu-solver.md). A 6-layer
+//! pyramid stands in. About 90 s on lavapipe with two test threads.
+//!
+//! Needs a GPU (or lavapipe): without one every test prints a loud "skipped" unless
+//! `TUMBLE_REQUIRE_GPU=1`, which makes a missing adapter a failure.
+
+use tumble::scenes;
+use tumble::{Backend, SolverConfig};
+use tumble_gpu::GpuContext;
+use tumble_tests::{bad_input, stability};
+
+/// True when a GPU is there (or the test must fail because it is not).
+fn have_gpu() -> bool {
+    GpuContext::for_tests().is_some()
+}
+
+macro_rules! gpu_checks {
+    ($name:ident, $backend:expr) => {
+        mod $name {
+            use super::*;
+
+            fn run(check: fn(Backend, SolverConfig)) {
+                if have_gpu() {
+                    check($backend, SolverConfig::default());
+                }
+            }
+
+            #[test]
+            fn column_of_20_cubes_stands_10_s() {
+                run(|b, s| stability::column_stands(b, s, 20));
+            }
+            #[test]
+            fn pyramid_of_6_layers_stands_10_s() {
+                run(|b, s| {
+                    stability::stands(
+                        &scenes::pyramid(6),
+                        b,
+                        s,
+                        stability::TEN_SECONDS,
+                        stability::PYRAMID_DRIFT,
+                        None,
+                    );
+                });
+            }
+            #[test]
+            fn cube_100x_denser_stands_on_three() {
+                run(stability::heavy_cube_stands);
+            }
+            #[test]
+            fn box_10x_wider_stands_on_four_cubes() {
+                run(stability::wide_box_stands);
+            }
+            #[test]
+            fn box_with_mu_half_sticks_on_a_20_degree_ramp() {
+                run(stability::ramp_box_sticks);
+            }
+            #[test]
+            fn box_with_mu_0_2_slides_at_coulombs_rate() {
+                run(stability::ramp_box_slides);
+            }
+            #[test]
+            fn overlapping_boxes_separate_within_the_push_out_cap() {
+                run(stability::overlapping_boxes_separate);
+            }
+            #[test]
+            fn fast_cube_does_not_pass_a_thin_floor() {
+                run(stability::fast_box_does_not_tunnel);
+            }
+            #[test]
+            fn spinning_box_keeps_its_angular_momentum() {
+                run(stability::spinning_box_keeps_momentum);
+            }
+            #[test]
+            fn far_column_stands_like_near_column() {
+                run(stability::far_column_stands_like_near);
+            }
+            #[test]
+            fn bad_bodies_are_rejected() {
+                run(bad_input::bad_bodies_are_rejected);
+            }
+            #[test]
+            fn bad_updates_are_rejected() {
+                run(bad_input::bad_updates_are_rejected);
+            }
+            #[test]
+            fn stale_handles_are_rejected() {
+                run(bad_input::stale_handles_are_rejected);
+            }
+        }
+    };
+}
+
+gpu_checks!(gpu, Backend::Gpu);
+gpu_checks!(hybrid, Backend::Hybrid);

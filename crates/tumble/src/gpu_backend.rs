@@ -16,6 +16,7 @@ use std::time::{Duration, Instant};
 
 use tumble_geometry::{Pose, Real};
 use tumble_gpu::collision::CollisionConfig;
+use tumble_gpu::solver::Effects as GpuEffects;
 use tumble_gpu::step::{GpuWorld, GpuWorldConfig, HybridCollision, ReadRequest};
 use tumble_gpu::{GpuContext, GpuError};
 use tumble_solver::{BodyState, Contact, finalize_bodies};
@@ -144,6 +145,12 @@ impl World {
     /// One step on the GPU backend, returning its statistics; `None` on `Backend::Cpu`.
     pub(crate) fn step_on_gpu(&mut self) -> Result<Option<StepStats>, Error> {
         let backend = self.config.backend;
+        if self.gpu.is_none() {
+            return Ok(None);
+        }
+        // The effects the step runs, with the config's overrides; sleep is not on the GPU
+        // backends (no islands there), so bodies never sleep on them.
+        let effects = self.effects();
         let Some(gpu) = self.gpu.as_mut() else {
             return Ok(None);
         };
@@ -170,6 +177,7 @@ impl World {
                         }
                     }
                 }
+                gpu.set_effects(GpuEffects::from(&effects)).map_err(fail)?;
                 gpu.request_reads(ReadRequest::ALL);
                 gpu.step().map_err(fail)?;
                 let mut snapshot = gpu
@@ -227,7 +235,7 @@ impl World {
                 let coloring = stages::color(&contacts, &self.bodies, self.config.solver.order);
                 timings.color = clock.elapsed();
                 let clock = Instant::now();
-                let solved = stages::solve(
+                let solved = stages::solve_with_effects(
                     &self.bodies,
                     &mut self.states,
                     &mut contacts,
@@ -235,6 +243,7 @@ impl World {
                     &self.config.solver,
                     self.config.dt,
                     &self.config.gravity,
+                    &effects,
                 );
                 timings.solve = clock.elapsed();
                 let clock = Instant::now();

@@ -3,7 +3,7 @@
 //! whose result is known to be zero, so results do not change.
 
 use tumble_geometry::Vec3;
-use tumble_solver::{Body, BodyKind};
+use tumble_solver::Body;
 
 /// Which optional parts of the solver the pipelines contain.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -27,21 +27,10 @@ impl Effects {
         rotation: true,
     };
 
-    /// The effects `bodies` under `gravity` can need.
+    /// The effects `bodies` under `gravity` can need: tumble-solver's derivation
+    /// ([`tumble_solver::Effects::of_bodies`]), so the GPU and the CPU compile in the same.
     pub fn of_scene(bodies: &[Body], gravity: &Vec3) -> Self {
-        // Combined friction is sqrt(mu_a mu_b): nonzero only between two rough bodies.
-        let rough = bodies.iter().filter(|b| b.material.friction > 0.0).count();
-        Self {
-            friction: rough >= 2,
-            restitution: bodies.iter().any(|b| b.material.restitution > 0.0),
-            gravity: *gravity != Vec3::zeros(),
-            // Kinematic bodies turn with whatever angular velocity they are given.
-            rotation: bodies.iter().any(|b| match b.kind {
-                BodyKind::Fixed => false,
-                BodyKind::Kinematic => true,
-                BodyKind::Dynamic => !b.locks.all_rotations(),
-            }),
-        }
+        Self::from(&tumble_solver::Effects::of_bodies(bodies, gravity))
     }
 
     /// The `override` values of the switches.
@@ -53,5 +42,18 @@ impl Effects {
             ("ENABLE_GRAVITY", flag(self.gravity)),
             ("ENABLE_ROTATION", flag(self.rotation)),
         ]
+    }
+}
+
+impl From<&tumble_solver::Effects> for Effects {
+    /// The switches the GPU solver has (kinematic handling and sleep have none here: the GPU
+    /// step always moves kinematic bodies and has no islands).
+    fn from(e: &tumble_solver::Effects) -> Self {
+        Self {
+            friction: e.friction,
+            restitution: e.restitution,
+            gravity: e.gravity,
+            rotation: e.rotation,
+        }
     }
 }

@@ -135,6 +135,12 @@ impl GpuWorld {
         Ok(())
     }
 
+    /// Compiles in exactly `effects` from the next step on (instead of those derived from the
+    /// bodies on upload): an effect forced off is left out even where the scene needs it.
+    pub fn set_effects(&mut self, effects: Effects) -> Result<(), GpuError> {
+        self.solver.set_effects(effects)
+    }
+
     /// The device.
     pub fn context(&self) -> &GpuContext {
         &self.ctx

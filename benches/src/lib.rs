@@ -1,1 +1,3 @@
 //! Shared helpers for the criterion benches.
+#![warn(missing_docs)]
+pub mod effect_pool;

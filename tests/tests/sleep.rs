@@ -188,3 +188,23 @@ fn a_moving_kinematic_body_wakes_what_it_reaches() {
     assert!(x > 0.1, "base cube at x = {x}");
     assert!(!world.is_sleeping(pusher).unwrap());
 }
+
+#[test]
+fn neighbours_a_few_millimetres_apart_sleep_together() {
+    // Two cubes 5 mm apart, the second dropped from 0.5 m so the first falls asleep before it
+    // lands: inside the 2 cm speculative margin, so they share a manifold
+    // without touching. Were that manifold to wake a sleeping neighbour without linking the
+    // two into one island, each would wake the other in turn and neither would stay asleep.
+    let mut world = sleepy_world();
+    let a = world
+        .add_body(BodyDesc::dynamic().translation(0.0, 0.5, 0.0))
+        .unwrap();
+    let b = world
+        .add_body(BodyDesc::dynamic().translation(1.005, 1.0, 0.0))
+        .unwrap();
+    steps_until_asleep(&mut world, &[a, b], 120).expect("the pair never slept");
+    for _ in 0..120 {
+        world.step().unwrap();
+        assert!(world.is_sleeping(a).unwrap() && world.is_sleeping(b).unwrap());
+    }
+}

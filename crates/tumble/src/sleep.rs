@@ -2,7 +2,7 @@
 //! [`tumble_solver::Islands`]) whose bodies have all stayed slow for [`TIME_TO_SLEEP`] leaves
 //! the step. A sleeping island is out of the narrow phase and the solver, and pairs between
 //! sleeping and fixed bodies are never formed; it wakes when an awake body touches it (a
-//! manifold with one of its bodies), when a moving kinematic body's box reaches it, or when the
+//! manifold with one of its bodies, speculative points included), when a moving kinematic body's box reaches it, or when the
 //! user sets a pose or a velocity, applies an impulse, or removes one of its bodies.
 //!
 //! While some bodies sleep, the step runs on a gathered copy: the awake bodies, then the
@@ -137,11 +137,10 @@ impl World {
             .zip(&sleep.island)
             .map(|(b, &i)| b.is_dynamic() && i == AWAKE)
             .collect();
-        let links = self
-            .contacts
-            .iter()
-            .filter(|c| c.is_touching())
-            .map(|c| (c.body_a, c.body_b));
+        // Every manifold links, speculative ones too, as a manifold with a sleeping body wakes
+        // it: were the two rules different, two neighbours a few millimetres apart would wake
+        // each other in turn forever (Box2D v3 links on the same condition it wakes on).
+        let links = self.contacts.iter().map(|c| (c.body_a, c.body_b));
         let islands = Islands::build(&awake_dynamic, links);
         // The shortest rest of each island (indexed by its label, a body index).
         let mut shortest = vec![Real::INFINITY; self.bodies.len()];

@@ -1,14 +1,138 @@
-//! Project tasks: `cargo xtask validate`, `cargo xtask bench`, `cargo xtask tidy`.
+//! Project tasks, run as `cargo xtask <task>`:
+//! - `validate`: every scene under every solver configuration and backend, beside rapier3d,
+//!   measured (docs/validation.md), tabled and plotted;
+//! - `bench`: the criterion benches;
+//! - `tidy`: formatting and the layer rule of DESIGN.md.
 #![warn(missing_docs)]
-#![allow(dead_code)]
 
+mod backends;
+mod bench;
 mod energy;
 mod engine;
+mod engine_rapier;
+mod engine_tumble;
+mod fonts;
 mod grid;
+mod layers;
 mod metrics;
 mod penetration;
+mod plot;
+mod report;
+mod results;
 mod run;
 mod scene_info;
+mod scene_set;
+mod table;
+mod tidy;
 mod timing;
+mod validate;
 
-fn main() {}
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+
+use crate::grid::{BackendChoice, GridSize};
+use crate::validate::{ValidateArgs, validate};
+
+/// Exit code when the validation ran but a scene failed its check in the default
+/// configuration (or a tidy check failed).
+const EXIT_FAILED_CHECK: u8 = 1;
+/// Exit code when a task could not run at all (bad arguments, unwritable folder, ...).
+const EXIT_ERROR: u8 = 2;
+
+#[derive(Parser)]
+#[command(name = "cargo xtask", about = "Tumble's project tasks")]
+struct Cli {
+    #[command(subcommand)]
+    task: Task,
+}
+
+#[derive(Subcommand)]
+enum Task {
+    /// Runs every scene under every solver configuration and backend, and rapier3d, and writes
+    /// a report; fails when a scene fails its check in the default configuration.
+    Validate(ValidateCli),
+    /// Runs the criterion benches of the `tumble-benches` package (extra arguments go to
+    /// `cargo bench`).
+    Bench {
+        /// Passed to `cargo bench -p tumble-benches` (e.g. `--bench broad_phase`).
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+        args: Vec<String>,
+    },
+    /// Checks formatting (`cargo fmt --check`) and that no crate imports one to its right in
+    /// the layer order of DESIGN.md.
+    Tidy,
+}
+
+#[derive(Args)]
+struct ValidateCli {
+    /// The reduced grid on shortened scenes (the default): a few minutes on two cores.
+    #[arg(long, conflicts_with = "full")]
+    quick: bool,
+    /// The whole grid on full-length scenes, plus the large pyramid.
+    #[arg(long)]
+    full: bool,
+    /// Scene files (JSON, the `tumble-scenes` schema) to run instead of the built-in set.
+    #[arg(long = "scene", value_name = "FILE.json", num_args = 1..)]
+    scenes: Vec<PathBuf>,
+    /// Report folder [default: target/validation in the workspace].
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Backends to run, comma-separated: cpu, gpu, hybrid [default: cpu, plus gpu and hybrid
+    /// where a hardware GPU adapter exists].
+    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    backends: Option<Vec<String>>,
+    /// Keep only scenes whose name contains this text.
+    #[arg(long, value_name = "NAME")]
+    filter: Option<String>,
+}
+
+/// The workspace root (this crate lives in `xtask/` under it).
+fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .map_or_else(|| PathBuf::from("."), Path::to_path_buf)
+}
+
+fn run_validate(cli: ValidateCli) -> Result<bool, String> {
+    let backends = cli
+        .backends
+        .map(|list| {
+            list.iter()
+                .map(|b| BackendChoice::parse(b))
+                .collect::<Result<Vec<_>, _>>()
+        })
+        .transpose()?;
+    let args = ValidateArgs {
+        size: if cli.full {
+            GridSize::Full
+        } else {
+            GridSize::Quick
+        },
+        scene_files: cli.scenes,
+        out: cli
+            .out
+            .unwrap_or_else(|| workspace_root().join("target").join("validation")),
+        backends,
+        filter: cli.filter,
+    };
+    validate(&args)
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.task {
+        Task::Validate(v) => run_validate(v),
+        Task::Bench { args } => bench::run_benches(&workspace_root(), &args),
+        Task::Tidy => tidy::tidy(&workspace_root()),
+    };
+    match result {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(EXIT_FAILED_CHECK),
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(EXIT_ERROR)
+        }
+    }
+}

@@ -31,8 +31,9 @@ pub struct RunMetrics {
     pub mean_penetration: f64,
     /// Largest horizontal displacement of any dynamic body from its rest pose at any step, m.
     pub max_drift: f32,
-    /// RMS point speed of the bodies that should rest, over the last `JITTER_WINDOW_S`, m/s.
-    pub jitter_rms: f64,
+    /// RMS point speed of the bodies that should rest, over the last `JITTER_WINDOW_S`, m/s;
+    /// `None` when the scene has no body that should rest.
+    pub jitter_rms: Option<f64>,
     /// `(E_end - E_start) / scale`, signed: negative is dissipation, positive is energy gain.
     pub energy_drift: Option<f64>,
     /// Largest `(E(t) - E_start) / scale` over the run: energy the solver created.
@@ -147,11 +148,8 @@ impl<'a> MetricsRecorder<'a> {
         } else {
             0.0
         };
-        m.jitter_rms = if self.jitter_samples > 0 {
-            (self.jitter_sum_sq / self.jitter_samples as f64).sqrt()
-        } else {
-            0.0
-        };
+        m.jitter_rms = (self.jitter_samples > 0)
+            .then(|| (self.jitter_sum_sq / self.jitter_samples as f64).sqrt());
         m.energy_drift = self
             .scale
             .map(|s| (self.energy_last - self.energy_start) / s);
@@ -223,7 +221,7 @@ mod tests {
         assert_eq!(m.steps, 120);
         assert_eq!(m.max_penetration, 0.0);
         assert_eq!(m.max_drift, 0.0);
-        assert_eq!(m.jitter_rms, 0.0);
+        assert_eq!(m.jitter_rms, Some(0.0));
         assert_eq!(m.time_to_rest, Some(0.0));
         assert_eq!(m.energy_drift, Some(0.0));
         assert_eq!(m.nan_bodies, 0);
@@ -258,7 +256,7 @@ mod tests {
         let drift = m.energy_drift.expect("gravity gives a scale");
         assert!((drift + 0.02 / 5.0).abs() < 1e-5, "{drift}");
         // The slide happened before the last second, so there is no jitter.
-        assert_eq!(m.jitter_rms, 0.0);
+        assert_eq!(m.jitter_rms, Some(0.0));
     }
 
     #[test]
@@ -281,7 +279,8 @@ mod tests {
         }
         let m = rec.finish();
         let expected = 0.1 / 2f64.sqrt();
-        assert!((m.jitter_rms - expected).abs() < 1e-6, "{}", m.jitter_rms);
+        let jitter = m.jitter_rms.expect("the cube should rest");
+        assert!((jitter - expected).abs() < 1e-6, "{jitter}");
         // It buzzes above REST_SPEED until the end; a single still step is no rest.
         assert_eq!(m.time_to_rest, None);
     }

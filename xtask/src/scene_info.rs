@@ -70,9 +70,4 @@ impl SceneInfo {
             .try_normalize(Real::EPSILON)
             .map_or(Vec3::y(), |g| -g)
     }
-
-    /// Number of dynamic bodies.
-    pub fn dynamic_count(&self) -> usize {
-        self.bodies.iter().filter(|b| b.dynamic).count()
-    }
 }

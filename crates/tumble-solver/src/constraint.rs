@@ -240,6 +240,9 @@ pub fn prepare_contact(
     }
     let (ca, cb) = (a.pose.translation.vector, b.pose.translation.vector);
     let (sa, sb) = (&states[ia], &states[ib]);
+    // A frictionless contact has one row per point: its friction rows are never built, and
+    // the passes skip them (their impulses stay zero).
+    let frictional = c.friction > 0.0;
     for (i, p) in contact.manifold.points().iter().enumerate() {
         let anchor_a = p.position.coords - ca;
         let anchor_b = p.position.coords - cb;
@@ -249,10 +252,14 @@ pub fn prepare_contact(
             - sa.angular_velocity.cross(&anchor_a);
         let (ii_a, ii_b) = (&inverse_inertia[ia], &inverse_inertia[ib]);
         let normal_row = AngularRow::new(ii_a, ii_b, &anchor_a, &anchor_b, &normal);
-        let tangent_rows = [
-            AngularRow::new(ii_a, ii_b, &anchor_a, &anchor_b, &tangent1),
-            AngularRow::new(ii_a, ii_b, &anchor_a, &anchor_b, &tangent2),
-        ];
+        let tangent_rows = if frictional {
+            [
+                AngularRow::new(ii_a, ii_b, &anchor_a, &anchor_b, &tangent1),
+                AngularRow::new(ii_a, ii_b, &anchor_a, &anchor_b, &tangent2),
+            ]
+        } else {
+            [AngularRow::default(); 2]
+        };
         let normal_mass = row_mass(&c, &normal_row, &normal);
         let normal_impulse = ctx.warm_start_scale * warm.normal;
         c.points[i] = ConstraintPoint {
@@ -260,15 +267,23 @@ pub fn prepare_contact(
             anchor_b,
             base_separation: -p.depth - (anchor_b - anchor_a).dot(&normal),
             normal_mass,
-            tangent_mass: [
-                row_mass(&c, &tangent_rows[0], &tangent1),
-                row_mass(&c, &tangent_rows[1], &tangent2),
-            ],
+            tangent_mass: if frictional {
+                [
+                    row_mass(&c, &tangent_rows[0], &tangent1),
+                    row_mass(&c, &tangent_rows[1], &tangent2),
+                ]
+            } else {
+                [0.0; 2]
+            },
             normal_impulse,
-            tangent_impulse: [
-                ctx.warm_start_scale * warm.friction.dot(&tangent1),
-                ctx.warm_start_scale * warm.friction.dot(&tangent2),
-            ],
+            tangent_impulse: if frictional {
+                [
+                    ctx.warm_start_scale * warm.friction.dot(&tangent1),
+                    ctx.warm_start_scale * warm.friction.dot(&tangent2),
+                ]
+            } else {
+                [0.0; 2]
+            },
             total_normal_impulse: 0.0,
             relative_velocity: dv.dot(&normal),
             normal_row,

@@ -54,7 +54,9 @@ pub fn warm_start_contact(c: &mut ContactConstraint, a: &mut BodyState, b: &mut 
             cp.tangent_impulse[0],
             cp.tangent_impulse[1],
         ];
-        for ((d, row), lambda) in directions.iter().zip(&rows).zip(impulses) {
+        // Without friction only the normal row carries an impulse.
+        let used = if c.friction > 0.0 { 3 } else { 1 };
+        for ((d, row), lambda) in directions.iter().zip(&rows).zip(impulses).take(used) {
             apply_row(c, a, b, d, row, lambda);
         }
     }

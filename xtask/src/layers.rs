@@ -7,22 +7,44 @@
 //!                 <- tumble-scenes (scene data) <-----------------------'
 //! ```
 
-/// Each engine crate with its layer: a crate may depend only on crates of a lower layer
-/// (siblings of one layer, such as the broad and narrow phases, stay independent).
-pub const LAYERS: [(&str, u32); 7] = [
-    ("tumble-geometry", 0),
-    ("tumble-broad", 1),
-    ("tumble-narrow", 1),
-    ("tumble-scenes", 1),
-    ("tumble-solver", 2),
-    ("tumble-gpu", 3),
-    ("tumble", 4),
+/// The arrows of the diagram: each engine crate and the crates directly below it. A crate
+/// may import anything reachable along these arrows, and nothing else of the engine.
+pub const ARROWS: [(&str, &[&str]); 7] = [
+    ("tumble-geometry", &[]),
+    ("tumble-broad", &["tumble-geometry"]),
+    ("tumble-narrow", &["tumble-geometry"]),
+    ("tumble-scenes", &["tumble-geometry"]),
+    ("tumble-solver", &["tumble-broad", "tumble-narrow"]),
+    ("tumble-gpu", &["tumble-solver"]),
+    ("tumble", &["tumble-gpu", "tumble-scenes"]),
 ];
 
-/// The layer of an engine crate, `None` for anything else (xtask, tests, benches, external
-/// crates), which the rule does not constrain.
-pub fn layer_of(name: &str) -> Option<u32> {
-    LAYERS.iter().find(|(n, _)| *n == name).map(|&(_, l)| l)
+/// True for the engine's crates, the only ones the rule constrains (xtask, tests, benches
+/// and external crates may import anything).
+pub fn is_engine_crate(name: &str) -> bool {
+    ARROWS.iter().any(|(n, _)| *n == name)
+}
+
+/// Whether `from` may import `to` (both engine crates): `to` is below `from` along the arrows.
+pub fn may_import(from: &str, to: &str) -> bool {
+    let below = |name: &str| -> &'static [&'static str] {
+        ARROWS
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map_or(&[], |(_, b)| *b)
+    };
+    let mut stack: Vec<&str> = below(from).to_vec();
+    let mut seen: Vec<&str> = Vec::new();
+    while let Some(next) = stack.pop() {
+        if next == to {
+            return true;
+        }
+        if !seen.contains(&next) {
+            seen.push(next);
+            stack.extend_from_slice(below(next));
+        }
+    }
+    false
 }
 
 /// One dependency edge: `from` depends on `to` (`dev` for dev-dependencies).
@@ -41,16 +63,15 @@ pub struct Edge {
 pub fn violations(edges: &[Edge]) -> Vec<String> {
     edges
         .iter()
-        .filter_map(|e| {
-            let (from, to) = (layer_of(&e.from)?, layer_of(&e.to)?);
-            (to >= from).then(|| {
-                format!(
-                    "{} (layer {from}) {}depends on {} (layer {to}): a crate may only import crates of a lower layer",
-                    e.from,
-                    if e.dev { "dev-" } else { "" },
-                    e.to
-                )
-            })
+        .filter(|e| is_engine_crate(&e.from) && is_engine_crate(&e.to))
+        .filter(|e| !may_import(&e.from, &e.to))
+        .map(|e| {
+            format!(
+                "{} {}depends on {}, which is not below it in the layer diagram of DESIGN.md",
+                e.from,
+                if e.dev { "dev-" } else { "" },
+                e.to
+            )
         })
         .collect()
 }
@@ -97,6 +118,8 @@ mod tests {
             edge("tumble-broad", "tumble-geometry"),
             edge("tumble-solver", "tumble-narrow"),
             edge("tumble", "tumble-scenes"),
+            edge("tumble", "tumble-geometry"),
+            edge("tumble-gpu", "tumble-narrow"),
             edge("tumble-gpu", "wgpu"),
             edge("xtask", "tumble"),
         ];
@@ -108,7 +131,17 @@ mod tests {
         ];
         let v = violations(&bad);
         assert_eq!(v.len(), 3, "{v:?}");
-        assert!(v[0].contains("tumble-geometry") && v[0].contains("tumble-solver"));
+        assert!(
+            v[0].starts_with("tumble-geometry depends on tumble-solver"),
+            "{}",
+            v[0]
+        );
+        // Scene data is the facade's input, not the GPU layer's.
+        assert!(
+            v[2].starts_with("tumble-gpu depends on tumble-scenes"),
+            "{}",
+            v[2]
+        );
     }
 
     #[test]
@@ -124,6 +157,10 @@ mod tests {
         assert!(edges[1].dev);
         let v = violations(&edges);
         assert_eq!(v.len(), 1);
-        assert!(v[0].contains("dev-depends on tumble "), "{}", v[0]);
+        assert!(
+            v[0].starts_with("tumble-narrow dev-depends on tumble,"),
+            "{}",
+            v[0]
+        );
     }
 }

@@ -1,11 +1,14 @@
-//! Penetration measured from poses alone, with parry3d's exact box-box contact query, so that
-//! every engine (Tumble on any backend, rapier3d) is judged by the same ruler rather than by
-//! its own contact generation.
+//! Penetration measured from poses alone, so that every engine (Tumble on any backend,
+//! rapier3d) is judged by the same ruler rather than by its own contact generation.
+//!
+//! The ruler is the separating-axis depth of `tumble_scenes::cuboid_penetration` (the one the
+//! scene checks use): for two boxes the smallest overlap over the 15 SAT axes is exactly the
+//! distance one must move to separate them. parry3d's `contact` query was tried first and
+//! rejected: for a unit cube resting, barely rotated (2e-5 rad), on a 100 m floor it reported
+//! a 2 m overlap.
 
-use rapier3d::math::{Pose as ParryPose, Rotation, Vector};
-use rapier3d::parry::query;
-use rapier3d::parry::shape::Cuboid as ParryCuboid;
-use tumble_geometry::{Aabb, Cuboid, Pose};
+use tumble::scenes::cuboid_penetration;
+use tumble_geometry::{Aabb, Cuboid};
 
 use crate::engine::BodyState;
 use crate::scene_info::SceneInfo;
@@ -17,40 +20,22 @@ pub struct PenetrationSample {
     pub max: f32,
     /// Sum of the overlap depths of all touching pairs, in meters.
     pub sum: f64,
-    /// Number of touching pairs (distance <= 0) that involve a dynamic body.
+    /// Number of touching pairs (SAT overlap >= 0) that involve a dynamic body.
     pub touching: usize,
-}
-
-/// Converts a Tumble (nalgebra) pose into parry's glam pose.
-pub fn to_parry_pose(pose: &Pose) -> ParryPose {
-    let t = pose.translation.vector;
-    let q = pose.rotation.coords; // (i, j, k, w)
-    ParryPose::from_parts(
-        Vector::new(t.x, t.y, t.z),
-        Rotation::from_xyzw(q.x, q.y, q.z, q.w),
-    )
 }
 
 /// Measures every pair of boxes whose bounding boxes overlap, skipping fixed-fixed pairs.
 pub fn measure_penetration(scene: &SceneInfo, states: &[BodyState]) -> PenetrationSample {
-    let aabbs: Vec<Aabb> = scene
+    let shapes: Vec<Cuboid> = scene
         .bodies
+        .iter()
+        .map(|b| Cuboid::new(b.half_extents))
+        .collect();
+    let aabbs: Vec<Aabb> = shapes
         .iter()
         .zip(states)
-        .map(|(b, s)| Cuboid::new(b.half_extents).aabb(&s.pose, 0.0))
+        .map(|(c, s)| c.aabb(&s.pose, 0.0))
         .collect();
-    let shapes: Vec<ParryCuboid> = scene
-        .bodies
-        .iter()
-        .map(|b| {
-            ParryCuboid::new(Vector::new(
-                b.half_extents.x,
-                b.half_extents.y,
-                b.half_extents.z,
-            ))
-        })
-        .collect();
-    let poses: Vec<ParryPose> = states.iter().map(|s| to_parry_pose(&s.pose)).collect();
 
     // Sweep along x: after sorting by the lower x bound, a body can only overlap the ones that
     // start before its upper x bound, which keeps big scenes near O(n log n).
@@ -71,8 +56,9 @@ pub fn measure_penetration(scene: &SceneInfo, states: &[BodyState]) -> Penetrati
             if !(states[i].is_finite() && states[j].is_finite()) {
                 continue;
             }
-            if let Ok(Some(c)) = query::contact(&poses[i], &shapes[i], &poses[j], &shapes[j], 0.0) {
-                let depth = (-c.dist).max(0.0);
+            let depth =
+                cuboid_penetration(&shapes[i], &states[i].pose, &shapes[j], &states[j].pose);
+            if depth >= 0.0 {
                 sample.max = sample.max.max(depth);
                 sample.sum += f64::from(depth);
                 sample.touching += 1;
@@ -86,7 +72,7 @@ pub fn measure_penetration(scene: &SceneInfo, states: &[BodyState]) -> Penetrati
 mod tests {
     use super::*;
     use crate::scene_info::BodyInfo;
-    use tumble_geometry::{Rot, Vec3};
+    use tumble_geometry::{Pose, Rot, Vec3};
 
     fn scene_of(poses: &[Pose], dynamic: &[bool]) -> (SceneInfo, Vec<BodyState>) {
         let half = Vec3::new(0.5, 0.5, 0.5);
@@ -140,6 +126,44 @@ mod tests {
         let (scene, states) = scene_of(&[Pose::identity(), turned], &[false, true]);
         let s = measure_penetration(&scene, &states);
         assert!((s.max - 0.007_106_8).abs() < 1e-5, "{}", s.max);
+    }
+
+    #[test]
+    fn a_barely_turned_cube_on_a_wide_floor_is_not_deep() {
+        // The case that ruled parry's query out: a cube resting on a 100 m floor (top at
+        // y = 0), its centre 0.067 mm low and tilted by about 5e-5 rad, so that its lowest
+        // corner is 0.115 mm into the floor. The depth along the floor normal is the cube's
+        // half extent along y minus its centre's height; 1e-6 m is f32 round-off at 0.5 m.
+        let q = Rot::from_quaternion(tumble_geometry::nalgebra::Quaternion::new(
+            1.0,
+            1.981689e-5,
+            -8.684075e-6,
+            2.8121787e-5,
+        ));
+        let cube = Pose::from_parts(Vec3::new(5.5274973, 0.49993333, -5.527504).into(), q);
+        let floor = Pose::translation(0.0, -0.5, 0.0);
+        let bodies = vec![
+            BodyInfo::cuboid(false, Vec3::new(50.0, 0.5, 50.0), 0.0, floor),
+            BodyInfo::cuboid(true, Vec3::new(0.5, 0.5, 0.5), 1.0, cube),
+        ];
+        let states: Vec<BodyState> = [floor, cube]
+            .iter()
+            .map(|p| BodyState {
+                pose: *p,
+                linear_velocity: Vec3::zeros(),
+                angular_velocity: Vec3::zeros(),
+            })
+            .collect();
+        let scene = SceneInfo {
+            name: "floor".into(),
+            bodies,
+            gravity: Vec3::new(0.0, -9.81, 0.0),
+            dt: 1.0 / 60.0,
+        };
+        let expected = scene.bodies[1].half_extent_along(&cube, &Vec3::y()) - cube.translation.y;
+        assert!((expected - 1.15e-4).abs() < 1e-5, "{expected}");
+        let s = measure_penetration(&scene, &states);
+        assert!((s.max - expected).abs() < 1e-6, "{} vs {expected}", s.max);
     }
 
     #[test]

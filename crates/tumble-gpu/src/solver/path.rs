@@ -9,8 +9,8 @@ use super::constants::COLOR_SLOTS;
 /// The fused path is used up to this many manifolds. One workgroup visits a color in
 /// batches of `WORKGROUP_SIZE` constraints, so its cost grows with the manifold count, while
 /// the wide path pays a nearly fixed cost per dispatch (about 80 per substep). Measured on an
-/// H100 (Vulkan, `benches/benches/gpu_step.rs`, docs/gpu-solver.md): the solve stage takes
-/// 5.7 ms fused against 5.9 ms wide at 4,324 manifolds and 25.7 ms against 6.9 ms at 20,540,
+/// H100 (Vulkan, `benches/benches/gpu_step.rs`, docs/gpu-solver.md): the solver stages take
+/// 6.0 ms fused against 6.7 ms wide at 4,324 manifolds and 27.7 ms against 7.8 ms at 20,540,
 /// so the two cross near 4,500 (the wide path's extra recording time moves the wall-clock
 /// crossover a little higher).
 pub const FUSED_MAX_CONSTRAINTS: u32 = 4096;

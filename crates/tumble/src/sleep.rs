@@ -9,6 +9,9 @@
 //! sleeping ones as fixed obstacles. An awake body that reaches a sleeping one meets it as
 //! fixed for that one step and wakes its island for the next (Box2D does the same: a touch
 //! wakes the island, which rejoins the solver on the following step).
+//!
+//! Sleep runs on the CPU step only: `Backend::Gpu` and `Backend::Hybrid` step every body, and
+//! their bodies never sleep.
 
 use std::collections::HashSet;
 
@@ -150,18 +153,20 @@ impl World {
                 *s = s.min(sleep.rest_time[d]);
             }
         }
-        let mut newly_asleep = Vec::new();
-        for d in 0..self.bodies.len() {
-            let label = islands.label[d] as usize;
-            if awake_dynamic[d] && shortest[label] >= TIME_TO_SLEEP {
-                sleep.island[d] = sleep.next_island + label as u32;
+        let mut any_asleep = false;
+        for (d, (&label, &awake)) in islands.label.iter().zip(&awake_dynamic).enumerate() {
+            if awake && shortest[label as usize] >= TIME_TO_SLEEP {
+                // Wrapping, the label could only meet AWAKE after four billion bodies fell
+                // asleep; it is moved off it all the same.
+                let id = sleep.next_island.wrapping_add(label);
+                sleep.island[d] = if id == AWAKE { 0 } else { id };
                 self.states[d].linear_velocity = Vec3::zeros();
                 self.states[d].angular_velocity = Vec3::zeros();
                 sleep.asleep += 1;
-                newly_asleep.push(d);
+                any_asleep = true;
             }
         }
-        if newly_asleep.is_empty() {
+        if !any_asleep {
             return;
         }
         // Labels are body indices, so offsetting by the body count keeps them unique.

@@ -13,6 +13,20 @@ use crate::fonts::{PLOT_FONT, register_plot_font};
 pub const ERROR_FLOOR_M: f64 = 1e-5;
 /// Step times smaller than this are drawn at this value, in milliseconds (log axis).
 pub const TIME_FLOOR_MS: f64 = 1e-3;
+/// Series colours: the Tableau 10 palette, chosen to stay distinguishable on white and for
+/// the common colour-vision deficiencies.
+const PALETTE: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
 /// Picture size in pixels: two panels side by side.
 const SIZE: (u32, u32) = (1400, 600);
 
@@ -165,7 +179,7 @@ fn draw_panel<DB: DrawingBackend>(
         .draw()?;
 
     for (index, name) in series_names(points).iter().enumerate() {
-        let color = Palette99::pick(index).to_rgba();
+        let color = PALETTE[index % PALETTE.len()].to_rgba();
         let mut line: Vec<&PlotPoint> = points
             .iter()
             .filter(|p| !p.is_rapier && &p.series == name)

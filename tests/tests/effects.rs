@@ -7,6 +7,10 @@ use tumble::{EffectOverrides, EffectSwitch};
 /// Steps long enough for boxes to fall, collide, slide and settle (2 s at 60 Hz).
 const STEPS: usize = 120;
 
+/// Steps on the GPU backend: 0.5 s, in which the bottom layer lands and the thrown boxes
+/// collide, so every stage has work; shorter because lavapipe, the CI adapter, is slow.
+const GPU_STEPS: usize = 30;
+
 /// Every bit of every body's pose and velocities.
 fn snapshot(world: &World) -> Vec<u32> {
     let mut bits = Vec::new();
@@ -33,7 +37,12 @@ fn run(
     let mut world = World::new(config).unwrap();
     build(&mut world);
     let effects = world.effects();
-    for _ in 0..STEPS {
+    let steps = if config.backend == Backend::Cpu {
+        STEPS
+    } else {
+        GPU_STEPS
+    };
+    for _ in 0..steps {
         world.step().unwrap();
     }
     (snapshot(&world), effects)
@@ -233,4 +242,76 @@ fn locked_axes_stay_locked_through_contacts() {
     let y = world.pose(locked).unwrap().translation.y;
     assert!(y < start.translation.y - 0.1 && y > 1.0, "y {y}");
     assert!(world.linear_velocity(locked).unwrap().norm() < 0.05);
+}
+
+/// The same contract on the GPU step, whose pipelines are specialized per effect set
+/// (`override` switches): its step is deterministic, so forced on and skipped give the same
+/// bits there too. Needs a GPU or lavapipe; without one it prints a loud "skipped" unless
+/// `TUMBLE_REQUIRE_GPU=1`.
+mod gpu {
+    use super::*;
+    use tumble_gpu::GpuContext;
+
+    fn gpu_config(gravity: Vec3) -> Option<WorldConfig> {
+        GpuContext::for_tests()?;
+        Some(WorldConfig {
+            backend: Backend::Gpu,
+            gravity,
+            ..Default::default()
+        })
+    }
+
+    const G: Vec3 = Vec3::new(0.0, -tumble::STANDARD_GRAVITY, 0.0);
+
+    #[test]
+    fn friction_skipped_in_a_frictionless_pool() {
+        if let Some(base) = gpu_config(G) {
+            same_bits_on_and_off(
+                "gpu friction",
+                base,
+                |e, s| e.friction = s,
+                |e| e.friction,
+                |w| pile(w, 0.0, false),
+            );
+        }
+    }
+
+    #[test]
+    fn restitution_skipped_when_nothing_bounces() {
+        if let Some(base) = gpu_config(G) {
+            same_bits_on_and_off(
+                "gpu restitution",
+                base,
+                |e, s| e.restitution = s,
+                |e| e.restitution,
+                |w| pile(w, 0.6, false),
+            );
+        }
+    }
+
+    #[test]
+    fn gravity_skipped_in_zero_gravity() {
+        if let Some(base) = gpu_config(Vec3::zeros()) {
+            same_bits_on_and_off(
+                "gpu gravity",
+                base,
+                |e, s| e.gravity = s,
+                |e| e.gravity,
+                |w| pile(w, 0.6, false),
+            );
+        }
+    }
+
+    #[test]
+    fn rotation_skipped_when_every_rotation_is_locked() {
+        if let Some(base) = gpu_config(G) {
+            same_bits_on_and_off(
+                "gpu rotation",
+                base,
+                |e, s| e.rotation = s,
+                |e| e.rotation,
+                |w| pile(w, 0.6, true),
+            );
+        }
+    }
 }

@@ -153,10 +153,11 @@ pub fn read_impulses(
 ) {
     contact.tilt_impulse = vec3(&tilt.impulse);
     let n = (contact.manifold.len as usize).min(MAX_MANIFOLD_POINTS);
-    for i in 0..n {
-        contact.impulses[i].normal = points[i].normal_impulse;
-        contact.impulses[i].friction = vec3(&points[i].friction_impulse);
-        contact.total_normal_impulse[i] = constraint.points[i].total_normal_impulse;
+    let solved = points.iter().zip(&constraint.points).take(n);
+    for (i, (point, row)) in solved.enumerate() {
+        contact.impulses[i].normal = point.normal_impulse;
+        contact.impulses[i].friction = vec3(&point.friction_impulse);
+        contact.total_normal_impulse[i] = row.total_normal_impulse;
     }
 }
 

@@ -23,6 +23,8 @@ pub struct PoolOptions {
     pub lock_rotations: bool,
     /// Gravity, m/s^2 (along -y).
     pub gravity: Real,
+    /// Where the step runs.
+    pub backend: Backend,
 }
 
 impl Default for PoolOptions {
@@ -33,18 +35,21 @@ impl Default for PoolOptions {
             friction: tumble::solver::DEFAULT_FRICTION,
             lock_rotations: false,
             gravity: tumble::STANDARD_GRAVITY,
+            backend: Backend::Cpu,
         }
     }
 }
 
-/// The pool world with `effects` overriding the derived effects.
+/// The pool world with `effects` overriding the derived effects. Panics when the backend is
+/// unavailable (a bench has nothing to time then).
 pub fn effect_pool(options: PoolOptions, effects: EffectOverrides) -> World {
     let config = WorldConfig {
         gravity: Vec3::new(0.0, -options.gravity, 0.0),
         effects,
+        backend: options.backend,
         ..Default::default()
     };
-    let mut world = World::new(config).expect("the default config is valid");
+    let mut world = World::new(config).expect("a valid config on an available backend");
     let g = (options.cubes as f64).cbrt().ceil() as usize;
     let inner = 0.5 * g as Real * PITCH + CLEARANCE;
     let height = FIRST_LAYER + g as Real * PITCH + 1.0;

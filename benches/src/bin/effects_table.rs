@@ -2,8 +2,11 @@
 //! awake and asleep step of a settled pool: the table of docs/benchmarks.md ("Effects").
 //!
 //! ```sh
-//! cargo run --release -p tumble-benches --bin effects_table [-- --cubes 1000 --steps 40]
+//! cargo run --release -p tumble-benches --bin effects_table [-- --cubes 1000 --steps 40 --gpu]
 //! ```
+//!
+//! `--gpu` runs the effect rows on `Backend::Gpu` (sleep rows are CPU only: the GPU backends
+//! do not sleep).
 //!
 //! Both worlds of a row step the same scene in lockstep (one step of each in turn, so load on
 //! the machine hits both alike); the table gives the median step time of each. The program
@@ -73,8 +76,10 @@ fn main() {
     let steps = arg("--steps", 40);
     type Set = fn(&mut EffectOverrides, EffectSwitch);
     type Get = fn(&Effects) -> bool;
+    let gpu = std::env::args().any(|a| a == "--gpu");
     let pool = PoolOptions {
         cubes,
+        backend: if gpu { Backend::Gpu } else { Backend::Cpu },
         ..Default::default()
     };
     let rows: [(&str, &str, PoolOptions, EffectOverrides, Set, Get); 6] = [
@@ -136,7 +141,8 @@ fn main() {
             |e| e.sleep,
         ),
     ];
-    println!("{cubes} cubes, median of {steps} steps after {WARMUP_STEPS} warm-up steps, CPU\n");
+    let side = if gpu { "GPU" } else { "CPU" };
+    println!("{cubes} cubes, median of {steps} steps after {WARMUP_STEPS} warm-up steps, {side}\n");
     println!("| effect | scene | forced on, ms | skipped, ms | on / skipped | same bits |");
     println!("|---|---|---:|---:|---:|---|");
     for (name, scene, options, base, set, get) in rows {
@@ -164,6 +170,9 @@ fn main() {
         );
     }
 
+    if gpu {
+        return;
+    }
     let mut asleep = effect_pool(pool, with_sleep());
     let mut awake = effect_pool(pool, EffectOverrides::default());
     let mut settle = 0;

@@ -5,7 +5,13 @@
 //! Tumble's default soft step with 4 substeps against rapier's 4 solver iterations, which in
 //! rapier's soft-step solver are substeps too. Each test prints how far the engines end up
 //! apart body by body and how far each let the structure creep sideways, and asserts that
-//! Tumble creeps no more than rapier does, give or take a few millimetres.
+//! Tumble creeps no more than rapier does, give or take a few millimetres. A last test drops a
+//! box on the floor and compares the heights at which the two engines let it rest.
+//!
+//! Run time on 2 cores: 11 s for the file, up to 27 s while other builds share the cores
+//! (`cargo test -p tumble-tests --test vs_rapier -- --nocapture` prints the figures). The
+//! 650-cube pyramid is nearly all of it, most of that Tumble's 600 steps; the column, the wall
+//! and the dropped box take about 1 s together.
 
 use tumble::prelude::*;
 use tumble_scenes::builders::common::{floor, unit_cube};

@@ -13,13 +13,41 @@ use tumble_narrow::{collide_cuboids, collide_cuboids_cached};
 /// Cases per property: enough to reach edge-edge, vertex and deep contacts many times over.
 const CASES: u32 = 4096;
 
+/// A fixed seed, so that CI sees the same cases on every run and a failure reproduces.
+const SEED: u64 = 0x7475_6d62_6c65;
+
+/// A uniform `f32` in `[lo, hi)`, sampled in `f64` and rounded: proptest's own `f32` range
+/// sampler can trip an internal assertion on some seeds.
+fn uniform(lo: f64, hi: f64) -> impl Strategy<Value = f32> {
+    (lo..hi).prop_map(|v| v as f32)
+}
+
+fn config() -> ProptestConfig {
+    ProptestConfig {
+        cases: CASES,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(SEED),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    }
+}
+
 fn half_extents() -> impl Strategy<Value = Vec3> {
-    (0.01f32..10.0, 0.01f32..10.0, 0.01f32..10.0).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+    (
+        uniform(0.01, 10.0),
+        uniform(0.01, 10.0),
+        uniform(0.01, 10.0),
+    )
+        .prop_map(|(x, y, z)| Vec3::new(x, y, z))
 }
 
 fn rotation() -> impl Strategy<Value = Rot> {
     // Any non-zero quaternion, normalised: every orientation is reachable.
-    (-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0)
+    (
+        uniform(-1.0, 1.0),
+        uniform(-1.0, 1.0),
+        uniform(-1.0, 1.0),
+        uniform(-1.0, 1.0),
+    )
         .prop_filter("a quaternion needs a direction", |(w, x, y, z)| {
             w * w + x * x + y * y + z * z > 1e-3
         })
@@ -34,8 +62,8 @@ fn box_pair() -> impl Strategy<Value = (Cuboid, Pose, Cuboid, Pose)> {
         half_extents(),
         rotation(),
         rotation(),
-        (-1.2f32..1.2, -1.2f32..1.2, -1.2f32..1.2),
-        -5.0f32..5.0,
+        (uniform(-1.2, 1.2), uniform(-1.2, 1.2), uniform(-1.2, 1.2)),
+        uniform(-5.0, 5.0),
     )
         .prop_map(|(ha, hb, ra, rb, (x, y, z), base)| {
             let reach = ha.norm() + hb.norm();
@@ -49,12 +77,12 @@ fn box_pair() -> impl Strategy<Value = (Cuboid, Pose, Cuboid, Pose)> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: CASES, ..ProptestConfig::default() })]
+    #![proptest_config(config())]
 
     #[test]
     fn manifolds_are_finite_unit_small_and_bounded(
         (a, pa, b, pb) in box_pair(),
-        margin in 0.0f32..0.1,
+        margin in uniform(0.0, 0.1),
     ) {
         if let Some(m) = collide_cuboids(&a, &pa, &b, &pb, margin) {
             prop_assert!(m.normal.iter().all(|c| c.is_finite()));

@@ -7,36 +7,34 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::fonts::{PLOT_FONT, register_plot_font};
+use crate::grid::{BackendChoice, Solver};
 
 /// Errors smaller than this are drawn at this value, in meters: a log axis cannot show zero,
 /// and 10 micrometers is below anything a game or robot can see.
 pub const ERROR_FLOOR_M: f64 = 1e-5;
 /// Step times smaller than this are drawn at this value, in milliseconds (log axis).
 pub const TIME_FLOOR_MS: f64 = 1e-3;
-/// Series colours: the Tableau 10 palette, chosen to stay distinguishable on white and for
-/// the common colour-vision deficiencies.
-const PALETTE: [RGBColor; 10] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(127, 127, 127),
-    RGBColor(188, 189, 34),
-    RGBColor(23, 190, 207),
-];
-/// Picture size in pixels: two panels side by side.
-const SIZE: (u32, u32) = (1400, 600);
+/// Colour per solver and warm start (Tableau colours, distinguishable on white and under the
+/// common colour-vision deficiencies); the backend is told apart by line dash and marker.
+fn solver_color(solver: Solver, warm: bool) -> RGBColor {
+    match (solver, warm) {
+        (Solver::Baumgarte, true) => RGBColor(31, 119, 180),
+        (Solver::Baumgarte, false) => RGBColor(23, 190, 207),
+        (Solver::SoftStep, true) => RGBColor(214, 39, 40),
+        (Solver::SoftStep, false) => RGBColor(255, 127, 14),
+    }
+}
+/// Plot size in pixels of the two panels side by side; the legend strip is added below.
+const PANELS: (u32, u32) = (1400, 600);
+/// Height of one legend row, and legend entries per row.
+const LEGEND_ROW: u32 = 26;
+const LEGEND_COLUMNS: usize = 4;
 
 /// One configuration's result on one scene, as plotted.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlotPoint {
-    /// The series it belongs to (`soft_step cpu`, `rapier3d`, ...).
-    pub series: String,
-    /// True for rapier3d (drawn as crosses, not joined).
-    pub is_rapier: bool,
+    /// Tumble's solver, backend and warm start; `None` for rapier3d (drawn as crosses).
+    pub tumble: Option<(Solver, BackendChoice, bool)>,
     /// Iterations or substeps, written next to the point.
     pub effort: u32,
     /// Median milliseconds per step.
@@ -45,6 +43,18 @@ pub struct PlotPoint {
     pub max_penetration: f64,
     /// Maximum horizontal drift over the run, in meters.
     pub max_drift: f64,
+}
+
+/// A Tumble series: solver, backend, warm start.
+type SeriesKey = (Solver, BackendChoice, bool);
+
+fn series_label((solver, backend, warm): SeriesKey) -> String {
+    format!(
+        "{} {}{}",
+        solver.name(),
+        backend.name(),
+        if warm { "" } else { " cold" }
+    )
 }
 
 /// Which error a panel shows.
@@ -74,18 +84,24 @@ impl Panel {
 /// Writes `<stem>.png` and `<stem>.svg` into `dir` for `scene`'s points.
 pub fn plot_scene(dir: &Path, stem: &str, scene: &str, points: &[PlotPoint]) -> Result<(), String> {
     register_plot_font();
+    let keys = series_keys(points);
+    let entries = keys.len() + usize::from(points.iter().any(|p| p.tumble.is_none()));
+    let rows = entries.div_ceil(LEGEND_COLUMNS) as u32;
+    let size = (PANELS.0, PANELS.1 + rows * LEGEND_ROW + LEGEND_ROW);
     let png = dir.join(format!("{stem}.png"));
     let svg = dir.join(format!("{stem}.svg"));
     draw(
-        BitMapBackend::new(&png, SIZE).into_drawing_area(),
+        BitMapBackend::new(&png, size).into_drawing_area(),
         scene,
         points,
+        &keys,
     )
     .and_then(|()| {
         draw(
-            SVGBackend::new(&svg, SIZE).into_drawing_area(),
+            SVGBackend::new(&svg, size).into_drawing_area(),
             scene,
             points,
+            &keys,
         )
     })
     .map_err(|e| format!("plotting {scene}: {e}"))
@@ -95,6 +111,7 @@ fn draw<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     scene: &str,
     points: &[PlotPoint],
+    keys: &[SeriesKey],
 ) -> Result<(), String>
 where
     DB::ErrorType: 'static,
@@ -107,11 +124,95 @@ where
             (PLOT_FONT, 24),
         )
         .map_err(err)?;
-    let panels = root.split_evenly((1, 2));
+    let (top, legend) = root.split_vertically(PANELS.1 - 40);
+    let panels = top.split_evenly((1, 2));
     for (area, panel) in panels.iter().zip([Panel::Penetration, Panel::Drift]) {
-        draw_panel(area, panel, points).map_err(err)?;
+        draw_panel(area, panel, points, keys).map_err(err)?;
     }
+    draw_legend(&legend, points, keys).map_err(err)?;
     root.present().map_err(err)
+}
+
+/// The Tumble series present, in legend order: by solver, warm before cold, then backend.
+fn series_keys(points: &[PlotPoint]) -> Vec<SeriesKey> {
+    let mut keys: Vec<SeriesKey> = points.iter().filter_map(|p| p.tumble).collect();
+    keys.sort_by_key(|&(solver, backend, warm)| (solver, !warm, backend));
+    keys.dedup();
+    keys
+}
+
+/// Draws a backend's marker (CPU circle, GPU triangle, hybrid square) centred on `at`.
+fn marker<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    at: (i32, i32),
+    backend: BackendChoice,
+    color: RGBAColor,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let style = color.filled();
+    match backend {
+        BackendChoice::Cpu => area.draw(&Circle::new(at, 4, style)),
+        BackendChoice::Gpu => area.draw(&TriangleMarker::new(at, 6, style)),
+        BackendChoice::Hybrid => area.draw(&Rectangle::new(
+            [(at.0 - 4, at.1 - 4), (at.0 + 4, at.1 + 4)],
+            style,
+        )),
+    }
+}
+
+/// Dash length and gap in pixels per backend: CPU solid, GPU long dashes, hybrid short ones.
+fn dash(backend: BackendChoice) -> Option<(u32, u32)> {
+    match backend {
+        BackendChoice::Cpu => None,
+        BackendChoice::Gpu => Some((10, 5)),
+        BackendChoice::Hybrid => Some((3, 4)),
+    }
+}
+
+/// The legend: a strip under both panels, one entry per series.
+fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    points: &[PlotPoint],
+    keys: &[SeriesKey],
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let (width, _) = area.dim_in_pixel();
+    let column = (width as i32 - 80) / LEGEND_COLUMNS as i32;
+    let origin = |i: usize| {
+        (
+            40 + (i % LEGEND_COLUMNS) as i32 * column,
+            10 + (i / LEGEND_COLUMNS) as i32 * LEGEND_ROW as i32,
+        )
+    };
+    for (i, &key) in keys.iter().enumerate() {
+        let (x, y) = origin(i);
+        let color = solver_color(key.0, key.2).to_rgba();
+        let ends = [(x, y), (x + 36, y)];
+        match dash(key.1) {
+            None => area.draw(&PathElement::new(ends.to_vec(), color.stroke_width(2)))?,
+            Some((on, off)) => {
+                let mut s = x;
+                while s < x + 36 {
+                    let e = (s + on as i32).min(x + 36);
+                    area.draw(&PathElement::new(
+                        vec![(s, y), (e, y)],
+                        color.stroke_width(2),
+                    ))?;
+                    s = e + off as i32;
+                }
+            }
+        }
+        marker(area, (x + 18, y), key.1, color)?;
+        area.draw(&Text::new(
+            series_label(key),
+            (x + 46, y - 8),
+            (PLOT_FONT, 15),
+        ))?;
+    }
+    if points.iter().any(|p| p.tumble.is_none()) {
+        let (x, y) = origin(keys.len());
+        area.draw(&Cross::new((x + 18, y), 6, BLACK.stroke_width(2)))?;
+        area.draw(&Text::new("rapier3d", (x + 46, y - 8), (PLOT_FONT, 15)))?;
+    }
+    Ok(())
 }
 
 /// A tick label with about two significant digits: `0.05`, `0.4`, `3`, `120`.
@@ -124,17 +225,6 @@ fn short_number(v: f64) -> String {
         let decimals = (-v.log10()).ceil().max(1.0) as usize + 1;
         format!("{v:.decimals$}")
     }
-}
-
-fn series_names(points: &[PlotPoint]) -> Vec<String> {
-    let mut names: Vec<String> = points
-        .iter()
-        .filter(|p| !p.is_rapier)
-        .map(|p| p.series.clone())
-        .collect();
-    names.sort();
-    names.dedup();
-    names
 }
 
 /// The range a log axis needs to show `values` with a little room on both sides.
@@ -155,6 +245,7 @@ fn draw_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     panel: Panel,
     points: &[PlotPoint],
+    keys: &[SeriesKey],
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
     let x_range = log_range(
         points.iter().map(|p| p.ms_per_step.max(TIME_FLOOR_MS)),
@@ -178,48 +269,51 @@ fn draw_panel<DB: DrawingBackend>(
         .label_style((PLOT_FONT, 14))
         .draw()?;
 
-    for (index, name) in series_names(points).iter().enumerate() {
-        let color = PALETTE[index % PALETTE.len()].to_rgba();
-        let mut line: Vec<&PlotPoint> = points
-            .iter()
-            .filter(|p| !p.is_rapier && &p.series == name)
-            .collect();
+    let xy = |p: &PlotPoint| (p.ms_per_step.max(TIME_FLOOR_MS), panel.value(p));
+    for &key in keys {
+        let color = solver_color(key.0, key.2).to_rgba();
+        let mut line: Vec<&PlotPoint> = points.iter().filter(|p| p.tumble == Some(key)).collect();
         line.sort_by_key(|p| p.effort);
-        let xy = |p: &PlotPoint| (p.ms_per_step.max(TIME_FLOOR_MS), panel.value(p));
-        chart
-            .draw_series(LineSeries::new(
-                line.iter().map(|p| xy(p)),
-                color.stroke_width(2),
-            ))?
-            .label(name.as_str())
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(3))
-            });
+        let coords: Vec<(f64, f64)> = line.iter().map(|p| xy(p)).collect();
+        match dash(key.1) {
+            None => {
+                chart.draw_series(LineSeries::new(coords, color.stroke_width(2)))?;
+            }
+            Some((on, off)) => {
+                chart.draw_series(DashedLineSeries::new(
+                    coords,
+                    on,
+                    off,
+                    color.stroke_width(2),
+                ))?;
+            }
+        }
+        match key.1 {
+            BackendChoice::Cpu => {
+                chart.draw_series(line.iter().map(|p| Circle::new(xy(p), 4, color.filled())))?;
+            }
+            BackendChoice::Gpu => {
+                chart.draw_series(
+                    line.iter()
+                        .map(|p| TriangleMarker::new(xy(p), 6, color.filled())),
+                )?;
+            }
+            BackendChoice::Hybrid => {
+                chart.draw_series(line.iter().map(|p| {
+                    EmptyElement::at(xy(p)) + Rectangle::new([(-4, -4), (4, 4)], color.filled())
+                }))?;
+            }
+        }
         chart.draw_series(line.iter().map(|p| {
-            EmptyElement::at(xy(p))
-                + Circle::new((0, 0), 4, color.filled())
-                + Text::new(p.effort.to_string(), (6, -14), (PLOT_FONT, 13))
+            EmptyElement::at(xy(p)) + Text::new(p.effort.to_string(), (6, -14), (PLOT_FONT, 13))
         }))?;
     }
-    let rapier: Vec<&PlotPoint> = points.iter().filter(|p| p.is_rapier).collect();
-    if !rapier.is_empty() {
-        let xy = |p: &PlotPoint| (p.ms_per_step.max(TIME_FLOOR_MS), panel.value(p));
-        chart
-            .draw_series(rapier.iter().map(|p| {
-                EmptyElement::at(xy(p))
-                    + Cross::new((0, 0), 6, BLACK.stroke_width(2))
-                    + Text::new(p.effort.to_string(), (7, 4), (PLOT_FONT, 13))
-            }))?
-            .label("rapier3d")
-            .legend(|(x, y)| Cross::new((x + 12, y), 6, BLACK.stroke_width(2)));
-    }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font((PLOT_FONT, 14))
-        .draw()?;
+    let rapier: Vec<&PlotPoint> = points.iter().filter(|p| p.tumble.is_none()).collect();
+    chart.draw_series(rapier.iter().map(|p| {
+        EmptyElement::at(xy(p))
+            + Cross::new((0, 0), 6, BLACK.stroke_width(2))
+            + Text::new(p.effort.to_string(), (7, 4), (PLOT_FONT, 13))
+    }))?;
     Ok(())
 }
 
@@ -227,10 +321,9 @@ fn draw_panel<DB: DrawingBackend>(
 mod tests {
     use super::*;
 
-    fn point(series: &str, rapier: bool, effort: u32, ms: f64, pen: f64, drift: f64) -> PlotPoint {
+    fn point(tumble: Option<SeriesKey>, effort: u32, ms: f64, pen: f64, drift: f64) -> PlotPoint {
         PlotPoint {
-            series: series.into(),
-            is_rapier: rapier,
+            tumble,
             effort,
             ms_per_step: ms,
             max_penetration: pen,
@@ -242,12 +335,16 @@ mod tests {
     fn writes_a_png_and_an_svg_with_every_series_named() {
         let dir = std::env::temp_dir().join(format!("tumble-plot-test-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
+        let b = Some((Solver::Baumgarte, BackendChoice::Cpu, true));
+        let s = Some((Solver::SoftStep, BackendChoice::Gpu, false));
+        let h = Some((Solver::SoftStep, BackendChoice::Hybrid, true));
         let points = vec![
-            point("baumgarte cpu", false, 4, 0.2, 0.02, 0.1),
-            point("baumgarte cpu", false, 16, 0.6, 0.005, 0.01),
-            point("soft_step cpu", false, 1, 0.1, 0.01, 0.0),
-            point("soft_step cpu", false, 4, 0.3, 0.002, 0.0),
-            point("rapier3d", true, 4, 0.25, 0.001, 0.0005),
+            point(b, 4, 0.2, 0.02, 0.1),
+            point(b, 16, 0.6, 0.005, 0.01),
+            point(s, 1, 0.1, 0.01, 0.0),
+            point(s, 4, 0.3, 0.002, 0.0),
+            point(h, 4, 0.35, 0.003, 0.001),
+            point(None, 4, 0.25, 0.001, 0.0005),
         ];
         plot_scene(&dir, "stack", "stack", &points).unwrap();
         let png = std::fs::metadata(dir.join("stack.png")).unwrap();
@@ -257,7 +354,8 @@ mod tests {
         let svg = std::fs::read_to_string(dir.join("stack.svg")).unwrap();
         for name in [
             "baumgarte cpu",
-            "soft_step cpu",
+            "soft_step gpu cold",
+            "soft_step hybrid",
             "rapier3d",
             "median ms per step",
         ] {

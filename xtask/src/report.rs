@@ -33,8 +33,10 @@ pub fn plot_points(rows: &[ResultRow], scene: &str) -> Vec<PlotPoint> {
     rows.iter()
         .filter(|r| r.scene == scene && r.in_grid && r.outcome.error.is_none())
         .map(|r| PlotPoint {
-            series: r.config.series(),
-            is_rapier: r.config.engine() == "rapier3d",
+            tumble: match &r.config {
+                RunConfig::Tumble(t) => Some((t.solver, t.backend, t.warm_start)),
+                RunConfig::Rapier { .. } => None,
+            },
             effort: r.config.effort(),
             ms_per_step: r.outcome.timing.median_ms,
             max_penetration: f64::from(r.outcome.metrics.max_penetration),

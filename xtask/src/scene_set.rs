@@ -18,10 +18,15 @@ pub fn quick_scenes() -> Vec<Scene> {
     scenes::canonical()
 }
 
-/// The scenes of a full run: the canonical list plus the large pyramid.
+/// The scenes too slow for a quick run's default set: the large pyramid.
+pub fn large_scenes() -> Vec<Scene> {
+    vec![scenes::pyramid(LARGE_PYRAMID_HEIGHT)]
+}
+
+/// The scenes of a full run: the canonical list plus the large ones.
 pub fn full_scenes() -> Vec<Scene> {
     let mut list = scenes::canonical();
-    list.push(scenes::pyramid(LARGE_PYRAMID_HEIGHT));
+    list.extend(large_scenes());
     list
 }
 
@@ -128,6 +133,19 @@ mod tests {
         let names: Vec<&str> = list.iter().map(|s| s.name.as_str()).collect();
         assert!(names.iter().any(|n| n.contains("stack")), "{names:?}");
         assert!(names.iter().any(|n| n.contains("mass_ratio")), "{names:?}");
+    }
+
+    #[test]
+    fn a_filter_reaches_the_large_scenes_even_in_a_quick_run() {
+        let name = format!("pyramid_{LARGE_PYRAMID_HEIGHT}");
+        assert!(!quick_scenes().iter().any(|s| s.name == name));
+        let picked = filter_scenes(full_scenes(), Some(&name));
+        assert_eq!(
+            picked.len(),
+            1,
+            "{:?}",
+            picked.iter().map(|s| &s.name).collect::<Vec<_>>()
+        );
     }
 
     #[test]

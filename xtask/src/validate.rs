@@ -142,13 +142,14 @@ fn plan_jobs(scenes: &[Scene], grid: &[RunConfig], size: GridSize) -> Vec<Job> {
 /// configuration on the CPU.
 pub fn validate(args: &ValidateArgs) -> Result<bool, String> {
     let started = Instant::now();
-    let scenes = if args.scene_files.is_empty() {
-        match args.size {
-            GridSize::Quick => quick_scenes(),
-            GridSize::Full => full_scenes(),
-        }
-    } else {
+    // A filter searches every built-in scene, so that `--filter pyramid_24` runs the large
+    // pyramid on the quick grid; without one a quick run leaves the large scenes out.
+    let scenes = if !args.scene_files.is_empty() {
         load_scene_files(&args.scene_files)?
+    } else if args.filter.is_some() || args.size == GridSize::Full {
+        full_scenes()
+    } else {
+        quick_scenes()
     };
     let scenes = filter_scenes(scenes, args.filter.as_deref());
     if scenes.is_empty() {

@@ -215,19 +215,22 @@ fn draw_legend<DB: DrawingBackend>(
     Ok(())
 }
 
-/// A tick label with about two significant digits: `0.05`, `0.4`, `3`, `120`.
-fn short_number(v: f64) -> String {
-    if v >= 10.0 {
-        format!("{v:.0}")
-    } else if v >= 1.0 {
-        format!("{v:.1}")
-    } else {
-        let decimals = (-v.log10()).ceil().max(1.0) as usize + 1;
+/// A tick label. Log-axis ticks are a single digit times a power of ten, so one significant
+/// digit is exact: `0.005`, `0.2`, `3`, `120`; below a millimetre (or a microsecond)
+/// scientific notation stays short: `5e-5`.
+fn tick_label(v: f64) -> String {
+    if v >= 1e-3 {
+        // Rounding guards against 0.1 being stored as 0.0999...
+        let decimals = (-(v * (1.0 + 1e-9)).log10().floor()).max(0.0) as usize;
         format!("{v:.decimals$}")
+    } else {
+        format!("{v:.0e}")
     }
 }
 
-/// The range a log axis needs to show `values` with a little room on both sides.
+/// The range a log axis needs to show `values`: widened by a fifth on both sides so points
+/// stay off the frame, then out to whole decades, so that every axis carries at least two
+/// labelled powers of ten (plotters labels a log axis at its decades).
 fn log_range(values: impl Iterator<Item = f64>, floor: f64) -> std::ops::Range<f64> {
     let (lo, hi) = values.fold((f64::INFINITY, 0.0_f64), |(lo, hi), v| {
         (lo.min(v), hi.max(v))
@@ -235,10 +238,11 @@ fn log_range(values: impl Iterator<Item = f64>, floor: f64) -> std::ops::Range<f
     if !lo.is_finite() {
         return floor..floor * 10.0;
     }
-    // A factor of 1.5 on each side keeps points and their labels off the frame.
-    let lo = (lo / 1.5).max(floor * 0.5);
-    let hi = (hi * 1.5).max(lo * 10.0);
-    lo..hi
+    // Just under the decade, so that plotters (which labels from the first power of ten at or
+    // above the start) does not lose the bottom decade to round-off.
+    let lo = 10f64.powf((lo.max(floor) / 1.2).log10().floor()) * (1.0 - 1e-9);
+    let hi = 10f64.powf((hi.max(floor) * 1.2).log10().ceil());
+    lo..hi.max(lo * 10.0)
 }
 
 fn draw_panel<DB: DrawingBackend>(
@@ -262,10 +266,11 @@ fn draw_panel<DB: DrawingBackend>(
         .configure_mesh()
         .x_desc("median ms per step")
         .y_desc(panel.title())
-        .x_labels(6)
-        .x_label_formatter(&|v| short_number(*v))
+        .x_labels(12)
+        .y_labels(12)
+        .x_label_formatter(&|v| tick_label(*v))
         .light_line_style(WHITE)
-        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .y_label_formatter(&|v| tick_label(*v))
         .label_style((PLOT_FONT, 14))
         .draw()?;
 
@@ -368,6 +373,11 @@ mod tests {
     fn log_range_holds_every_value_and_never_collapses() {
         let r = log_range([0.5, 2.0].into_iter(), ERROR_FLOOR_M);
         assert!(r.start < 0.5 && r.end > 2.0);
+        // Whole decades at both ends: 0.1 to 10.
+        assert!(
+            (r.start - 0.1).abs() < 1e-9 && (r.end - 10.0).abs() < 1e-9,
+            "{r:?}"
+        );
         let single = log_range(
             [0.0].into_iter().map(|v: f64| v.max(ERROR_FLOOR_M)),
             ERROR_FLOOR_M,
@@ -375,5 +385,14 @@ mod tests {
         assert!(single.end >= single.start * 10.0);
         let empty = log_range(std::iter::empty(), ERROR_FLOOR_M);
         assert!(empty.start > 0.0 && empty.end > empty.start);
+    }
+
+    #[test]
+    fn tick_labels_are_short_and_exact() {
+        assert_eq!(tick_label(0.1), "0.1");
+        assert_eq!(tick_label(0.005), "0.005");
+        assert_eq!(tick_label(3.0), "3");
+        assert_eq!(tick_label(200.0), "200");
+        assert_eq!(tick_label(5e-5), "5e-5");
     }
 }

@@ -157,7 +157,7 @@ impl<'a> MetricsRecorder<'a> {
         let dt = self.scene.dt;
         let rest_from = self.last_moving_step.map_or(0, |last| last + 1);
         let quiet = (self.step - rest_from) as f32 * dt;
-        m.time_to_rest = (self.step > 0 && quiet >= REST_HOLD_S).then(|| rest_from as f32 * dt);
+        m.time_to_rest = (self.step > 0 && quiet >= REST_HOLD_S).then_some(rest_from as f32 * dt);
         m.nan_bodies = self.went_non_finite.iter().filter(|&&b| b).count();
         self.metrics
     }

@@ -1,0 +1,182 @@
+//! The GPU solver's shaders and shared structs, checked without a GPU: every kernel parses,
+//! validates, specializes for every effect set and translates; every constant is declared; every
+//! shared struct has the same layout in Rust and WGSL.
+
+use std::collections::BTreeSet;
+
+use tumble_gpu::naga;
+use tumble_gpu::shader::ShaderSource;
+use tumble_gpu::solver::constants::solver_constants;
+use tumble_gpu::solver::layout::solver_struct_layouts;
+use tumble_gpu::solver::shaders::{SOLVER_TYPES, solver_overrides};
+use tumble_gpu::solver::{Effects, kernels};
+
+// ---------------------------------------------------------------------------------------------
+// Shaders and layouts (no GPU)
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn every_solver_kernel_parses_validates_specializes_and_translates() {
+    let specs = kernels();
+    assert!(
+        specs.len() >= 11,
+        "expected the solver kernels, found {}",
+        specs.len()
+    );
+    for spec in specs {
+        let mut extra: Vec<(&'static str, f64)> = Effects::ALL.overrides().to_vec();
+        extra.push(("PASS", 1.0));
+        let values = solver_overrides(spec, &extra).unwrap_or_else(|e| panic!("{e}"));
+        let (module, info) = spec
+            .check_specialized(&values)
+            .unwrap_or_else(|e| panic!("{e}"));
+        // Specialization gives every override a value: none is left to the driver.
+        for (_, o) in module.overrides.iter() {
+            assert!(
+                o.init.is_some(),
+                "{}: override {:?} has no value",
+                spec.name,
+                o.name
+            );
+        }
+        assert_eq!(module.entry_points.len(), 1, "{}", spec.name);
+        naga::back::spv::write_vec(
+            &module,
+            &info,
+            &naga::back::spv::Options::default(),
+            Some(&naga::back::spv::PipelineOptions {
+                shader_stage: naga::ShaderStage::Compute,
+                entry_point: "main".into(),
+            }),
+        )
+        .unwrap_or_else(|e| panic!("{}: SPIR-V: {e}", spec.name));
+    }
+}
+
+#[test]
+fn every_effect_combination_specializes() {
+    // Each switch off alone and all off: every combination a scene can ask for must build.
+    let all = Effects::ALL;
+    let variants = [
+        Effects {
+            friction: false,
+            ..all
+        },
+        Effects {
+            restitution: false,
+            ..all
+        },
+        Effects {
+            gravity: false,
+            ..all
+        },
+        Effects {
+            rotation: false,
+            ..all
+        },
+        Effects {
+            friction: false,
+            restitution: false,
+            gravity: false,
+            rotation: false,
+        },
+    ];
+    for effects in variants {
+        for spec in [
+            &tumble_gpu::solver::fused::SOLVE_FUSED,
+            &tumble_gpu::solver::solve_color::SOLVE_COLOR,
+        ] {
+            let mut extra = effects.overrides().to_vec();
+            extra.push(("PASS", 0.0));
+            let values = solver_overrides(spec, &extra).unwrap();
+            spec.check_specialized(&values)
+                .unwrap_or_else(|e| panic!("{effects:?} {}: {e}", spec.name));
+        }
+    }
+}
+
+#[test]
+fn solver_constants_are_each_declared_by_some_shader() {
+    // A constant no shader declares would be a value defined in Rust that never arrives.
+    let declared: BTreeSet<String> = kernels()
+        .iter()
+        .flat_map(|spec| {
+            let module = spec.check().unwrap();
+            tumble_gpu::shader::override_names(&module)
+        })
+        .collect();
+    for (name, _) in solver_constants() {
+        assert!(
+            declared.contains(name),
+            "{name} is declared by no solver shader"
+        );
+    }
+}
+
+#[test]
+fn solver_structs_have_the_same_layout_in_rust_and_wgsl() {
+    let source = ShaderSource {
+        common: &[tumble_gpu::shader::common::LAYOUT],
+        kernel: SOLVER_TYPES,
+    };
+    let module = source
+        .parse("solver_types")
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).expect("layout computable");
+    let host = solver_struct_layouts();
+    let shared: BTreeSet<&str> = tumble_gpu::layout::shared_struct_layouts()
+        .iter()
+        .map(|l| l.name)
+        .collect();
+    let mut checked = BTreeSet::new();
+    for (handle, ty) in module.types.iter() {
+        let (Some(name), naga::TypeInner::Struct { members, span }) = (&ty.name, &ty.inner) else {
+            continue;
+        };
+        if shared.contains(name.as_str()) {
+            continue;
+        }
+        let rust = host
+            .iter()
+            .find(|l| l.name == name)
+            .unwrap_or_else(|| panic!("WGSL struct {name} has no Rust twin in solver/layout.rs"));
+        assert_eq!(rust.size, *span as usize, "{name}: size");
+        assert_eq!(
+            rust.size, layouter[handle].size as usize,
+            "{name}: layouter size"
+        );
+        let wgsl: Vec<(String, usize)> = members
+            .iter()
+            .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+            .collect();
+        let rust_fields: Vec<(String, usize)> = rust
+            .fields
+            .iter()
+            .map(|&(n, o)| (n.to_string(), o))
+            .collect();
+        assert_eq!(rust_fields, wgsl, "{name}: field names and offsets");
+        // No vec3 members: their 16-byte alignment would hide padding from the host.
+        for m in members {
+            assert!(
+                !matches!(
+                    module.types[m.ty].inner,
+                    naga::TypeInner::Vector {
+                        size: naga::VectorSize::Tri,
+                        ..
+                    }
+                ),
+                "{name}.{:?} is a vec3",
+                m.name
+            );
+        }
+        checked.insert(name.clone());
+    }
+    for l in &host {
+        assert!(
+            checked.contains(l.name),
+            "Rust struct {} has no WGSL twin",
+            l.name
+        );
+    }
+}

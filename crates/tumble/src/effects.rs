@@ -43,6 +43,44 @@ pub struct EffectOverrides {
     pub kinematic: EffectSwitch,
     /// Islands and sleep (`Auto` means off: ask for it with `On`).
     pub sleep: EffectSwitch,
+    /// What a GPU step copies back for the host; see [`ReadbackOverrides`].
+    pub readback: ReadbackOverrides,
+}
+
+/// Which results a `Backend::Gpu` step copies back to the host in its own command stream,
+/// to be read without a second round trip.
+///
+/// `Auto` copies what the caller read after the previous step (a program that reads every
+/// pose each frame gets the poses copied with every step; one that never reads contacts never
+/// pays for them). `On` copies it after every step. `Off` never copies it with the step:
+/// reading it then costs a separate read of the GPU buffers. Whatever the setting, every
+/// getter returns the state after the last step: these switches change only the time.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct ReadbackOverrides {
+    /// Every body's pose.
+    pub poses: EffectSwitch,
+    /// Every body's linear and angular velocity.
+    pub velocities: EffectSwitch,
+    /// The step's manifolds with their impulses (contact pairs, contact reports, counts).
+    pub contacts: EffectSwitch,
+}
+
+impl ReadbackOverrides {
+    /// Everything copied after every step.
+    pub const ALL_ON: Self = Self {
+        poses: EffectSwitch::On,
+        velocities: EffectSwitch::On,
+        contacts: EffectSwitch::On,
+    };
+
+    /// The reads a step records, given what the caller read after the previous one.
+    pub(crate) fn resolve(&self, read: crate::gpu_reads::Reads) -> crate::gpu_reads::Reads {
+        crate::gpu_reads::Reads {
+            poses: self.poses.resolve(read.poses),
+            velocities: self.velocities.resolve(read.velocities),
+            contacts: self.contacts.resolve(read.contacts),
+        }
+    }
 }
 
 impl EffectOverrides {
@@ -54,6 +92,7 @@ impl EffectOverrides {
         rotation: EffectSwitch::On,
         kinematic: EffectSwitch::On,
         sleep: EffectSwitch::On,
+        readback: ReadbackOverrides::ALL_ON,
     };
 
     /// The effects that run, given the ones the scene needs.

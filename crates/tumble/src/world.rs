@@ -29,7 +29,7 @@ pub struct World {
     /// Rest timers, sleeping islands and their contacts.
     pub(crate) sleep: crate::sleep::SleepState,
     sap: SweepAndPrune,
-    stats: StepStats,
+    pub(crate) stats: StepStats,
     steps: u64,
     /// The GPU side of `Backend::Gpu` and `Backend::Hybrid`.
     pub(crate) gpu: Option<crate::gpu_backend::GpuBackend>,
@@ -174,15 +174,16 @@ impl World {
 
     /// Counts and per-stage timings of the last step.
     pub fn stats(&self) -> &StepStats {
-        &self.stats
+        self.last_stats()
     }
 
     /// Pairs of bodies touching in the last step: some point overlapped at the start of the
     /// step, or pushed (a speculative point that caught an approaching body).
     pub fn contact_pairs(&self) -> Vec<(BodyHandle, BodyHandle)> {
-        self.contacts
+        let (contacts, handles) = self.last_contacts();
+        contacts
             .iter()
-            .zip(&self.contact_handles)
+            .zip(handles)
             .filter(|(c, _)| c.is_touching())
             .map(|(_, h)| *h)
             .collect()
@@ -190,9 +191,10 @@ impl World {
 
     /// Every manifold of the last step, touching or speculative, by handle.
     pub fn contacts(&self) -> Vec<ContactReport> {
-        self.contacts
+        let (contacts, handles) = self.last_contacts();
+        contacts
             .iter()
-            .zip(&self.contact_handles)
+            .zip(handles)
             .map(|(c, &(a, b))| ContactReport {
                 body_a: a,
                 body_b: b,
@@ -217,10 +219,11 @@ impl World {
 
     /// The deepest overlap among last step's manifolds, m (0 when nothing overlaps).
     pub fn max_penetration(&self) -> Real {
-        self.stats.max_penetration
+        self.last_stats().max_penetration
     }
 
-    /// Drops last step's contacts that involve `removed`, keeping the rest by handle.
+    /// Drops last step's contacts that involve `removed`, keeping the rest by handle (the host
+    /// arrays must be up to date: see `sync_all`).
     pub(crate) fn forget_contacts_of(&mut self, removed: BodyHandle) {
         let keep: Vec<bool> = self
             .contact_handles

@@ -19,6 +19,7 @@ impl World {
     /// Adds a body. Errs, leaving the world unchanged, on any bad field of `desc`.
     pub fn add_body(&mut self, desc: BodyDesc) -> Result<BodyHandle, Error> {
         let (body, state) = desc.build()?;
+        self.sync_all()?;
         self.bodies.push(body);
         self.states.push(state);
         self.sleep.push();
@@ -28,6 +29,7 @@ impl World {
     /// Removes a body; its handle is never valid again.
     pub fn remove_body(&mut self, h: BodyHandle) -> Result<(), Error> {
         let d = self.handles.dense(h)?;
+        self.sync_all()?;
         self.bodies.swap_remove(d);
         self.states.swap_remove(d);
         self.sleep.swap_remove(d);
@@ -53,17 +55,17 @@ impl World {
 
     /// The body's pose (centre and rotation).
     pub fn pose(&self, h: BodyHandle) -> Result<Pose, Error> {
-        Ok(self.bodies[self.handles.dense(h)?].pose)
+        self.pose_at(self.handles.dense(h)?)
     }
 
     /// The body's linear velocity, m/s.
     pub fn linear_velocity(&self, h: BodyHandle) -> Result<Vec3, Error> {
-        Ok(self.states[self.handles.dense(h)?].linear_velocity)
+        Ok(self.state_at(self.handles.dense(h)?)?.linear_velocity)
     }
 
     /// The body's angular velocity in world axes, rad/s.
     pub fn angular_velocity(&self, h: BodyHandle) -> Result<Vec3, Error> {
-        Ok(self.states[self.handles.dense(h)?].angular_velocity)
+        Ok(self.state_at(self.handles.dense(h)?)?.angular_velocity)
     }
 
     /// Fixed, dynamic or kinematic.
@@ -90,25 +92,20 @@ impl World {
     /// fixed and kinematic bodies).
     pub fn angular_momentum(&self, h: BodyHandle) -> Result<Vec3, Error> {
         let d = self.handles.dense(h)?;
-        let (b, s) = (&self.bodies[d], &self.states[d]);
-        let local = b
-            .pose
-            .rotation
-            .inverse_transform_vector(&s.angular_velocity);
-        Ok(b.pose.rotation * b.inertia_local().component_mul(&local))
+        let (b, pose, s) = (&self.bodies[d], self.pose_at(d)?, self.state_at(d)?);
+        let local = pose.rotation.inverse_transform_vector(&s.angular_velocity);
+        Ok(pose.rotation * b.inertia_local().component_mul(&local))
     }
 
     /// The body's kinetic energy, J (zero for fixed and kinematic bodies).
     pub fn kinetic_energy(&self, h: BodyHandle) -> Result<Real, Error> {
         let d = self.handles.dense(h)?;
-        let (b, s) = (&self.bodies[d], &self.states[d]);
+        let b = &self.bodies[d];
         if b.inverse_mass == 0.0 {
             return Ok(0.0);
         }
-        let local = b
-            .pose
-            .rotation
-            .inverse_transform_vector(&s.angular_velocity);
+        let (pose, s) = (self.pose_at(d)?, self.state_at(d)?);
+        let local = pose.rotation.inverse_transform_vector(&s.angular_velocity);
         let rotational = 0.5 * local.dot(&b.inertia_local().component_mul(&local));
         Ok(0.5 * s.linear_velocity.norm_squared() / b.inverse_mass + rotational)
     }
@@ -117,6 +114,7 @@ impl World {
     pub fn set_pose(&mut self, h: BodyHandle, pose: Pose) -> Result<(), Error> {
         let d = self.handles.dense(h)?;
         require_finite_pose(&pose)?;
+        self.sync_motion()?;
         let mut pose = pose;
         pose.rotation.renormalize();
         self.bodies[d].pose = pose;
@@ -137,7 +135,9 @@ impl World {
             )
             .into());
         }
-        self.states[d].linear_velocity = v.component_mul(&body.locks.translation_mask());
+        let mask = body.locks.translation_mask();
+        self.sync_motion()?;
+        self.states[d].linear_velocity = v.component_mul(&mask);
         self.sleep.wake(d);
         Ok(())
     }
@@ -155,7 +155,9 @@ impl World {
             )
             .into());
         }
-        self.states[d].angular_velocity = w.component_mul(&body.locks.rotation_mask());
+        let mask = body.locks.rotation_mask();
+        self.sync_motion()?;
+        self.states[d].angular_velocity = w.component_mul(&mask);
         self.sleep.wake(d);
         Ok(())
     }
@@ -169,6 +171,8 @@ impl World {
         if body.kind != BodyKind::Kinematic {
             return Err(InvalidParameter::new("kind", body.kind, "a kinematic body").into());
         }
+        self.sync_motion()?;
+        let body = &self.bodies[d];
         let inv_dt = 1.0 / self.config.dt;
         let v = (target.translation.vector - body.pose.translation.vector) * inv_dt;
         let turn = target.rotation * body.pose.rotation.inverse();
@@ -193,6 +197,8 @@ impl World {
         if !body.is_dynamic() {
             return Ok(());
         }
+        self.sync_motion()?;
+        let body = &self.bodies[d];
         let r = point.coords - body.pose.translation.vector;
         let dv = body.inverse_mass_axes().component_mul(&impulse);
         let dw = body.inverse_inertia_world() * r.cross(&impulse);

@@ -79,6 +79,8 @@ pub struct GpuWorld {
     source: ContactSource,
     host_count: u32,
     last_path: Option<SolvePath>,
+    /// Bytes copied from the GPU for the host so far.
+    bytes_read: u64,
 }
 
 fn invalid(field: impl Into<String>, value: impl std::fmt::Debug) -> GpuError {
@@ -116,6 +118,7 @@ impl GpuWorld {
             source: ContactSource::Collision,
             host_count: 0,
             last_path: None,
+            bytes_read: 0,
         })
     }
 
@@ -159,6 +162,13 @@ impl GpuWorld {
     /// The solver path the last step took.
     pub fn last_path(&self) -> Option<SolvePath> {
         self.last_path
+    }
+
+    /// Bytes copied from the GPU for the host so far, by step readbacks and [`Self::read_now`]
+    /// (the solver's own small count reads excluded): what reading only what was asked for
+    /// saves is visible here.
+    pub fn bytes_read(&self) -> u64 {
+        self.bytes_read
     }
 
     /// Times the pair buffers overflowed (and grew); the steps concerned missed pairs.
@@ -610,6 +620,7 @@ impl GpuWorld {
             ));
             regions.push(rb.copy(encoder, slot, self.solver.tilts(), 0, sizes.tilts));
         }
+        self.bytes_read += regions.iter().map(|r| r.len).sum::<u64>();
         Ok((slot, regions))
     }
 
@@ -682,6 +693,7 @@ impl GpuWorld {
                 tilts: self.ctx.read_buffer(self.solver.tilts(), 0, count)?,
             });
         }
+        self.bytes_read += snapshot_bytes(&snapshot);
         Ok(snapshot)
     }
 
@@ -689,6 +701,21 @@ impl GpuWorld {
     pub fn timings(&mut self) -> Result<Vec<(&'static str, f64)>, GpuError> {
         self.timer.read()
     }
+}
+
+/// Bytes held by a snapshot's arrays.
+fn snapshot_bytes(s: &Snapshot) -> u64 {
+    fn bytes<T>(v: &[T]) -> u64 {
+        std::mem::size_of_val(v) as u64
+    }
+    let contacts = s.contacts.as_ref().map_or(0, |c| {
+        std::mem::size_of::<WorkList>() as u64
+            + bytes(&c.manifolds)
+            + bytes(&c.points)
+            + bytes(&c.constraints)
+            + bytes(&c.tilts)
+    });
+    bytes(&s.poses) + bytes(&s.velocities) + contacts
 }
 
 /// Byte sizes of the parts of a readback.

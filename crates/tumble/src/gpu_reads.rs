@@ -1,0 +1,295 @@
+//! What a `Backend::Gpu` step left on the GPU and the host has not read yet.
+//!
+//! A GPU step is submitted and not waited for. The results the caller is expected to read
+//! (see [`crate::ReadbackOverrides`]) are copied to a staging buffer in the step's own
+//! command stream; the first getter that needs one waits for that copy (the GPU's two staging
+//! slots let the next step run while this one is read) and decodes only the part it needs.
+//! A part the step did not copy is read from the GPU buffers on demand, which is still
+//! correct, since nothing touches them before the next step. Parts are decoded once and kept
+//! until the next step, so reading 40,000 poses one handle at a time costs one copy.
+//!
+//! Getters take `&self`, so the decoded parts live in `OnceLock`s and the GPU world behind a
+//! mutex that only reads lock (a step has `&mut` access and never locks).
+
+use std::sync::atomic::{AtomicU8, Ordering};
+use std::sync::{Mutex, OnceLock};
+use std::time::Duration;
+
+use tumble_geometry::{Pose, Real};
+use tumble_gpu::GpuError;
+use tumble_gpu::step::{GpuWorld, ReadRequest, Snapshot};
+use tumble_solver::{BodyState, Contact};
+
+use crate::{BodyHandle, StageTimings, StepStats};
+
+/// Which parts of a step's results are read (or to be copied).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Reads {
+    /// Every body's pose.
+    pub poses: bool,
+    /// Every body's velocities.
+    pub velocities: bool,
+    /// The manifolds with their impulses.
+    pub contacts: bool,
+}
+
+impl Reads {
+    const POSES: u8 = 1;
+    const VELOCITIES: u8 = 2;
+    const CONTACTS: u8 = 4;
+
+    fn bits(self) -> u8 {
+        (u8::from(self.poses) * Self::POSES)
+            | (u8::from(self.velocities) * Self::VELOCITIES)
+            | (u8::from(self.contacts) * Self::CONTACTS)
+    }
+
+    fn from_bits(bits: u8) -> Self {
+        Self {
+            poses: bits & Self::POSES != 0,
+            velocities: bits & Self::VELOCITIES != 0,
+            contacts: bits & Self::CONTACTS != 0,
+        }
+    }
+
+    /// The GPU world's request for these parts.
+    pub(crate) fn request(self) -> ReadRequest {
+        ReadRequest {
+            poses: self.poses,
+            velocities: self.velocities,
+            contacts: self.contacts,
+        }
+    }
+}
+
+/// The step's manifolds as the facade reports them.
+#[derive(Debug, Default)]
+pub(crate) struct ContactView {
+    /// Manifolds with points, dense body indices at the time of the step.
+    pub contacts: Vec<Contact>,
+    /// The body handles of each manifold.
+    pub handles: Vec<(BodyHandle, BodyHandle)>,
+    /// Candidate pairs the GPU examined.
+    pub pairs: usize,
+}
+
+/// The staging copy of the step, taken apart as getters need its parts.
+#[derive(Debug)]
+enum Copy {
+    /// Recorded with the step, not waited for yet.
+    InFlight,
+    /// Arrived; parts already decoded are taken out.
+    Arrived(Box<Snapshot>),
+    /// Nothing copied with the step.
+    None,
+}
+
+/// Results of the last GPU step not yet read by the host.
+#[derive(Debug)]
+pub(crate) struct Unread {
+    /// The GPU world's step count after the step, to recognize its copy.
+    step: u64,
+    /// The body handles at the time of the step, in dense order.
+    handles: Vec<BodyHandle>,
+    copy: Mutex<Copy>,
+    /// Parts some getter asked for ([`Reads`] bits): the next step copies these.
+    asked: AtomicU8,
+    poses: OnceLock<Result<Vec<Pose>, String>>,
+    velocities: OnceLock<Result<Vec<BodyState>, String>>,
+    contacts: OnceLock<Result<ContactView, String>>,
+    stats: OnceLock<StepStats>,
+    /// True once a mutating call copied poses and velocities into the world's host arrays,
+    /// which are then the state to report (and to upload changes from).
+    pub motion_in_host: bool,
+}
+
+fn failed(e: GpuError) -> String {
+    format!("reading the GPU step's results failed: {e}")
+}
+
+impl Unread {
+    /// The step just submitted, which copied `recorded` with it.
+    pub(crate) fn new(step: u64, handles: Vec<BodyHandle>, recorded: Reads) -> Self {
+        let nothing = recorded == Reads::default();
+        Self {
+            step,
+            handles,
+            copy: Mutex::new(if nothing { Copy::None } else { Copy::InFlight }),
+            asked: AtomicU8::new(0),
+            poses: OnceLock::new(),
+            velocities: OnceLock::new(),
+            contacts: OnceLock::new(),
+            stats: OnceLock::new(),
+            motion_in_host: false,
+        }
+    }
+
+    /// The parts getters asked for since the step.
+    pub(crate) fn asked(&self) -> Reads {
+        Reads::from_bits(self.asked.load(Ordering::Relaxed))
+    }
+
+    /// The first read failure, if any: reported by the next fallible call.
+    pub(crate) fn error(&self) -> Option<String> {
+        fn err<T>(r: Option<&Result<T, String>>) -> Option<String> {
+            r.and_then(|r| r.as_ref().err().cloned())
+        }
+        err(self.poses.get())
+            .or_else(|| err(self.velocities.get()))
+            .or_else(|| err(self.contacts.get()))
+    }
+
+    /// Reads `want` from the step's copy where it holds it, from the GPU buffers otherwise.
+    fn fetch(&self, gpu: &Mutex<GpuWorld>, want: Reads) -> Result<Snapshot, GpuError> {
+        self.asked.fetch_or(want.bits(), Ordering::Relaxed);
+        let mut gpu = gpu
+            .lock()
+            .map_err(|_| GpuError::Device("the GPU world's lock was poisoned".into()))?;
+        let mut copy = self
+            .copy
+            .lock()
+            .map_err(|_| GpuError::Device("the readback's lock was poisoned".into()))?;
+        if matches!(*copy, Copy::InFlight) {
+            *copy = match gpu.wait_snapshot()? {
+                Some(s) if s.step == self.step => Copy::Arrived(Box::new(s)),
+                _ => Copy::None,
+            };
+        }
+        let mut out = Snapshot {
+            step: self.step,
+            ..Default::default()
+        };
+        if let Copy::Arrived(s) = &mut *copy {
+            if want.poses {
+                out.poses = std::mem::take(&mut s.poses);
+            }
+            if want.velocities {
+                out.velocities = std::mem::take(&mut s.velocities);
+            }
+            if want.contacts {
+                // A copy sized from an older count may have missed manifolds: read them all.
+                out.contacts = s
+                    .contacts
+                    .take()
+                    .filter(|c| c.work.count as usize <= c.manifolds.len());
+            }
+        }
+        let missing = ReadRequest {
+            poses: want.poses && out.poses.is_empty(),
+            velocities: want.velocities && out.velocities.is_empty(),
+            contacts: want.contacts && out.contacts.is_none(),
+        };
+        if missing != ReadRequest::default() {
+            let direct = gpu.read_now(missing)?;
+            if missing.poses {
+                out.poses = direct.poses;
+            }
+            if missing.velocities {
+                out.velocities = direct.velocities;
+            }
+            if missing.contacts {
+                out.contacts = direct.contacts;
+            }
+        }
+        Ok(out)
+    }
+
+    /// Every body's pose after the step.
+    pub(crate) fn poses(&self, gpu: &Mutex<GpuWorld>) -> Result<&[Pose], String> {
+        let poses = self.poses.get_or_init(|| {
+            let s = self
+                .fetch(gpu, Reads::from_bits(Reads::POSES))
+                .map_err(failed)?;
+            Ok((0..s.poses.len()).map(|i| s.pose(i)).collect())
+        });
+        poses.as_deref().map_err(Clone::clone)
+    }
+
+    /// Every body's velocities after the step.
+    pub(crate) fn velocities(&self, gpu: &Mutex<GpuWorld>) -> Result<&[BodyState], String> {
+        let velocities = self.velocities.get_or_init(|| {
+            let s = self
+                .fetch(gpu, Reads::from_bits(Reads::VELOCITIES))
+                .map_err(failed)?;
+            Ok((0..s.velocities.len()).map(|i| s.state(i)).collect())
+        });
+        velocities.as_deref().map_err(Clone::clone)
+    }
+
+    /// The step's manifolds with their impulses.
+    pub(crate) fn contacts(&self, gpu: &Mutex<GpuWorld>) -> Result<&ContactView, String> {
+        let view = self.contacts.get_or_init(|| {
+            let s = self
+                .fetch(gpu, Reads::from_bits(Reads::CONTACTS))
+                .map_err(failed)?;
+            let set = s.contacts.unwrap_or_default();
+            let contacts = set.contacts();
+            let handles = contacts
+                .iter()
+                .map(|c| {
+                    (
+                        self.handles[c.body_a as usize],
+                        self.handles[c.body_b as usize],
+                    )
+                })
+                .collect();
+            Ok(ContactView {
+                contacts,
+                handles,
+                pairs: set.work.count as usize,
+            })
+        });
+        view.as_ref().map_err(Clone::clone)
+    }
+
+    /// The step's statistics: counts from its manifolds, stage times from its timestamps.
+    pub(crate) fn stats(&self, gpu: &Mutex<GpuWorld>) -> &StepStats {
+        self.stats.get_or_init(|| {
+            let (contacts, pairs) = match self.contacts(gpu) {
+                Ok(view) => (view.contacts.as_slice(), view.pairs),
+                Err(_) => (&[][..], 0),
+            };
+            let timings = gpu
+                .lock()
+                .ok()
+                .and_then(|mut g| g.timings().ok())
+                .map(|stages| stage_timings(&stages))
+                .unwrap_or_default();
+            StepStats {
+                bodies: self.handles.len(),
+                pairs,
+                manifolds: contacts.len(),
+                contact_points: contacts.iter().map(|c| c.manifold.len as usize).sum(),
+                max_penetration: max_penetration(contacts),
+                timings,
+                ..Default::default()
+            }
+        })
+    }
+}
+
+/// GPU stage times (timestamps) folded into the facade's stages.
+pub(crate) fn stage_timings(stages: &[(&'static str, f64)]) -> StageTimings {
+    let mut t = StageTimings::default();
+    for &(name, seconds) in stages {
+        let d = Duration::from_secs_f64(seconds);
+        match name {
+            "update_aabbs" => t.update_aabbs += d,
+            "broad_phase" => t.broad_phase += d,
+            "narrow_phase" => t.narrow_phase += d,
+            "color" => t.color += d,
+            "finish" => t.finish += d,
+            // prepare, the substeps, the fused kernel, queued impulses.
+            _ => t.solve += d,
+        }
+    }
+    t
+}
+
+/// The deepest overlap among `contacts`, m.
+pub(crate) fn max_penetration(contacts: &[Contact]) -> Real {
+    contacts
+        .iter()
+        .map(|c| c.manifold.max_depth())
+        .fold(0.0, Real::max)
+}

@@ -1,0 +1,259 @@
+//! `Backend::Gpu` reads back only what the caller reads, and reading changes nothing else.
+//!
+//! A GPU step is submitted without waiting; getters read its results lazily, from a staging
+//! copy recorded with the step when the caller read that part after the previous step
+//! (`ReadbackOverrides`' `Auto`), or from the GPU buffers otherwise. These tests check that
+//! (a) the bytes crossing the bus are exactly those of the parts read, and (b) how and when
+//! the caller reads, and whether copies are forced on or off, never changes a result: the
+//! same calls give bitwise equal poses, velocities and contacts under every policy.
+//!
+//! Needs a GPU (or lavapipe): without one it prints a loud "skipped" unless
+//! `TUMBLE_REQUIRE_GPU=1`, which makes a missing adapter a failure.
+
+use tumble::prelude::*;
+use tumble::{EffectOverrides, EffectSwitch, ReadbackOverrides};
+use tumble_gpu::GpuContext;
+use tumble_gpu::layout::{GpuPose, GpuVelocity};
+
+/// Steps per run: 1.5 s at 60 Hz, enough for the dropped cube to land on the stacks and the
+/// user's pokes to play out.
+const STEPS: usize = 90;
+
+fn have_gpu() -> bool {
+    GpuContext::for_tests().is_some()
+}
+
+fn world(readback: ReadbackOverrides) -> (World, Vec<BodyHandle>) {
+    let config = WorldConfig {
+        backend: Backend::Gpu,
+        effects: EffectOverrides {
+            readback,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let mut world = World::new(config).expect("GPU world");
+    let floor = BodyDesc::fixed()
+        .cuboid(Vec3::new(10.0, 0.5, 10.0))
+        .translation(0.0, -0.5, 0.0);
+    let mut handles = vec![world.add_body(floor).unwrap()];
+    for (x, z) in [(-1.5, 0.0), (0.0, 0.0), (1.5, 0.0)] {
+        for level in 0..3 {
+            let cube = BodyDesc::dynamic().translation(x, 0.5 + level as Real, z);
+            handles.push(world.add_body(cube).unwrap());
+        }
+    }
+    let dropped = BodyDesc::dynamic()
+        .cuboid(Vec3::new(0.3, 0.3, 0.3))
+        .translation(0.1, 5.0, 0.2)
+        .angular_velocity(Vec3::new(1.0, 2.0, 0.5));
+    handles.push(world.add_body(dropped).unwrap());
+    (world, handles)
+}
+
+/// Everything a caller can observe of a world, as bits: the bodies of `handles`, then every
+/// contact.
+fn observe(world: &World, handles: &[BodyHandle]) -> (Vec<u32>, Vec<u32>) {
+    let mut bits = Vec::new();
+    for &h in handles {
+        let p = world.pose(h).unwrap();
+        bits.extend(p.translation.vector.iter().map(|c| c.to_bits()));
+        bits.extend(p.rotation.coords.iter().map(|c| c.to_bits()));
+        bits.extend(
+            world
+                .linear_velocity(h)
+                .unwrap()
+                .iter()
+                .map(|c| c.to_bits()),
+        );
+        bits.extend(
+            world
+                .angular_velocity(h)
+                .unwrap()
+                .iter()
+                .map(|c| c.to_bits()),
+        );
+    }
+    let bodies = std::mem::take(&mut bits);
+    for c in world.contacts() {
+        bits.extend(c.normal.iter().map(|x| x.to_bits()));
+        for p in &c.points {
+            bits.extend(p.position.coords.iter().map(|x| x.to_bits()));
+            bits.push(p.depth.to_bits());
+            bits.push(p.normal_impulse.to_bits());
+            bits.push(p.id);
+        }
+    }
+    (bodies, bits)
+}
+
+/// Runs the scripted calls; `read_every` says after which steps the caller reads a pose, and
+/// `poke` whether the user's changes are made.
+fn run(readback: ReadbackOverrides, read_every: usize, poke: bool) -> (Vec<u32>, Vec<u32>) {
+    let (mut world, handles) = world(readback);
+    let top = handles[3];
+    for step in 0..STEPS {
+        world.step().unwrap();
+        if read_every > 0 && step % read_every == 0 {
+            world.pose(handles[1]).unwrap();
+        }
+        if step == 60 {
+            // Renumbers the bodies: a full upload from the host arrays.
+            world
+                .add_body(BodyDesc::dynamic().translation(3.0, 0.5, 0.0))
+                .unwrap();
+        }
+        // The user's changes, each of which needs the current state on the host first.
+        if !poke {
+            continue;
+        }
+        match step {
+            20 => world
+                .apply_impulse(top, Vec3::new(0.5, 0.0, 0.0), Point3::new(-1.5, 2.9, 0.1))
+                .unwrap(),
+            35 => world
+                .set_linear_velocity(handles[6], Vec3::new(0.0, 2.0, 0.0))
+                .unwrap(),
+            50 => {
+                let mut pose = world.pose(handles[9]).unwrap();
+                pose.translation.vector.y += 0.5;
+                world.set_pose(handles[9], pose).unwrap();
+            }
+            _ => {}
+        }
+    }
+    observe(&world, &handles)
+}
+
+#[test]
+fn how_the_caller_reads_never_changes_a_result() {
+    if !have_gpu() {
+        return;
+    }
+    let off = ReadbackOverrides {
+        poses: EffectSwitch::Off,
+        velocities: EffectSwitch::Off,
+        contacts: EffectSwitch::Off,
+    };
+    // Reads copied with every step, read rarely, never copied with the step: the GPU step is
+    // deterministic, so any difference would be a stale host value uploaded back, a lost
+    // user change, or a copy read from the wrong step. Hence bitwise.
+    let reference = run(ReadbackOverrides::ALL_ON, 1, true);
+    assert_eq!(
+        run(ReadbackOverrides::default(), 7, true),
+        reference,
+        "Auto, sparse reads"
+    );
+    assert_eq!(
+        run(ReadbackOverrides::default(), 0, true),
+        reference,
+        "Auto, no reads"
+    );
+    assert_eq!(run(off, 3, true), reference, "never copied with the step");
+    // And the changes reached the GPU: without them the original bodies end elsewhere.
+    let untouched = run(ReadbackOverrides::ALL_ON, 1, false);
+    assert_ne!(untouched.0, reference.0, "the user's changes had an effect");
+}
+
+#[test]
+fn a_step_copies_only_what_the_caller_read() {
+    if !have_gpu() {
+        return;
+    }
+    let (mut world, handles) = world(ReadbackOverrides::default());
+    let n = handles.len() as u64;
+    let pose_bytes = n * std::mem::size_of::<GpuPose>() as u64;
+    let velocity_bytes = n * std::mem::size_of::<GpuVelocity>() as u64;
+
+    // A caller that reads nothing moves nothing across the bus.
+    for _ in 0..10 {
+        world.step().unwrap();
+    }
+    assert_eq!(world.readback_bytes(), 0, "nothing was read");
+
+    // Reading one pose per step brings every pose (one array) and nothing else: the first
+    // read is a direct read, the following ones come with their steps.
+    let mut before = world.readback_bytes();
+    for step in 0..5 {
+        world.step().unwrap();
+        let p = world.pose(handles[2]).unwrap();
+        assert!(p.translation.y.is_finite());
+        let after = world.readback_bytes();
+        assert_eq!(after - before, pose_bytes, "step {step}: poses only");
+        before = after;
+    }
+
+    // Velocities too, from the next step on, with the poses.
+    world.step().unwrap();
+    world.pose(handles[2]).unwrap();
+    world.linear_velocity(handles[2]).unwrap();
+    before = world.readback_bytes();
+    world.step().unwrap();
+    world.pose(handles[2]).unwrap();
+    world.angular_velocity(handles[2]).unwrap();
+    assert_eq!(
+        world.readback_bytes() - before,
+        pose_bytes + velocity_bytes,
+        "poses and velocities, copied with the step"
+    );
+
+    // Contacts are copied only after the caller looked at them; the stacks rest on the
+    // floor, so there are manifolds to copy.
+    before = world.readback_bytes();
+    world.step().unwrap();
+    let pairs = world.contact_pairs();
+    assert!(pairs.len() >= 9, "9 resting cubes touch: {}", pairs.len());
+    assert!(
+        world.readback_bytes() - before > 0,
+        "the contacts crossed the bus"
+    );
+
+    // A caller that stops reading stops paying after the one step that still expected it.
+    world.step().unwrap();
+    before = world.readback_bytes();
+    for _ in 0..5 {
+        world.step().unwrap();
+    }
+    assert_eq!(
+        world.readback_bytes(),
+        before,
+        "nothing read, nothing copied"
+    );
+}
+
+#[test]
+fn changes_are_made_to_the_current_state() {
+    if !have_gpu() {
+        return;
+    }
+    let (mut world, handles) = world(ReadbackOverrides::default());
+    for _ in 0..30 {
+        world.step().unwrap();
+    }
+    // The dropped cube is in the air: an impulse adds j/m to the velocity the GPU computed,
+    // exactly as the CPU backend's apply_impulse does.
+    let cube = handles[handles.len() - 1];
+    let v = world.linear_velocity(cube).unwrap();
+    let m = world.mass(cube).unwrap();
+    let j = Vec3::new(0.2, 0.0, 0.0);
+    let centre = world.pose(cube).unwrap().translation.vector;
+    world.apply_impulse(cube, j, Point3::from(centre)).unwrap();
+    let after = world.linear_velocity(cube).unwrap();
+    // f32 round-off of one add: a few ulps of the 4 m/s fall speed.
+    assert!(
+        (after - (v + j / m)).norm() < 1e-5,
+        "{after:?} != {v:?} + {:?}",
+        j / m
+    );
+    // A pose set is the pose reported, and the pose the next step starts from.
+    let target = Pose::translation(4.0, 3.0, 0.0);
+    world.set_pose(cube, target).unwrap();
+    assert_eq!(world.pose(cube).unwrap(), target);
+    world.step().unwrap();
+    let moved = world.pose(cube).unwrap().translation.vector;
+    // One step of free fall from rest-height 3 m with the kept velocity: within 0.2 m.
+    assert!(
+        (moved - target.translation.vector).norm() < 0.2,
+        "the step started from the set pose: {moved:?}"
+    );
+}

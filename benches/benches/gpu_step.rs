@@ -8,56 +8,17 @@
 //! prints that it skipped).
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use tumble_geometry::nalgebra::{Quaternion, Translation3, UnitQuaternion};
-use tumble_geometry::{Cuboid, Pose, Vec3};
+use tumble_benches::bodies_of;
+use tumble_geometry::Vec3;
 use tumble_gpu::GpuContext;
 use tumble_gpu::solver::SolvePath;
 use tumble_gpu::step::{GpuWorld, GpuWorldConfig, PathPolicy};
-use tumble_scenes::{BodyKind as SceneKind, Scene};
-use tumble_solver::{Body, BodyKind, BodyState, Material};
 
 /// Steps run before measuring: one second at 60 Hz.
 const SETTLE_STEPS: usize = 60;
 
 /// Pyramid heights: 30, 204, 650 and 2,870 cubes.
 const HEIGHTS: [usize; 4] = [4, 8, 12, 20];
-
-/// The solver's bodies and states of a scene.
-fn bodies_of(scene: &Scene) -> (Vec<Body>, Vec<BodyState>) {
-    scene
-        .bodies
-        .iter()
-        .map(|s| {
-            let kind = match s.kind {
-                SceneKind::Fixed => BodyKind::Fixed,
-                SceneKind::Dynamic => BodyKind::Dynamic,
-                SceneKind::Kinematic => BodyKind::Kinematic,
-            };
-            let [x, y, z, w] = s.rotation;
-            let pose = Pose::from_parts(
-                Translation3::new(s.position[0], s.position[1], s.position[2]),
-                UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z)),
-            );
-            let material = Material {
-                friction: s.friction,
-                restitution: s.restitution,
-            };
-            let body = Body::new(
-                kind,
-                Cuboid::new(Vec3::from(s.half_extents)),
-                pose,
-                s.density,
-                material,
-            )
-            .expect("canonical scenes are valid");
-            let state = BodyState::moving(
-                Vec3::from(s.linear_velocity),
-                Vec3::from(s.angular_velocity),
-            );
-            (body, state)
-        })
-        .unzip()
-}
 
 fn gpu_step(c: &mut Criterion) {
     let ctx = match GpuContext::new() {

@@ -53,15 +53,23 @@ fn bits(world: &World) -> Vec<u32> {
         .collect()
 }
 
+/// One step, and a pose read, which on `Backend::Gpu` waits for the step's results (a GPU
+/// step returns before the GPU has run it).
+fn step_and_read(world: &mut World) {
+    world.step().unwrap();
+    let last = *world.handles().last().expect("pools have bodies");
+    world.pose(last).unwrap();
+}
+
 /// Median step times of two worlds stepped in lockstep.
 fn race(a: &mut World, b: &mut World, steps: usize) -> (Duration, Duration) {
     let (mut ta, mut tb) = (Vec::new(), Vec::new());
     for _ in 0..steps {
         let t = Instant::now();
-        a.step().unwrap();
+        step_and_read(a);
         ta.push(t.elapsed());
         let t = Instant::now();
-        b.step().unwrap();
+        step_and_read(b);
         tb.push(t.elapsed());
     }
     (median(ta), median(tb))

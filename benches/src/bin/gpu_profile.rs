@@ -1,0 +1,114 @@
+//! Where a whole GPU step's time goes: per-pass GPU times (timestamp queries) of
+//! `tumble_gpu::step::GpuWorld` on pyramids, summed by pass name and averaged over steps,
+//! with the counts that drive them (manifolds, colors used, overflow set).
+//!
+//! ```sh
+//! cargo run --release -p tumble-benches --bin gpu_profile -- 24 50
+//! ```
+//!
+//! Arguments are pyramid heights (default 24 and 50). Each scene settles for 60 steps first so
+//! warm starts and color seeds are in their steady state, then 20 steps are profiled.
+
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+use tumble_benches::bodies_of;
+use tumble_geometry::Vec3;
+use tumble_gpu::GpuContext;
+use tumble_gpu::solver::constants::COLOR_OFFSETS_LEN;
+use tumble_gpu::step::{GpuWorld, GpuWorldConfig, ReadRequest};
+
+/// Steps before profiling: one second at 60 Hz.
+const SETTLE_STEPS: usize = 60;
+/// Steps profiled.
+const PROFILED_STEPS: usize = 20;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let heights: Vec<usize> = std::env::args()
+        .skip(1)
+        .map(|a| a.parse())
+        .collect::<Result<_, _>>()?;
+    let heights = if heights.is_empty() {
+        vec![24, 50]
+    } else {
+        heights
+    };
+    let ctx = GpuContext::new()?;
+    println!("device: {} ({:?})", ctx.info.name, ctx.info.backend);
+    for h in heights {
+        let scene = tumble_scenes::pyramid(h);
+        let (bodies, states) = bodies_of(&scene);
+        let mut world = GpuWorld::new(
+            &ctx,
+            GpuWorldConfig {
+                gravity: Vec3::from(scene.gravity),
+                dt: scene.dt,
+                timestamps: true,
+                ..Default::default()
+            },
+        )?;
+        world.set_bodies(&bodies, &states)?;
+        for _ in 0..SETTLE_STEPS {
+            world.step()?;
+        }
+        ctx.wait_idle()?;
+        let mut sums: BTreeMap<&'static str, (f64, usize)> = BTreeMap::new();
+        let clock = Instant::now();
+        for _ in 0..PROFILED_STEPS {
+            world.step()?;
+            for (name, seconds) in world.timings()? {
+                let e = sums.entry(name).or_default();
+                e.0 += seconds;
+                e.1 += 1;
+            }
+        }
+        let wall = clock.elapsed().as_secs_f64() / PROFILED_STEPS as f64;
+        let snapshot = world.read_now(ReadRequest {
+            contacts: true,
+            ..Default::default()
+        })?;
+        let manifolds = snapshot
+            .contacts
+            .as_ref()
+            .map_or(0, |c| c.manifolds.iter().filter(|m| m.len > 0).count());
+        let points: u32 = snapshot
+            .contacts
+            .as_ref()
+            .map_or(0, |c| c.manifolds.iter().map(|m| m.len).sum());
+        let offsets: Vec<u32> = ctx.read_buffer(
+            world.solver().color_offsets(),
+            0,
+            u64::from(COLOR_OFFSETS_LEN),
+        )?;
+        let sizes: Vec<u32> = offsets.windows(2).map(|w| w[1] - w[0]).collect();
+        let used = sizes[..sizes.len() - 1].iter().filter(|&&s| s > 0).count();
+        println!(
+            "\npyramid {h}: {} bodies, {manifolds} manifolds with points, {points} points, \
+             path {:?}, colors used {used}, overflow set {}",
+            bodies.len(),
+            world.last_path(),
+            sizes[sizes.len() - 1]
+        );
+        println!("color sizes: {sizes:?}");
+        let total: f64 = sums.values().map(|v| v.0).sum::<f64>() / PROFILED_STEPS as f64;
+        println!(
+            "GPU time per step {:.3} ms (timestamps), wall per step with timings read {:.3} ms",
+            total * 1e3,
+            wall * 1e3
+        );
+        let mut rows: Vec<_> = sums.into_iter().collect();
+        rows.sort_by(|a, b| b.1.0.total_cmp(&a.1.0));
+        println!("| pass | ms/step | passes/step | share |");
+        println!("|---|---|---|---|");
+        for (name, (seconds, count)) in rows {
+            let per_step = seconds / PROFILED_STEPS as f64;
+            println!(
+                "| {name} | {:.3} | {} | {:.1}% |",
+                per_step * 1e3,
+                count / PROFILED_STEPS,
+                100.0 * per_step / total
+            );
+        }
+    }
+    Ok(())
+}

@@ -93,6 +93,18 @@ impl Coloring {
 ///
 /// `pairs[i]` are constraint `i`'s body indices; `dynamic[b]` says whether body `b` counts.
 pub fn color_constraints(pairs: &[(u32, u32)], dynamic: &[bool]) -> Coloring {
+    color_constraints_in_order(pairs, dynamic, 0..pairs.len())
+}
+
+/// Colors constraints greedily, visiting them in `visit` order (a permutation of
+/// `0..pairs.len()`): each takes the lowest color in which neither of its dynamic bodies
+/// appears yet, or [`OVERFLOW_COLOR`]. The constraints visited first mostly get the low
+/// colors, which the solver visits first in each pass.
+pub fn color_constraints_in_order(
+    pairs: &[(u32, u32)],
+    dynamic: &[bool],
+    visit: impl IntoIterator<Item = usize>,
+) -> Coloring {
     // Bit c of used[b]: body b already has a constraint of color c.
     let mut used = vec![0u32; dynamic.len()];
     let all = if GRAPH_COLOR_COUNT == 32 {
@@ -100,31 +112,30 @@ pub fn color_constraints(pairs: &[(u32, u32)], dynamic: &[bool]) -> Coloring {
     } else {
         (1u32 << GRAPH_COLOR_COUNT) - 1
     };
-    let colors = pairs
-        .iter()
-        .map(|&(a, b)| {
-            let (da, db) = (dynamic[a as usize], dynamic[b as usize]);
-            let mut taken = 0u32;
-            if da {
-                taken |= used[a as usize];
-            }
-            if db {
-                taken |= used[b as usize];
-            }
-            let free = !taken & all;
-            if free == 0 {
-                return OVERFLOW_COLOR;
-            }
-            let c = free.trailing_zeros();
-            if da {
-                used[a as usize] |= 1 << c;
-            }
-            if db {
-                used[b as usize] |= 1 << c;
-            }
-            c
-        })
-        .collect();
+    let mut colors = vec![OVERFLOW_COLOR; pairs.len()];
+    for i in visit {
+        let (a, b) = pairs[i];
+        let (da, db) = (dynamic[a as usize], dynamic[b as usize]);
+        let mut taken = 0u32;
+        if da {
+            taken |= used[a as usize];
+        }
+        if db {
+            taken |= used[b as usize];
+        }
+        let free = !taken & all;
+        if free == 0 {
+            continue;
+        }
+        let c = free.trailing_zeros();
+        if da {
+            used[a as usize] |= 1 << c;
+        }
+        if db {
+            used[b as usize] |= 1 << c;
+        }
+        colors[i] = c;
+    }
     Coloring::from_colors(colors)
 }
 

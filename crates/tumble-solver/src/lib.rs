@@ -30,7 +30,7 @@ mod tangent_basis;
 pub use body::{Body, BodyKind, BodyState, Locks};
 pub use coloring::{
     Coloring, ColoringError, GRAPH_COLOR_COUNT, OVERFLOW_COLOR, color_constraints,
-    validate_coloring,
+    color_constraints_in_order, validate_coloring,
 };
 pub use config::{
     DEFAULT_BAUMGARTE, DEFAULT_BAUMGARTE_ITERATIONS, DEFAULT_CONTACT_HERTZ, DEFAULT_DAMPING_RATIO,

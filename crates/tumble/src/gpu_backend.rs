@@ -209,7 +209,12 @@ impl World {
                 timings.narrow_phase = clock.elapsed();
                 let (slots, mut contacts): (Vec<u32>, Vec<Contact>) = found.into_iter().unzip();
                 let clock = Instant::now();
-                let coloring = stages::color(&contacts, &self.bodies, self.config.solver.order);
+                let coloring = stages::color(
+                    &contacts,
+                    &self.bodies,
+                    self.config.solver.order,
+                    &self.config.gravity,
+                );
                 timings.color = clock.elapsed();
                 let clock = Instant::now();
                 let solved = stages::solve_with_effects(

@@ -264,7 +264,12 @@ impl World {
                 }
             }
         }
-        let coloring = stages::color(&contacts, &bodies, self.config.solver.order);
+        let coloring = stages::color(
+            &contacts,
+            &bodies,
+            self.config.solver.order,
+            &self.config.gravity,
+        );
         let solved = stages::solve_with_effects(
             &bodies,
             &mut states,

@@ -117,7 +117,12 @@ impl World {
         let (mut contacts, keys) = (narrow.contacts, narrow.keys);
         lap(&mut timings.narrow_phase);
 
-        let coloring = stages::color(&contacts, &self.bodies, self.config.solver.order);
+        let coloring = stages::color(
+            &contacts,
+            &self.bodies,
+            self.config.solver.order,
+            &self.config.gravity,
+        );
         lap(&mut timings.color);
 
         let solved = stages::solve_with_effects(

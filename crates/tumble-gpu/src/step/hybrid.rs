@@ -148,9 +148,8 @@ impl HybridCollision {
     }
 
     /// Writes the CPU solver's impulses of the last [`Self::collide`] back to the GPU, where
-    /// the next step's matching carries them to the points with the same feature ids (or at the
-    /// same place on body A), and
-    /// keeps the tilt impulses for the next step.
+    /// the next step's matching carries them to the points with the same feature ids (or at
+    /// the same place on body A), and keeps the tilt impulses for the next step.
     pub fn store_impulses(&mut self, solved: &[(u32, Contact)]) -> Result<(), GpuError> {
         if self.last_points.is_empty() {
             return Ok(());

@@ -381,7 +381,15 @@ fn gpu_carry_inherits_exactly_what_the_cpu_contact_cache_warm_starts() {
     // The twin, from the same history, carries exactly the same.
     let mut twin = second.contacts.clone();
     let twin_locals = carry_impulses_cpu(&second.poses, &second.manifolds, &mut twin, &history);
-    assert_eq!(got, twin, "GPU carry differs from its CPU twin");
+    if let Some(i) = (0..got.len()).find(|&i| got[i] != twin[i]) {
+        panic!(
+            "GPU carry differs from its CPU twin at manifold {} point {}: {:?} vs {:?}",
+            i / PER,
+            i % PER,
+            got[i],
+            twin[i]
+        );
+    }
     let diff = local_difference(&second.manifolds, &second_locals, &twin_locals);
     assert!(!(diff > 1e-5), "step 2 local manifolds differ by {diff}");
 

@@ -144,6 +144,16 @@ struct GpuManifold {
     _pad1: u32,
 }
 
+// A manifold in body A's frame at the poses it was found at, kept per pair slot so that
+// the next step's carry_impulses can match points whose feature ids changed by where they are
+// on A (the CPU contact cache keeps the same). 80 bytes.
+struct GpuLocalManifold {
+    // The manifold normal in A's frame; w unused.
+    normal: vec4<f32>,
+    // Each point in A's frame; w unused, slots past the manifold's len zero.
+    points: array<vec4<f32>, MAX_MANIFOLD_POINTS>,
+}
+
 // A body's AABB in sweep order, coordinates permuted so the sweep axis comes first (then
 // the axis after it, then the one after that): the sweep reads one contiguous record per
 // candidate, and neighbouring threads read neighbouring records. 32 bytes.

@@ -1,7 +1,7 @@
 //! The GPU collision stages against their CPU twins on seeded random scenes: AABBs, sweep
 //! axis, radix sort, the broad-phase pair list (exactly the CPU's), and the narrow phase's
 //! manifolds (the same features and ids, positions and depths to 1e-4 of the box size,
-//! normals to 1e-3 rad), pair matching and impulse carry.
+//! normals to 1e-3 rad), pair matching and impulse carry (by id and by position).
 //!
 //! Runs on any adapter (lavapipe in CI, with `TUMBLE_REQUIRE_GPU=1` so a missing adapter
 //! fails); without one and without that variable, each test prints "skipped" and passes.
@@ -13,7 +13,7 @@ use rand_chacha::ChaCha8Rng;
 use tumble_geometry::{Aabb, Point3, Pose, Rot, Vec3, nalgebra::Translation3};
 use tumble_gpu::collision::CollisionConfig;
 use tumble_gpu::kernels::{
-    carry_impulses::carry_impulses_cpu,
+    carry_impulses::{CarryHistory, carry_impulses_cpu},
     choose_axis::choose_axis_cpu,
     collide_cuboids::{collide_pair_cpu, kind_code, kind_from_code},
     compact_touching::{compact_touching_cpu, scatter_impulses_cpu},
@@ -678,7 +678,7 @@ fn gpu_manifolds_match_the_cpu_narrow_phase_on_10000_random_pairs() {
 }
 
 #[test]
-fn second_step_keeps_features_by_hysteresis_and_carries_impulses_by_id() {
+fn second_step_keeps_features_by_hysteresis_and_carries_impulses_by_id_and_position() {
     let Some(ctx) = GpuContext::for_tests() else {
         return;
     };
@@ -686,6 +686,7 @@ fn second_step_keeps_features_by_hysteresis_and_carries_impulses_by_id() {
     let config = CollisionConfig::default();
     let mut gpu = collision(&ctx, &scene, config);
     let first = gpu.step_and_read(ReadbackRequest::CONTACTS).unwrap();
+    let first_locals = gpu.read_local_manifolds().unwrap();
     // Impulses a solver would have left: distinct per point, so a wrong match shows.
     let mut stored = first.contacts.clone();
     for (i, c) in stored.iter_mut().enumerate() {
@@ -768,8 +769,34 @@ fn second_step_keeps_features_by_hysteresis_and_carries_impulses_by_id() {
         c.normal_impulse = 0.0;
         c.friction_impulse = [0.0; 4];
     }
-    carry_impulses_cpu(&second.manifolds, &mut want, &first.manifolds, &stored);
+    let second_locals = carry_impulses_cpu(
+        &scene.poses,
+        &second.manifolds,
+        &mut want,
+        &CarryHistory {
+            manifolds: &first.manifolds,
+            contacts: &stored,
+            locals: &first_locals,
+        },
+    );
     assert_eq!(second.contacts, want);
+    // The manifolds kept for the next step are this step's in A's frame: the twin rotates in
+    // the shader's arithmetic, so they differ only by the round-off of world coordinates up
+    // to 45 m (f32 spacing 4e-6 m, fused or not): 1e-5 m, a thousandth of the 1 cm reach.
+    let gpu_locals = gpu.read_local_manifolds().unwrap();
+    assert_eq!(gpu_locals.len(), second_locals.len());
+    let mut worst = 0.0f32;
+    for (k, m) in second.manifolds.iter().enumerate() {
+        let (g, c) = (&gpu_locals[k], &second_locals[k]);
+        let slots = std::iter::once((&g.normal, &c.normal))
+            .chain(g.points.iter().zip(&c.points).take(m.len as usize));
+        for (a, b) in slots.filter(|_| m.len > 0) {
+            for i in 0..4 {
+                worst = worst.max((a[i] - b[i]).abs());
+            }
+        }
+    }
+    assert!(!(worst > 1e-5), "local manifolds differ by {worst}");
     let carried = second
         .contacts
         .iter()

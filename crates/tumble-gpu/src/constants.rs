@@ -38,6 +38,11 @@ pub const MANIFOLD_FACE_B: u32 = 1;
 /// `GpuManifold::kind` of an edge-edge (or vertex) manifold.
 pub const MANIFOLD_EDGE: u32 = 2;
 
+/// Farthest a contact point may move in body A's frame and still inherit last step's impulse
+/// when its feature id changed (`carry_impulses`' position fallback): tumble-solver's
+/// contact-cache limit, so both backends warm start the same points.
+pub const PERSIST_DISTANCE: f32 = tumble_solver::PERSIST_DISTANCE;
+
 /// Bit offsets of the contact id fields, read off `tumble_narrow`'s id packing so that the
 /// GPU packs ids exactly as the CPU does without a second copy of the layout:
 /// `(kind, reference face, incident face, edge_in)`; `edge_out` is at bit 0.
@@ -76,6 +81,12 @@ pub fn shader_constants() -> Vec<(&'static str, f64)> {
         ("MANIFOLD_FACE_A", f64::from(MANIFOLD_FACE_A)),
         ("MANIFOLD_FACE_B", f64::from(MANIFOLD_FACE_B)),
         ("MANIFOLD_EDGE", f64::from(MANIFOLD_EDGE)),
+        ("PERSIST_DISTANCE", f64::from(PERSIST_DISTANCE)),
+        // Also in the solver's list (its tilt carry); both read tumble-solver's value.
+        (
+            "PERSIST_NORMAL_COS",
+            f64::from(crate::solver::constants::PERSIST_NORMAL_COS),
+        ),
         ("PARALLEL_EDGE_SIN_SQ", f64::from(tol::PARALLEL_EDGE_SIN_SQ)),
         ("FACE_B_REL_TOL", f64::from(tol::FACE_B_REL_TOL)),
         ("FACE_B_ABS_TOL", f64::from(tol::FACE_B_ABS_TOL)),

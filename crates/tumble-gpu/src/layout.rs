@@ -259,6 +259,18 @@ pub struct GpuManifold {
     pub _pad1: u32,
 }
 
+/// A manifold in body A's frame at the poses it was found at, kept per pair slot so that the
+/// next step's `carry_impulses` can match points whose feature ids changed by where they are
+/// on A (the CPU contact cache keeps the same). 80 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuLocalManifold {
+    /// The manifold normal in A's frame; `w` unused.
+    pub normal: [f32; 4],
+    /// Each point in A's frame; `w` unused, slots past the manifold's `len` zero.
+    pub points: [[f32; 4]; tumble_geometry::MAX_MANIFOLD_POINTS],
+}
+
 /// A body's AABB in sweep order, coordinates permuted so the sweep axis comes first (then the
 /// axis after it, then the one after that). 32 bytes.
 #[repr(C)]
@@ -408,6 +420,7 @@ pub fn shared_struct_layouts() -> Vec<StructLayout> {
             _pad0,
             _pad1
         }),
+        struct_layout!(GpuLocalManifold { normal, points }),
         struct_layout!(GpuTouching { slot, first_point }),
         struct_layout!(TouchingCounts {
             manifolds,

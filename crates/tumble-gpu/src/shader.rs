@@ -65,6 +65,8 @@ pub mod common {
     pub const REDUCE: WgslFile = wgsl_file!("common/reduce.wgsl");
     /// Workgroup-wide prefix sum of a tile.
     pub const TILE_SCAN: WgslFile = wgsl_file!("common/tile_scan.wgsl");
+    /// The contact persistence tolerances (overrides from `tumble-solver`'s contact cache).
+    pub const PERSISTENCE: WgslFile = wgsl_file!("common/persistence.wgsl");
 
     /// Everything the box-box narrow phase needs, in order.
     pub const NARROW_PHASE: &[WgslFile] = &[
@@ -97,6 +99,7 @@ pub mod common {
         VERTEX_CONTACT,
         REDUCE,
         TILE_SCAN,
+        PERSISTENCE,
     ];
 }
 

@@ -2,15 +2,15 @@
 //!
 //! Pair lists, manifolds and contacts exist once per step parity: step `n` writes the set
 //! `n % 2` while the other set still holds step `n - 1`, whose sorted pairs `match_pairs`
-//! searches and whose impulses `carry_impulses` reads. Each parity's pair arrays have two
+//! searches and whose impulses and local manifolds `carry_impulses` reads. Each parity's pair arrays have two
 //! copies, the radix sort's ping-pong; the sorted result lands in copy
 //! [`PAIR_RESULT_COPY`] (the pair sort always runs an even number of passes).
 
 use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE};
 use crate::kernels::radix_sort::tile_count_len;
 use crate::layout::{
-    GpuAabb, GpuContact, GpuManifold, GpuPose, GpuShape, GpuSweepBox, GpuTouching, GpuVelocity,
-    SweepAxis, TouchingCounts, WorkList,
+    GpuAabb, GpuContact, GpuLocalManifold, GpuManifold, GpuPose, GpuShape, GpuSweepBox,
+    GpuTouching, GpuVelocity, SweepAxis, TouchingCounts, WorkList,
 };
 use crate::{GpuError, MAX_MANIFOLD_POINTS};
 
@@ -55,6 +55,9 @@ pub const PREVIOUS_INDEX: &str = "previous pair index";
 pub const MANIFOLDS: [&str; 2] = ["manifolds 0", "manifolds 1"];
 /// Contact points, per parity.
 pub const CONTACTS: [&str; 2] = ["contacts 0", "contacts 1"];
+/// Manifolds in their body A's frame (`GpuLocalManifold`), per parity: what the next step
+/// matches points whose ids changed against.
+pub const LOCAL_MANIFOLDS: [&str; 2] = ["local manifolds 0", "local manifolds 1"];
 /// Per-tile (manifolds in contact, points) totals of the compaction.
 pub const TOUCHING_TILES: &str = "touching tiles";
 /// `TouchingCounts`.
@@ -121,6 +124,11 @@ pub fn ensure_pair_buffers(pool: &mut BufferPool, capacity: u32) -> Result<bool,
         grew |= pool.ensure(
             CONTACTS[parity],
             bytes_of::<GpuContact>(points),
+            STORAGE_USAGE,
+        )?;
+        grew |= pool.ensure(
+            LOCAL_MANIFOLDS[parity],
+            bytes_of::<GpuLocalManifold>(n),
             STORAGE_USAGE,
         )?;
     }

@@ -246,10 +246,13 @@ pub fn build_groups(
                 ctx,
                 &CarryImpulsesArgs {
                     work: b(PAIR_WORK[p]),
+                    poses: b(POSES),
                     manifolds: b(MANIFOLDS[p]),
                     previous_manifolds: b(MANIFOLDS[q]),
                     previous_contacts: b(CONTACTS[q]),
+                    previous_locals: b(LOCAL_MANIFOLDS[q]),
                     contacts: b(CONTACTS[p]),
+                    locals: b(LOCAL_MANIFOLDS[p]),
                 },
             ),
             count_touching: kernels.count_touching.bind(

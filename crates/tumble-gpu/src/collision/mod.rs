@@ -8,7 +8,8 @@
 //!                -> plan_dispatch (count -> work list)
 //!                -> radix sort (pairs by b, then by a: canonical order, indirect)
 //! narrow_phase   match_pairs (last step's index) -> collide_cuboids -> carry_impulses
-//!                (all three dispatched indirectly from the pair work list)
+//!                (by feature id, else by position in body A's frame; all three
+//!                dispatched indirectly from the pair work list)
 //! ```
 
 pub mod buffers;
@@ -23,9 +24,9 @@ pub use snapshot::{CollisionSnapshot, ReadbackRequest};
 use crate::buffer_pool::BufferPool;
 use crate::kernels::compact_touching::ScatterImpulsesArgs;
 use crate::layout::{
-    GpuAabb, GpuContact, GpuManifold, GpuPose, GpuShape, GpuSweepBox, GpuTouching, GpuVelocity,
-    NarrowParams, ScatterParams, SweepAxis, SweepParams, TouchingCounts, UpdateAabbsParams,
-    WORK_LIST_GROUPS_OFFSET, WorkList,
+    GpuAabb, GpuContact, GpuLocalManifold, GpuManifold, GpuPose, GpuShape, GpuSweepBox,
+    GpuTouching, GpuVelocity, NarrowParams, ScatterParams, SweepAxis, SweepParams, TouchingCounts,
+    UpdateAabbsParams, WORK_LIST_GROUPS_OFFSET, WorkList,
 };
 use crate::readback::{Mapped, Readback, Region, Ticket};
 use crate::{GpuContext, GpuError, MAX_BODIES, MAX_MANIFOLD_POINTS, StageTimer};
@@ -824,6 +825,20 @@ impl GpuCollision {
             bytemuck::cast_slice(points),
         );
         Ok(())
+    }
+
+    /// Blocking read of the last step's manifolds in their body A's frame, one per pair (tests
+    /// and tools; meaningful where the manifold has points).
+    pub fn read_local_manifolds(&self) -> Result<Vec<GpuLocalManifold>, GpuError> {
+        let count: Vec<WorkList> =
+            self.ctx
+                .read_buffer(self.pool.get(PAIR_WORK[self.last_parity()]), 0, 1)?;
+        let n = count.first().map_or(0, |w| w.count.min(self.pair_capacity));
+        self.ctx.read_buffer(
+            self.pool.get(LOCAL_MANIFOLDS[self.last_parity()]),
+            0,
+            u64::from(n),
+        )
     }
 
     /// Blocking read of the last step's AABBs (tests and tools).

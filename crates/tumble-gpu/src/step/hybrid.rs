@@ -61,7 +61,8 @@ impl HybridCollision {
 
     /// Runs the GPU collision stages on the bodies' current poses and velocities and returns
     /// each manifold with points as `(pair slot, contact)`: bodies in index order (A < B),
-    /// warm-start impulses carried over by feature id from the last step.
+    /// warm-start impulses carried over from the last step by feature id, or by position in
+    /// body A's frame where ids changed (the CPU contact cache's rule).
     pub fn collide(
         &mut self,
         bodies: &[Body],
@@ -147,8 +148,8 @@ impl HybridCollision {
     }
 
     /// Writes the CPU solver's impulses of the last [`Self::collide`] back to the GPU, where
-    /// the next step's matching carries them to the points with the same feature ids, and
-    /// keeps the tilt impulses for the next step.
+    /// the next step's matching carries them to the points with the same feature ids (or at
+    /// the same place on body A), and keeps the tilt impulses for the next step.
     pub fn store_impulses(&mut self, solved: &[(u32, Contact)]) -> Result<(), GpuError> {
         if self.last_points.is_empty() {
             return Ok(());

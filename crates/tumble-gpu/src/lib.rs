@@ -17,6 +17,7 @@ pub mod layout;
 pub mod readback;
 pub mod registry;
 pub mod shader;
+pub mod sleep;
 pub mod solver;
 pub mod stage_timer;
 pub mod step;

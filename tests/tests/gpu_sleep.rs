@@ -1,0 +1,628 @@
+//! Sleep on the GPU: the island search and the whole sleep stage equal their CPU twins on
+//! seeded random contact graphs, a settled pool falls asleep and then stops changing bit for
+//! bit, a box dropped on one of two sleeping piles wakes that pile only, and the host's pose,
+//! velocity, impulse and wake calls wake a sleeping island. With sleep on, a scene that has
+//! not fallen asleep yet steps bit for bit as with sleep off (the stage only watches until an
+//! island sleeps); with sleep off nothing of the stage is recorded at all, which the existing
+//! determinism and effect tests cover.
+//!
+//! Needs a GPU (or lavapipe): without one it prints a loud "skipped" unless
+//! `TUMBLE_REQUIRE_GPU=1`, which makes a missing adapter a failure.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use tumble_geometry::{Cuboid, Point3, Pose, Real, Vec3};
+use tumble_gpu::layout::{GpuManifold, GpuPose, GpuShape, GpuVelocity, WorkList};
+use tumble_gpu::sleep::constants::{AWAKE, ISLAND_ROUNDS};
+use tumble_gpu::sleep::{GpuSleep, SleepCpu, SleepInputs, SleepLink, island_search_cpu};
+use tumble_gpu::solver::Effects;
+use tumble_gpu::solver::convert::{gpu_body, gpu_shape};
+use tumble_gpu::step::{GpuWorld, GpuWorldConfig, ReadRequest, Snapshot};
+use tumble_gpu::{GpuContext, StageTimer};
+use tumble_solver::{Body, BodyKind, BodyState, Islands, Material, TIME_TO_SLEEP};
+
+/// The world's step, s (the default 60 Hz).
+const DT: Real = 1.0 / 60.0;
+
+/// Half extent of the cubes of the scenes, m.
+const HALF: Real = 0.25;
+
+/// Everything a readback can hold except the contacts.
+const STATE: ReadRequest = ReadRequest {
+    poses: true,
+    velocities: true,
+    contacts: false,
+    sleeping: true,
+};
+
+// ------------------------------------------------------------------------------------------
+// The stage against its CPU twin, on synthetic contact graphs.
+
+/// A body for the stage tests: a unit cube of `kind` (only its kind matters to the stage).
+fn body(kind: BodyKind, pose: Pose) -> Body {
+    Body::new(
+        kind,
+        Cuboid::new(Vec3::repeat(HALF)),
+        pose,
+        1.0,
+        Material::default(),
+    )
+    .unwrap()
+}
+
+/// Runs the sleep stage once on the GPU over `links` as the step's manifolds (after waking
+/// `queued`), with `velocities` as the step's final velocities. Returns the island labels,
+/// rest times, search labels and whether the search finished.
+fn run_stage(
+    ctx: &GpuContext,
+    sleep: &mut GpuSleep,
+    bodies: &[Body],
+    velocities: &[(Vec3, Vec3)],
+    links: &[SleepLink],
+    queued: &[u32],
+) -> (Vec<u32>, Vec<f32>, Vec<u32>, bool) {
+    let n = bodies.len() as u64;
+    let gpu_bodies: Vec<_> = bodies.iter().map(gpu_body).collect();
+    let shapes: Vec<GpuShape> = bodies.iter().map(gpu_shape).collect();
+    let v: Vec<GpuVelocity> = velocities
+        .iter()
+        .map(|(l, w)| GpuVelocity {
+            linear: [l.x, l.y, l.z, 0.0],
+            angular: [w.x, w.y, w.z, 0.0],
+        })
+        .collect();
+    let manifolds: Vec<GpuManifold> = links
+        .iter()
+        .map(|l| GpuManifold {
+            body_a: l.a,
+            body_b: l.b,
+            len: u32::from(l.touching),
+            ..Default::default()
+        })
+        .collect();
+    let work = WorkList::for_count(links.len() as u32);
+    let buffers = (
+        ctx.storage_buffer("bodies", &gpu_bodies),
+        ctx.storage_buffer("shapes", &shapes),
+        ctx.storage_buffer("velocities", &v),
+        ctx.storage_buffer("work", &[work]),
+        ctx.storage_buffer("manifolds", &manifolds),
+    );
+    for &q in queued {
+        sleep.queue_wake(q);
+    }
+    let mut encoder = ctx
+        .device
+        .create_command_encoder(&tumble_gpu::wgpu::CommandEncoderDescriptor { label: None });
+    let mut timer = StageTimer::disabled(ctx);
+    sleep.record_wake(&mut encoder, &mut timer, &buffers.0, &buffers.1);
+    let inputs = SleepInputs {
+        bodies: &buffers.0,
+        shapes: &buffers.1,
+        velocities: &buffers.2,
+        pair_work: &buffers.3,
+        manifolds: &buffers.4,
+    };
+    sleep.record_update(&mut encoder, &mut timer, &inputs);
+    ctx.queue.submit([encoder.finish()]);
+    let island = ctx.read_buffer(sleep.island_labels().unwrap(), 0, n).unwrap();
+    let rest = ctx.read_buffer(sleep.rest_times().unwrap(), 0, n).unwrap();
+    let labels = ctx.read_buffer(sleep.search_labels().unwrap(), 0, n).unwrap();
+    let unfinished: Vec<u32> = ctx.read_buffer(sleep.unfinished_flag().unwrap(), 0, 1).unwrap();
+    (island, rest, labels, unfinished[0] == 0)
+}
+
+/// Random kinds: mostly dynamic, with fixed and kinematic bodies that must not link islands.
+fn random_kinds(rng: &mut ChaCha8Rng, n: usize) -> Vec<BodyKind> {
+    (0..n)
+        .map(|_| match rng.random_range(0..10) {
+            0 => BodyKind::Fixed,
+            1 => BodyKind::Kinematic,
+            _ => BodyKind::Dynamic,
+        })
+        .collect()
+}
+
+/// A chain through all `n` bodies in a shuffled order: the longest path a graph of `n`
+/// bodies can have, with labels scattered along it.
+fn shuffled_chain(rng: &mut ChaCha8Rng, n: u32) -> Vec<(u32, u32)> {
+    let mut order: Vec<u32> = (0..n).collect();
+    for i in (1..order.len()).rev() {
+        order.swap(i, rng.random_range(0..=i));
+    }
+    order.windows(2).map(|w| (w[0], w[1])).collect()
+}
+
+/// A chain whose labels alternate between the two ends (0, n-1, 1, n-2, ...), the order
+/// that takes label propagation the most rounds among those tried.
+fn zigzag_chain(n: u32) -> Vec<(u32, u32)> {
+    let order: Vec<u32> = (0..n / 2).flat_map(|i| [i, n - 1 - i]).collect();
+    order.windows(2).map(|w| (w[0], w[1])).collect()
+}
+
+/// The contact graphs of the twin test: sparse random graphs, a hub touching 100 others, long
+/// shuffled chains, and grids of piles in scattered index order.
+fn random_graph(rng: &mut ChaCha8Rng, family: usize) -> (usize, Vec<(u32, u32)>) {
+    let n = rng.random_range(2..700u32);
+    let links = match family {
+        0 => (0..rng.random_range(0..2 * n))
+            .map(|_| (rng.random_range(0..n), rng.random_range(0..n)))
+            .collect(),
+        1 => {
+            let n = n.max(101);
+            let hub = rng.random_range(0..n);
+            let mut links: Vec<(u32, u32)> = (0..n)
+                .filter(|&o| o != hub)
+                .take(100)
+                .map(|o| (hub.min(o), hub.max(o)))
+                .collect();
+            links.extend((0..n / 4).map(|_| (rng.random_range(0..n), rng.random_range(0..n))));
+            return (n as usize, links);
+        }
+        2 => shuffled_chain(rng, n),
+        _ => {
+            let width = (n as f32).sqrt().max(1.0) as u32;
+            let grid = (0..n)
+                .flat_map(|i| [(i, i + 1), (i, i + width)])
+                .filter(|&(a, b)| b < n && (b != a + 1 || b % width != 0));
+            let mut order: Vec<u32> = (0..n).collect();
+            for i in (1..order.len()).rev() {
+                order.swap(i, rng.random_range(0..=i));
+            }
+            grid.map(|(a, b)| (order[a as usize], order[b as usize]))
+                .collect()
+        }
+    };
+    (n as usize, links)
+}
+
+/// Links as manifolds with points, pairs ordered as the narrow phase writes them (self-links,
+/// which no manifold can be, dropped).
+fn touching(links: &[(u32, u32)]) -> Vec<SleepLink> {
+    links
+        .iter()
+        .filter(|(a, b)| a != b)
+        .map(|&(a, b)| SleepLink {
+            a: a.min(b),
+            b: a.max(b),
+            touching: true,
+        })
+        .collect()
+}
+
+/// Runs the search on the GPU with every body moving (so nothing falls asleep) and checks it
+/// against the twin: exact labels and the same finished flag; when finished, the partition
+/// union-find gives, with the same labels (each island's smallest body).
+fn check_search(ctx: &GpuContext, kinds: &[BodyKind], links: &[SleepLink], what: &str) -> bool {
+    let bodies: Vec<Body> = kinds
+        .iter()
+        .map(|&k| body(k, Pose::identity()))
+        .collect();
+    let fast = (Vec3::new(1.0, 0.0, 0.0), Vec3::zeros());
+    let mut sleep = GpuSleep::new(ctx);
+    let gpu: Vec<_> = bodies.iter().map(gpu_body).collect();
+    sleep.enable(&gpu, DT).unwrap();
+    let (_, _, labels, finished) = run_stage(
+        ctx,
+        &mut sleep,
+        &bodies,
+        &vec![fast; bodies.len()],
+        links,
+        &[],
+    );
+    let linkable: Vec<bool> = kinds.iter().map(|&k| k == BodyKind::Dynamic).collect();
+    let pairs: Vec<(u32, u32)> = links.iter().map(|l| (l.a, l.b)).collect();
+    let twin = island_search_cpu(&linkable, &pairs, ISLAND_ROUNDS);
+    assert_eq!(labels, twin.labels, "{what}: labels differ from the twin's");
+    assert_eq!(finished, twin.finished, "{what}: finished flag");
+    if finished {
+        let islands = Islands::build(&linkable, pairs.iter().copied());
+        assert_eq!(labels, islands.label, "{what}: not union-find's islands");
+    }
+    finished
+}
+
+#[test]
+fn the_island_search_equals_its_cpu_twin_and_union_find() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(31);
+    for case in 0..24 {
+        let family = case % 4;
+        let (n, links) = random_graph(&mut rng, family);
+        let kinds = random_kinds(&mut rng, n);
+        let finished = check_search(&ctx, &kinds, &touching(&links), &format!("case {case}"));
+        // Every graph here is far shorter than 2^ISLAND_ROUNDS bodies: the search must
+        // finish, or the rounds were miscounted.
+        assert!(finished, "case {case} (family {family}, {n} bodies) did not finish");
+    }
+    // Manifolds without points link nothing: a chain of them leaves every body alone.
+    let mut links = touching(&shuffled_chain(&mut rng, 300));
+    links.iter_mut().for_each(|l| l.touching = false);
+    let kinds = vec![BodyKind::Dynamic; 300];
+    check_search(&ctx, &kinds, &links, "pointless manifolds");
+}
+
+#[test]
+fn a_chain_beyond_the_rounds_is_reported_unfinished_and_nothing_sleeps() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    // A zigzag chain of 2^(ISLAND_ROUNDS + 1) bodies needs more rounds than there are (the
+    // twin took 14 rounds at 16,000 bodies and one more per doubling): the flag must rise on
+    // both sides, with the labels still equal bit for bit.
+    let n = 1u32 << (ISLAND_ROUNDS + 1);
+    let links = touching(&zigzag_chain(n));
+    let kinds = vec![BodyKind::Dynamic; n as usize];
+    assert!(!check_search(&ctx, &kinds, &links, "long zigzag"));
+    // Even at rest, an unfinished step puts no one to sleep.
+    let bodies: Vec<Body> = kinds
+        .iter()
+        .map(|&k| body(k, Pose::identity()))
+        .collect();
+    let mut sleep = GpuSleep::new(&ctx);
+    let gpu: Vec<_> = bodies.iter().map(gpu_body).collect();
+    // A step of TIME_TO_SLEEP: one step at rest would be enough to sleep.
+    sleep.enable(&gpu, TIME_TO_SLEEP).unwrap();
+    let still = vec![(Vec3::zeros(), Vec3::zeros()); bodies.len()];
+    let (island, ..) = run_stage(&ctx, &mut sleep, &bodies, &still, &links, &[]);
+    assert!(island.iter().all(|&l| l == AWAKE));
+}
+
+#[test]
+fn the_sleep_stage_equals_its_cpu_twin_step_by_step() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(77);
+    // 0.3 s steps: a body at rest reaches TIME_TO_SLEEP (0.5 s) on its second step, so within
+    // six steps islands fall asleep, get touched, wake and fall asleep again.
+    let dt = 0.3;
+    for case in 0..6 {
+        let n = rng.random_range(20..300usize);
+        let kinds = random_kinds(&mut rng, n);
+        let bodies: Vec<Body> = kinds
+            .iter()
+            .map(|&k| body(k, Pose::identity()))
+            .collect();
+        let mut sleep = GpuSleep::new(&ctx);
+        let gpu: Vec<_> = bodies.iter().map(gpu_body).collect();
+        sleep.enable(&gpu, dt).unwrap();
+        let mut twin = SleepCpu::new(n);
+        let mut slept = 0;
+        let mut woke = 0;
+        let base: Vec<(u32, u32)> = (0..n)
+            .map(|_| (rng.random_range(0..n as u32), rng.random_range(0..n as u32)))
+            .collect();
+        for step in 0..6 {
+            // A moving quarter of the bodies (speeds far from the tolerances, so the GPU's
+            // rounding cannot flip a rest test), a graph that keeps most links from step to
+            // step, a few manifolds without points, and a few host wakes.
+            let velocities: Vec<(Vec3, Vec3)> = (0..n)
+                .map(|_| match rng.random_range(0..8) {
+                    0 => (Vec3::new(0.0, 1.0, 0.0), Vec3::zeros()),
+                    1 => (Vec3::zeros(), Vec3::new(0.0, 0.0, 1.0)),
+                    _ => (Vec3::zeros(), Vec3::zeros()),
+                })
+                .collect();
+            let mut links = touching(
+                &base
+                    .iter()
+                    .copied()
+                    .filter(|_| rng.random_bool(0.9))
+                    .collect::<Vec<_>>(),
+            );
+            links
+                .iter_mut()
+                .for_each(|l| l.touching = rng.random_bool(0.9));
+            let queued: Vec<u32> = (0..rng.random_range(0..3))
+                .map(|_| rng.random_range(0..n as u32))
+                .collect();
+            let (island, rest, ..) = run_stage(&ctx, &mut sleep, &bodies, &velocities, &links, &queued);
+            twin.wake_bodies(&queued);
+            woke += twin.wake_islands().len();
+            twin.update_rest(&kinds, &velocities, dt);
+            twin.touch_sleepers(&links, &kinds, &velocities);
+            slept += twin.fall_asleep(&links, &kinds).len();
+            let what = format!("case {case} step {step}");
+            assert_eq!(island, twin.island, "{what}: island labels");
+            let bits = |r: &[f32]| r.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&rest), bits(&twin.rest_time), "{what}: rest times");
+        }
+        // The comparison covered both transitions, or it proved little.
+        assert!(slept > 0 && woke > 0, "case {case}: slept {slept}, woke {woke}");
+    }
+}
+
+// ------------------------------------------------------------------------------------------
+// Whole steps on GpuWorld.
+
+/// A 40 m floor whose top is at y = 0.
+fn floor() -> Body {
+    Body::new(
+        BodyKind::Fixed,
+        Cuboid::new(Vec3::new(20.0, 0.5, 20.0)),
+        Pose::translation(0.0, -0.5, 0.0),
+        1.0,
+        Material::default(),
+    )
+    .unwrap()
+}
+
+/// A cube resting (1 mm above contact, so nothing starts overlapped) at layer `layer` of a
+/// column standing at (x, z).
+fn cube(x: Real, layer: usize, z: Real) -> Body {
+    let y = HALF + layer as Real * 2.0 * HALF + 0.001 * (layer + 1) as Real;
+    body(BodyKind::Dynamic, Pose::translation(x, y, z))
+}
+
+/// A `side` x `side` block of columns `layers` high centred at (x, z), 2 cm between columns.
+fn pile(x: Real, z: Real, side: usize, layers: usize) -> Vec<Body> {
+    let pitch = 2.0 * HALF + 0.02;
+    let offset = (side as Real - 1.0) * pitch / 2.0;
+    let mut out = Vec::new();
+    for layer in 0..layers {
+        for i in 0..side {
+            for k in 0..side {
+                let (cx, cz) = (x + i as Real * pitch - offset, z + k as Real * pitch - offset);
+                out.push(cube(cx, layer, cz));
+            }
+        }
+    }
+    out
+}
+
+/// A GPU world with `bodies` at rest and sleep on.
+fn sleeping_world(ctx: &GpuContext, bodies: &[Body]) -> GpuWorld {
+    let mut world = GpuWorld::new(ctx, GpuWorldConfig::default()).unwrap();
+    world
+        .set_bodies(bodies, &vec![BodyState::default(); bodies.len()])
+        .unwrap();
+    let effects = Effects {
+        sleep: true,
+        ..world.effects()
+    };
+    world.set_effects(effects).unwrap();
+    assert!(world.effects().sleep);
+    world
+}
+
+/// Steps until every dynamic body in `bodies` sleeps, at most `limit` steps; the snapshot
+/// then, and the steps taken.
+fn step_until_asleep(world: &mut GpuWorld, which: &[usize], limit: usize) -> (Snapshot, usize) {
+    for steps in 1..=limit {
+        world.step().unwrap();
+        let snap = world.read_now(STATE).unwrap();
+        if which.iter().all(|&i| snap.sleeping[i]) {
+            return (snap, steps);
+        }
+    }
+    let snap = world.read_now(STATE).unwrap();
+    let awake: Vec<usize> = which
+        .iter()
+        .copied()
+        .filter(|&i| !snap.sleeping[i])
+        .collect();
+    panic!("not asleep after {limit} steps: bodies {awake:?}");
+}
+
+/// Bitwise equality of poses.
+fn same_bits(a: &GpuPose, b: &GpuPose) -> bool {
+    let bits = |p: &GpuPose| -> Vec<u32> {
+        p.position
+            .iter()
+            .chain(&p.rotation)
+            .map(|c| c.to_bits())
+            .collect()
+    };
+    bits(a) == bits(b)
+}
+
+/// Steps a block from 1 mm drops to sleep needs at most: the drops end within a few steps and
+/// the contacts settle well inside 0.5 s (the CPU stability suite's stacks come to rest that
+/// fast); then every body must rest for TIME_TO_SLEEP. Twice the sum, 2 s, is the bound.
+const SETTLE_STEPS: usize = (2.0 * (0.5 + TIME_TO_SLEEP) / DT) as usize;
+
+#[test]
+fn a_settled_pool_falls_asleep_and_then_stops_changing() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    // A 4 x 4 block three cubes high: 48 boxes on a floor.
+    let mut bodies = vec![floor()];
+    bodies.extend(pile(0.0, 0.0, 4, 3));
+    let dynamic: Vec<usize> = (1..bodies.len()).collect();
+    let mut world = sleeping_world(&ctx, &bodies);
+    let (asleep, steps) = step_until_asleep(&mut world, &dynamic, SETTLE_STEPS);
+    // Resting takes TIME_TO_SLEEP at least: an island cannot sleep before 30 steps.
+    assert!(steps as Real * DT >= TIME_TO_SLEEP, "asleep after {steps} steps");
+    assert!(!asleep.sleeping[0], "the floor is fixed, it never sleeps");
+    for &i in &dynamic {
+        // Asleep where it rests: each cube within 5 mm of its layer's height (the soft
+        // contacts' slop and the 1 mm start gaps are smaller), and at exactly zero velocity.
+        let layer = (bodies[i].pose.translation.y / (2.0 * HALF)).floor();
+        let expected = HALF + layer * 2.0 * HALF;
+        let y = asleep.pose(i).translation.y;
+        assert!((y - expected).abs() < 0.005, "body {i}: y {y}, expected {expected}");
+        let v = &asleep.velocities[i];
+        assert!(v.linear.iter().chain(&v.angular).all(|&c| c == 0.0), "body {i}: {v:?}");
+    }
+    // Once asleep, a second of steps changes no bit of any pose.
+    for _ in 0..60 {
+        world.step().unwrap();
+    }
+    let later = world.read_now(STATE).unwrap();
+    for &i in &dynamic {
+        assert!(later.sleeping[i], "body {i} woke up by itself");
+        assert!(
+            same_bits(&later.poses[i], &asleep.poses[i]),
+            "body {i} moved while asleep: {:?} -> {:?}",
+            asleep.poses[i],
+            later.poses[i]
+        );
+    }
+}
+
+#[test]
+fn a_box_dropped_on_one_sleeping_pile_wakes_that_pile_only() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    // Two 2 x 2 piles two cubes high, 6 m apart, and a lone cube 6 m away from both.
+    let mut bodies = vec![floor()];
+    bodies.extend(pile(-3.0, 0.0, 2, 2));
+    bodies.extend(pile(3.0, 0.0, 2, 2));
+    bodies.push(cube(0.0, 0, 6.0));
+    let pile_a: Vec<usize> = (1..9).collect();
+    let pile_b: Vec<usize> = (9..17).collect();
+    let dropper = 17;
+    let dynamic: Vec<usize> = (1..bodies.len()).collect();
+    let mut world = sleeping_world(&ctx, &bodies);
+    let (asleep, _) = step_until_asleep(&mut world, &dynamic, SETTLE_STEPS);
+    // The cube goes 1 m above pile A's top (two cubes: 1 m) and falls at 1 m/s.
+    let top = 4.0 * HALF;
+    let above = Pose::translation(-3.0, top + 1.0 + HALF, 0.0);
+    world.set_pose(dropper, &above).unwrap();
+    world
+        .set_velocity(dropper, &Vec3::new(0.0, -1.0, 0.0), &Vec3::zeros())
+        .unwrap();
+    let mut pile_a_woke = false;
+    // A 1 m fall at 1 m/s start takes about 0.36 s; a second is ample to land.
+    for _ in 0..60 {
+        world.step().unwrap();
+        let snap = world.read_now(STATE).unwrap();
+        pile_a_woke |= pile_a.iter().all(|&i| !snap.sleeping[i]);
+        for &i in &pile_b {
+            assert!(snap.sleeping[i], "pile B's body {i} woke");
+            assert!(
+                same_bits(&snap.poses[i], &asleep.poses[i]),
+                "pile B's body {i} moved"
+            );
+        }
+    }
+    assert!(pile_a_woke, "the dropped cube did not wake pile A");
+    // It landed on pile A: its centre one cube above the pile's top, within 5 cm (it may
+    // settle on the edge between two columns, slightly tilted).
+    let landed = world.read_now(STATE).unwrap().pose(dropper).translation.vector;
+    assert!((landed.y - (top + HALF)).abs() < 0.05, "dropper at {landed:?}");
+    assert!((landed.x + 3.0).abs() < 0.6 && landed.z.abs() < 0.6, "dropper at {landed:?}");
+}
+
+#[test]
+fn host_pose_velocity_impulse_and_wake_calls_wake_a_sleeping_island() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    // Five two-cube stacks 2 m apart: stack s is bodies 1 + 2s (bottom) and 2 + 2s (top).
+    let mut bodies = vec![floor()];
+    for s in 0..5 {
+        bodies.extend(pile(2.0 * s as Real, 0.0, 1, 2));
+    }
+    let dynamic: Vec<usize> = (1..bodies.len()).collect();
+    let mut world = sleeping_world(&ctx, &bodies);
+    let (asleep, _) = step_until_asleep(&mut world, &dynamic, SETTLE_STEPS);
+    let top = |s: usize| 2 + 2 * s;
+    let bottom = |s: usize| 1 + 2 * s;
+    let y0 = |i: usize| asleep.pose(i).translation.y;
+    // Stack 0: its top cube is lifted 2 cm.
+    let mut lifted = asleep.pose(top(0));
+    lifted.translation.y += 0.02;
+    world.set_pose(top(0), &lifted).unwrap();
+    // Stack 1: its top cube is sent up at 1 m/s.
+    let up = Vec3::new(0.0, 1.0, 0.0);
+    world.set_velocity(top(1), &up, &Vec3::zeros()).unwrap();
+    // Stack 2: its top cube gets an upward impulse of 1 m/s times its mass, at its centre.
+    let mass = 1.0 / bodies[top(2)].inverse_mass;
+    let centre = Point3::from(asleep.pose(top(2)).translation.vector);
+    world.apply_impulse(top(2), &(up * mass), &centre).unwrap();
+    // Stack 3: an explicit wake of its bottom cube.
+    world.wake_up(bottom(3)).unwrap();
+    world.step().unwrap();
+    let snap = world.read_now(STATE).unwrap();
+    for s in 0..4 {
+        for i in [bottom(s), top(s)] {
+            assert!(!snap.sleeping[i], "stack {s}: body {i} still asleep");
+        }
+    }
+    for i in [bottom(4), top(4)] {
+        assert!(snap.sleeping[i], "stack 4 was not touched: body {i} woke");
+        assert!(same_bits(&snap.poses[i], &asleep.poses[i]), "body {i} moved");
+    }
+    // The woken cubes moved as dynamic bodies in that very step: at 1 m/s less one step of
+    // gravity, a cube rises by about dt (1/60 m); half of that is a safe floor.
+    for s in [1, 2] {
+        let rise = snap.pose(top(s)).translation.y - y0(top(s));
+        assert!(rise > 0.5 * DT, "stack {s}: top rose {rise} m");
+    }
+    // The lifted cube kept its new pose (less one step of falling, under 1 mm).
+    let y = snap.pose(top(0)).translation.y;
+    assert!((y - (y0(top(0)) + 0.02)).abs() < 0.001, "stack 0: top at {y}");
+}
+
+#[test]
+fn sleep_on_steps_bit_for_bit_like_sleep_off_until_something_sleeps() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    // A pile with a cube falling onto it from 0.5 m, spinning: 20 steps (a third of a
+    // second) is less than TIME_TO_SLEEP, so no island can have fallen asleep.
+    let mut bodies = vec![floor()];
+    bodies.extend(pile(0.0, 0.0, 3, 2));
+    bodies.push(body(
+        BodyKind::Dynamic,
+        Pose::new(Vec3::new(0.1, 1.5, 0.2), Vec3::new(0.3, 0.2, 0.1)),
+    ));
+    let states = vec![BodyState::default(); bodies.len()];
+    let steps = 20;
+    assert!((steps as Real) * DT < TIME_TO_SLEEP);
+    let run = |sleep: bool| {
+        let mut world = GpuWorld::new(&ctx, GpuWorldConfig::default()).unwrap();
+        world.set_bodies(&bodies, &states).unwrap();
+        let effects = Effects {
+            sleep,
+            ..world.effects()
+        };
+        world.set_effects(effects).unwrap();
+        for _ in 0..steps {
+            world.step().unwrap();
+        }
+        world.read_now(STATE).unwrap()
+    };
+    let (on, off) = (run(true), run(false));
+    assert_eq!(on.sleeping_count(), 0);
+    // With sleep off the flags are still answered: every body awake.
+    assert_eq!(off.sleeping, vec![false; bodies.len()]);
+    // The falling cube moved, so the comparison is not between two still scenes.
+    let fell = bodies.last().unwrap().pose.translation.y - on.pose(bodies.len() - 1).translation.y;
+    assert!(fell > 0.1, "the cube fell {fell} m");
+    for i in 0..bodies.len() {
+        assert!(same_bits(&on.poses[i], &off.poses[i]), "body {i} differs");
+    }
+}
+
+#[test]
+fn turning_sleep_off_wakes_every_sleeping_body() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let mut bodies = vec![floor()];
+    bodies.extend(pile(0.0, 0.0, 1, 2));
+    let mut world = sleeping_world(&ctx, &bodies);
+    step_until_asleep(&mut world, &[1, 2], SETTLE_STEPS);
+    let effects = Effects {
+        sleep: false,
+        ..world.effects()
+    };
+    world.set_effects(effects).unwrap();
+    // Awake again, the top cube answers a velocity as a dynamic body: sent up at 1 m/s it
+    // rises by about dt in one step (half of that is a safe floor).
+    let before = world.read_now(STATE).unwrap().pose(2).translation.y;
+    world
+        .set_velocity(2, &Vec3::new(0.0, 1.0, 0.0), &Vec3::zeros())
+        .unwrap();
+    world.step().unwrap();
+    let after = world.read_now(STATE).unwrap();
+    assert_eq!(after.sleeping, vec![false; 3]);
+    assert!(after.pose(2).translation.y - before > 0.5 * DT);
+}

@@ -11,8 +11,8 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use tumble_geometry::{Cuboid, Point3, Pose, Real, Vec3};
-use tumble_gpu::layout::{GpuManifold, GpuPose, GpuShape, GpuVelocity, WorkList};
+use tumble_geometry::{Aabb, Cuboid, Point3, Pose, Real, Vec3};
+use tumble_gpu::layout::{GpuAabb, GpuManifold, GpuPose, GpuShape, GpuVelocity, WorkList};
 use tumble_gpu::sleep::constants::{AWAKE, ISLAND_ROUNDS};
 use tumble_gpu::sleep::{GpuSleep, SleepCpu, SleepInputs, SleepLink, island_search_cpu};
 use tumble_gpu::solver::Effects;
@@ -50,17 +50,44 @@ fn body(kind: BodyKind, pose: Pose) -> Body {
     .unwrap()
 }
 
-/// Runs the sleep stage once on the GPU over `links` as the step's manifolds (after waking
-/// `queued`), with `velocities` as the step's final velocities. Returns the island labels,
-/// rest times, search labels and whether the search finished.
+/// One step's input to the sleep stage.
+struct StageInput<'a> {
+    /// The step's final velocities, (linear, angular).
+    velocities: &'a [(Vec3, Vec3)],
+    /// The step's manifolds.
+    links: &'a [SleepLink],
+    /// The step's AABBs.
+    aabbs: &'a [Aabb],
+    /// Bodies the host touched before the step.
+    queued: &'a [u32],
+}
+
+/// `n` AABBs of zero size at the origin (for steps where no kinematic body moves).
+fn points(n: usize) -> Vec<Aabb> {
+    let origin = Point3::origin();
+    vec![
+        Aabb {
+            min: origin,
+            max: origin,
+        };
+        n
+    ]
+}
+
+/// Runs the sleep stage once on the GPU. Returns the island labels, rest times, search
+/// labels and whether the search finished.
 fn run_stage(
     ctx: &GpuContext,
     sleep: &mut GpuSleep,
     bodies: &[Body],
-    velocities: &[(Vec3, Vec3)],
-    links: &[SleepLink],
-    queued: &[u32],
+    input: &StageInput<'_>,
 ) -> (Vec<u32>, Vec<f32>, Vec<u32>, bool) {
+    let StageInput {
+        velocities,
+        links,
+        aabbs,
+        queued,
+    } = *input;
     let n = bodies.len() as u64;
     let gpu_bodies: Vec<_> = bodies.iter().map(gpu_body).collect();
     let shapes: Vec<GpuShape> = bodies.iter().map(gpu_shape).collect();
@@ -80,6 +107,13 @@ fn run_stage(
             ..Default::default()
         })
         .collect();
+    let boxes: Vec<GpuAabb> = aabbs
+        .iter()
+        .map(|b| GpuAabb {
+            min: [b.min.x, b.min.y, b.min.z, 0.0],
+            max: [b.max.x, b.max.y, b.max.z, 0.0],
+        })
+        .collect();
     let work = WorkList::for_count(links.len() as u32);
     let buffers = (
         ctx.storage_buffer("bodies", &gpu_bodies),
@@ -87,6 +121,7 @@ fn run_stage(
         ctx.storage_buffer("velocities", &v),
         ctx.storage_buffer("work", &[work]),
         ctx.storage_buffer("manifolds", &manifolds),
+        ctx.storage_buffer("aabbs", &boxes),
     );
     for &q in queued {
         sleep.queue_wake(q);
@@ -102,6 +137,7 @@ fn run_stage(
         velocities: &buffers.2,
         pair_work: &buffers.3,
         manifolds: &buffers.4,
+        aabbs: &buffers.5,
     };
     sleep.record_update(&mut encoder, &mut timer, &inputs);
     ctx.queue.submit([encoder.finish()]);
@@ -202,14 +238,13 @@ fn check_search(ctx: &GpuContext, kinds: &[BodyKind], links: &[SleepLink], what:
     let mut sleep = GpuSleep::new(ctx);
     let gpu: Vec<_> = bodies.iter().map(gpu_body).collect();
     sleep.enable(&gpu, DT).unwrap();
-    let (_, _, labels, finished) = run_stage(
-        ctx,
-        &mut sleep,
-        &bodies,
-        &vec![fast; bodies.len()],
+    let input = StageInput {
+        velocities: &vec![fast; bodies.len()],
         links,
-        &[],
-    );
+        aabbs: &points(bodies.len()),
+        queued: &[],
+    };
+    let (_, _, labels, finished) = run_stage(ctx, &mut sleep, &bodies, &input);
     let linkable: Vec<bool> = kinds.iter().map(|&k| k == BodyKind::Dynamic).collect();
     let pairs: Vec<(u32, u32)> = links
         .iter()
@@ -270,7 +305,13 @@ fn a_chain_beyond_the_rounds_is_reported_unfinished_and_nothing_sleeps() {
     // A step of TIME_TO_SLEEP: one step at rest would be enough to sleep.
     sleep.enable(&gpu, TIME_TO_SLEEP).unwrap();
     let still = vec![(Vec3::zeros(), Vec3::zeros()); bodies.len()];
-    let (island, ..) = run_stage(&ctx, &mut sleep, &bodies, &still, &links, &[]);
+    let input = StageInput {
+        velocities: &still,
+        links: &links,
+        aabbs: &points(bodies.len()),
+        queued: &[],
+    };
+    let (island, ..) = run_stage(&ctx, &mut sleep, &bodies, &input);
     assert!(island.iter().all(|&l| l == AWAKE));
 }
 
@@ -323,11 +364,30 @@ fn the_sleep_stage_equals_its_cpu_twin_step_by_step() {
             let queued: Vec<u32> = (0..rng.random_range(0..3))
                 .map(|_| rng.random_range(0..n as u32))
                 .collect();
-            let (island, rest, ..) = run_stage(&ctx, &mut sleep, &bodies, &velocities, &links, &queued);
+            // Boxes of 0.5 to 1 m scattered in a 10 m cube: a few overlap each, so moving
+            // kinematic bodies reach some sleeping ones.
+            let aabbs: Vec<Aabb> = (0..n)
+                .map(|_| {
+                    let c = Point3::from(Vec3::from_fn(|_, _| rng.random_range(0.0..10.0)));
+                    let h = Vec3::repeat(rng.random_range(0.5..1.0));
+                    Aabb {
+                        min: c - h,
+                        max: c + h,
+                    }
+                })
+                .collect();
+            let input = StageInput {
+                velocities: &velocities,
+                links: &links,
+                aabbs: &aabbs,
+                queued: &queued,
+            };
+            let (island, rest, ..) = run_stage(&ctx, &mut sleep, &bodies, &input);
             twin.wake_bodies(&queued);
             woke += twin.wake_islands().len();
             twin.update_rest(&kinds, &velocities, dt);
             twin.touch_sleepers(&links, &kinds, &velocities);
+            twin.kinematic_wake(&kinds, &velocities, &aabbs);
             slept += twin.fall_asleep(&links, &kinds).len();
             let what = format!("case {case} step {step}");
             assert_eq!(island, twin.island, "{what}: island labels");
@@ -659,3 +719,50 @@ fn turning_sleep_off_wakes_every_sleeping_body() {
 }
 
 
+
+#[test]
+fn a_moving_kinematic_box_wakes_the_sleeping_box_it_reaches_and_pushes_it() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    // A cube resting at x = 0, and a kinematic slab sliding along +x at 1 m/s from x = -3,
+    // 5 cm above the floor: it reaches the cube after about 2.4 s, long after the cube sleeps
+    // (at about 0.5 s). The broad phase pairs neither a kinematic body with a sleeping one,
+    // so only the kinematic wake can stop the slab from passing through the sleeping cube.
+    let pusher_half = Vec3::new(0.25, 0.2, 0.5);
+    let pusher = body(BodyKind::Kinematic, Pose::translation(-3.0, 0.25, 0.0));
+    let pusher = Body {
+        shape: Cuboid::new(pusher_half),
+        ..pusher
+    };
+    let bodies = vec![floor(), cube(0.0, 0, 0.0), pusher];
+    let speed = 1.0;
+    let mut states = vec![BodyState::default(); 3];
+    states[2] = BodyState::moving(Vec3::new(speed, 0.0, 0.0), Vec3::zeros());
+    let mut world = GpuWorld::new(&ctx, GpuWorldConfig::default()).unwrap();
+    world.set_bodies(&bodies, &states).unwrap();
+    let effects = Effects {
+        sleep: true,
+        ..world.effects()
+    };
+    world.set_effects(effects).unwrap();
+    let (asleep, steps) = step_until_asleep(&mut world, &[1], SETTLE_STEPS);
+    let pusher_x = asleep.pose(2).translation.x;
+    // The slab has not reached the cube yet when it sleeps (their faces are 2.25 m apart at
+    // the start; the margins and sweeps add centimetres).
+    assert!(pusher_x + pusher_half.x < -HALF - 0.5, "slab at {pusher_x} after {steps} steps");
+    // Three more seconds: the slab crosses the cube's starting place.
+    let mut woke = false;
+    for _ in 0..180 {
+        world.step().unwrap();
+        woke |= !world.read_now(STATE).unwrap().sleeping[1];
+    }
+    let end = world.read_now(STATE).unwrap();
+    assert!(woke, "the cube never woke");
+    // Pushed, the cube stays ahead of the slab: its centre at least its half extent past the
+    // slab's face, less 1 cm of contact softness.
+    let slab_face = end.pose(2).translation.x + pusher_half.x;
+    let x = end.pose(1).translation.x;
+    assert!(slab_face > HALF, "the slab did not get past x = 0: {slab_face}");
+    assert!(x > slab_face + HALF - 0.01, "cube at {x}, slab face at {slab_face}");
+}

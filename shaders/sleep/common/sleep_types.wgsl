@@ -8,6 +8,7 @@ struct SleepParams {
     body_count: u32,
     // Time step (s): what a resting body's rest time grows by per step.
     dt: f32,
-    _pad0: u32,
-    _pad1: u32,
+    // Kinematic bodies (entries of the kinematic list).
+    kinematic_count: u32,
+    _pad: u32,
 }

@@ -3,7 +3,7 @@
 //! Apart from the rest-time test, whose speeds may round differently in the last bit on the
 //! GPU, every result is integer and equals the kernels' exactly.
 
-use tumble_geometry::Vec3;
+use tumble_geometry::{Aabb, Vec3};
 use tumble_solver::{BodyKind, TIME_TO_SLEEP, is_resting};
 
 use super::constants::{AWAKE, ISLAND_ROUNDS};
@@ -106,6 +106,23 @@ impl SleepCpu {
             if moving_kinematic(a) || moving_kinematic(b) {
                 self.rest_time[a] = 0.0;
                 self.rest_time[b] = 0.0;
+            }
+        }
+    }
+
+    /// `kinematic_wake`: a sleeping body whose AABB overlaps that of a moving kinematic body
+    /// flags its island.
+    pub fn kinematic_wake(&mut self, kinds: &[BodyKind], velocities: &[(Vec3, Vec3)], aabbs: &[Aabb]) {
+        let moving: Vec<usize> = (0..kinds.len())
+            .filter(|&k| {
+                kinds[k] == BodyKind::Kinematic
+                    && (velocities[k].0 != Vec3::zeros() || velocities[k].1 != Vec3::zeros())
+            })
+            .collect();
+        for (i, aabb) in aabbs.iter().enumerate() {
+            let label = self.island[i];
+            if label != AWAKE && moving.iter().any(|&k| aabb.intersects(&aabbs[k])) {
+                self.wake[label as usize] = true;
             }
         }
     }

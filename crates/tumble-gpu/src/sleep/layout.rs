@@ -13,10 +13,10 @@ pub struct SleepParams {
     pub body_count: u32,
     /// Time step, s: what a resting body's rest time grows by per step.
     pub dt: f32,
+    /// Kinematic bodies (entries of the kinematic list).
+    pub kinematic_count: u32,
     /// Padding.
-    pub _pad0: u32,
-    /// Padding.
-    pub _pad1: u32,
+    pub _pad: u32,
 }
 
 /// Every struct of `sleep_types.wgsl`, for the layout check against naga.
@@ -27,8 +27,11 @@ pub fn sleep_struct_layouts() -> Vec<StructLayout> {
         fields: vec![
             ("body_count", std::mem::offset_of!(SleepParams, body_count)),
             ("dt", std::mem::offset_of!(SleepParams, dt)),
-            ("_pad0", std::mem::offset_of!(SleepParams, _pad0)),
-            ("_pad1", std::mem::offset_of!(SleepParams, _pad1)),
+            (
+                "kinematic_count",
+                std::mem::offset_of!(SleepParams, kinematic_count),
+            ),
+            ("_pad", std::mem::offset_of!(SleepParams, _pad)),
         ],
     }]
 }

@@ -4,8 +4,9 @@
 //!
 //! ```text
 //! start of a step   wake_bodies (host-touched bodies) -> wake_islands (flagged islands)
-//! after the solver  update_rest -> touch_sleepers -> ISLAND_ROUNDS x (hook_labels,
-//!                   jump_labels) -> check_labels -> island_rest -> fall_asleep
+//! after the solver  update_rest -> touch_sleepers -> kinematic_wake (if any kinematic body)
+//!                   -> ISLAND_ROUNDS x (hook_labels, jump_labels) -> check_labels
+//!                   -> island_rest -> fall_asleep
 //! ```
 //!
 //! A sleeping body is taken out of the step by turning it, in the solver's body buffer and
@@ -18,6 +19,7 @@
 pub mod constants;
 pub mod cpu;
 pub mod islands;
+pub mod kinematic;
 pub mod layout;
 pub mod pipelines;
 pub mod rest;
@@ -39,6 +41,7 @@ pub fn kernels() -> Vec<&'static KernelSpec> {
         &wake::WAKE_ISLANDS,
         &rest::UPDATE_REST,
         &touch::TOUCH_SLEEPERS,
+        &kinematic::KINEMATIC_WAKE,
         &islands::HOOK_LABELS,
         &islands::JUMP_LABELS,
         &islands::CHECK_LABELS,

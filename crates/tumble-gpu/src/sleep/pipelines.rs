@@ -8,6 +8,7 @@ use crate::kernel::Kernel;
 use crate::{GpuContext, GpuError};
 
 use super::islands::{CHECK_LABELS, HOOK_LABELS, JUMP_LABELS};
+use super::kinematic::KINEMATIC_WAKE;
 use super::rest::{FALL_ASLEEP, ISLAND_REST, UPDATE_REST};
 use super::shaders::build_sleep_kernel;
 use super::touch::TOUCH_SLEEPERS;
@@ -24,6 +25,8 @@ pub struct SleepPipelines {
     pub update_rest: Kernel,
     /// Sleeping islands reached, kinematic contacts.
     pub touch_sleepers: Kernel,
+    /// Sleeping islands a moving kinematic body's AABB reaches.
+    pub kinematic_wake: Kernel,
     /// One round's hooks.
     pub hook_labels: Kernel,
     /// One round's pointer jumps.
@@ -47,6 +50,7 @@ impl SleepPipelines {
             wake_islands: build(&WAKE_ISLANDS)?,
             update_rest: build(&UPDATE_REST)?,
             touch_sleepers: build(&TOUCH_SLEEPERS)?,
+            kinematic_wake: build(&KINEMATIC_WAKE)?,
             hook_labels: build(&HOOK_LABELS)?,
             jump_labels: build(&JUMP_LABELS)?,
             check_labels: build(&CHECK_LABELS)?,

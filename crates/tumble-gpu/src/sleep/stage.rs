@@ -8,11 +8,13 @@ use std::sync::Arc;
 
 use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE};
 use crate::layout::WORK_LIST_GROUPS_OFFSET;
+use crate::solver::constants::BODY_KINEMATIC;
 use crate::solver::layout::GpuBody;
 use crate::{GpuContext, GpuError, StageTimer};
 
 use super::constants::{AWAKE, ISLAND_ROUNDS};
 use super::islands::{JumpLabelsArgs, LinkLabelsArgs};
+use super::kinematic::KinematicWakeArgs;
 use super::layout::SleepParams;
 use super::pipelines::SleepPipelines;
 use super::rest::{FallAsleepArgs, IslandRestArgs, UpdateRestArgs};
@@ -34,6 +36,7 @@ const NEXT_LABELS: [&str; 2] = ["sleep search labels next 0", "sleep search labe
 const SHORTEST_REST: &str = "sleep shortest rest";
 const WAKE: &str = "sleep wake flags";
 const UNFINISHED: &str = "sleep unfinished search";
+const KINEMATIC: &str = "sleep kinematic bodies";
 
 /// Buffers of the step the sleep stage reads and writes.
 #[derive(Clone, Copy, Debug)]
@@ -48,6 +51,8 @@ pub struct SleepInputs<'a> {
     pub pair_work: &'a wgpu::Buffer,
     /// `array<GpuManifold>`: the step's manifolds.
     pub manifolds: &'a wgpu::Buffer,
+    /// `array<GpuAabb>`: the step's AABBs.
+    pub aabbs: &'a wgpu::Buffer,
 }
 
 /// The bind groups of one set of inputs.
@@ -56,6 +61,7 @@ struct Groups {
     key: (u64, Vec<wgpu::Buffer>),
     update_rest: wgpu::BindGroup,
     touch_sleepers: wgpu::BindGroup,
+    kinematic_wake: wgpu::BindGroup,
     /// Round `r` hooks into `NEXT_LABELS[r % 2]`.
     hook_labels: [wgpu::BindGroup; 2],
     /// Round `r` jumps from `NEXT_LABELS[r % 2]` and leaves the spare in the other one.
@@ -72,6 +78,7 @@ pub struct GpuSleep {
     pipelines: Option<Arc<SleepPipelines>>,
     pool: BufferPool,
     body_count: u32,
+    kinematic_count: u32,
     queued: Vec<u32>,
     groups: Option<Groups>,
     /// The `wake_islands` bind group, by pool generation and solver bodies and shapes.
@@ -88,6 +95,7 @@ impl GpuSleep {
             pipelines: None,
             pool: BufferPool::new(ctx),
             body_count: 0,
+            kinematic_count: 0,
             queued: Vec::new(),
             groups: None,
             wake_group: None,
@@ -127,10 +135,17 @@ impl GpuSleep {
             pool.ensure(name, per_body, STORAGE_USAGE)?;
         }
         pool.ensure(UNFINISHED, 4, STORAGE_USAGE)?;
+        let kinematic: Vec<u32> = (0..n)
+            .filter(|&i| awake_bodies[i as usize].kind == BODY_KINEMATIC)
+            .collect();
+        let kinematic_bytes = std::mem::size_of_val(kinematic.as_slice()) as u64;
+        pool.ensure(KINEMATIC, kinematic_bytes, STORAGE_USAGE)?;
         let queue = &self.ctx.queue;
+        queue.write_buffer(pool.get(KINEMATIC), 0, bytemuck::cast_slice(&kinematic));
         let params = SleepParams {
             body_count: n,
             dt,
+            kinematic_count: kinematic.len() as u32,
             ..Default::default()
         };
         queue.write_buffer(pool.get(PARAMS), 0, bytemuck::bytes_of(&params));
@@ -141,6 +156,7 @@ impl GpuSleep {
         queue.write_buffer(pool.get(REST_TIME), 0, bytemuck::cast_slice(&zeros));
         queue.write_buffer(pool.get(WAKE), 0, bytemuck::cast_slice(&zeros));
         self.body_count = n;
+        self.kinematic_count = kinematic.len() as u32;
         self.queued.clear();
         Ok(())
     }
@@ -214,6 +230,7 @@ impl GpuSleep {
                 inputs.velocities.clone(),
                 inputs.pair_work.clone(),
                 inputs.manifolds.clone(),
+                inputs.aabbs.clone(),
             ],
         );
         if self.groups.as_ref().is_some_and(|g| g.key == key) {
@@ -258,6 +275,17 @@ impl GpuSleep {
                     velocities: inputs.velocities,
                     island: p.get(ISLAND),
                     rest_time: p.get(REST_TIME),
+                    wake: p.get(WAKE),
+                },
+            ),
+            kinematic_wake: k.kinematic_wake.bind(
+                ctx,
+                &KinematicWakeArgs {
+                    params: p.get(PARAMS),
+                    kinematic: p.get(KINEMATIC),
+                    velocities: inputs.velocities,
+                    aabbs: inputs.aabbs,
+                    island: p.get(ISLAND),
                     wake: p.get(WAKE),
                 },
             ),
@@ -386,6 +414,9 @@ impl GpuSleep {
         k.update_rest.dispatch(&mut pass, &g.update_rest, n);
         k.touch_sleepers
             .dispatch_indirect(&mut pass, &g.touch_sleepers, work, WORK_LIST_GROUPS_OFFSET);
+        if self.kinematic_count > 0 {
+            k.kinematic_wake.dispatch(&mut pass, &g.kinematic_wake, n);
+        }
         for round in 0..ISLAND_ROUNDS as usize {
             let side = round % 2;
             k.hook_labels.dispatch_indirect(

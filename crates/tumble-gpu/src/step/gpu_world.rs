@@ -436,6 +436,7 @@ impl GpuWorld {
             velocities: buffers.velocities,
             pair_work: buffers.pair_work,
             manifolds: buffers.manifolds,
+            aabbs: buffers.aabbs,
         };
         self.sleep
             .record_update(&mut encoder, &mut self.timer, &sleep_inputs);

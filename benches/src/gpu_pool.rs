@@ -35,10 +35,15 @@ pub fn gpu_pool_bodies(cubes: usize) -> Vec<Body> {
     walls.chain(cubes).collect()
 }
 
-/// A GPU world holding the pool of `cubes` cubes at rest in the air, with sleep on or off.
-pub fn gpu_pool(ctx: &GpuContext, cubes: usize, sleep: bool) -> GpuWorld {
+/// A GPU world holding the pool of `cubes` cubes at rest in the air, with sleep on or off
+/// and GPU timestamps per stage when `timestamps` (and the device has them).
+pub fn gpu_pool(ctx: &GpuContext, cubes: usize, sleep: bool, timestamps: bool) -> GpuWorld {
     let bodies = gpu_pool_bodies(cubes);
-    let mut world = GpuWorld::new(ctx, GpuWorldConfig::default()).expect("a valid config");
+    let config = GpuWorldConfig {
+        timestamps,
+        ..Default::default()
+    };
+    let mut world = GpuWorld::new(ctx, config).expect("a valid config");
     world
         .set_bodies(&bodies, &vec![BodyState::default(); bodies.len()])
         .expect("valid bodies");

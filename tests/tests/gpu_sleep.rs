@@ -226,25 +226,27 @@ fn touching(links: &[(u32, u32)]) -> Vec<SleepLink> {
         .collect()
 }
 
-/// Runs the search on the GPU with every body moving (so nothing falls asleep) and checks it
-/// against the twin: exact labels and the same finished flag; when finished, the partition
-/// union-find gives, with the same labels (each island's smallest body).
+/// Runs the search on the GPU with every body at rest for a whole TIME_TO_SLEEP step (so the
+/// search runs, and every island sleeps when it finishes) and checks it against the twin:
+/// exact labels and the same finished flag; when finished, the partition union-find gives,
+/// with the same labels (each island's smallest body), and every dynamic body asleep under
+/// its island's label.
 fn check_search(ctx: &GpuContext, kinds: &[BodyKind], links: &[SleepLink], what: &str) -> bool {
     let bodies: Vec<Body> = kinds
         .iter()
         .map(|&k| body(k, Pose::identity()))
         .collect();
-    let fast = (Vec3::new(1.0, 0.0, 0.0), Vec3::zeros());
+    let still = (Vec3::zeros(), Vec3::zeros());
     let mut sleep = GpuSleep::new(ctx);
     let gpu: Vec<_> = bodies.iter().map(gpu_body).collect();
-    sleep.enable(&gpu, DT).unwrap();
+    sleep.enable(&gpu, TIME_TO_SLEEP).unwrap();
     let input = StageInput {
-        velocities: &vec![fast; bodies.len()],
+        velocities: &vec![still; bodies.len()],
         links,
         aabbs: &points(bodies.len()),
         queued: &[],
     };
-    let (_, _, labels, finished) = run_stage(ctx, &mut sleep, &bodies, &input);
+    let (island, _, labels, finished) = run_stage(ctx, &mut sleep, &bodies, &input);
     let linkable: Vec<bool> = kinds.iter().map(|&k| k == BodyKind::Dynamic).collect();
     let pairs: Vec<(u32, u32)> = links
         .iter()
@@ -257,6 +259,10 @@ fn check_search(ctx: &GpuContext, kinds: &[BodyKind], links: &[SleepLink], what:
     if finished {
         let islands = Islands::build(&linkable, pairs.iter().copied());
         assert_eq!(labels, islands.label, "{what}: not union-find's islands");
+    }
+    for (i, &dynamic) in linkable.iter().enumerate() {
+        let expected = if finished && dynamic { labels[i] } else { AWAKE };
+        assert_eq!(island[i], expected, "{what}: body {i}'s island label");
     }
     finished
 }
@@ -294,25 +300,8 @@ fn a_chain_beyond_the_rounds_is_reported_unfinished_and_nothing_sleeps() {
     let n = 1u32 << (ISLAND_ROUNDS + 1);
     let links = touching(&zigzag_chain(n));
     let kinds = vec![BodyKind::Dynamic; n as usize];
+    // Every body rests a whole TIME_TO_SLEEP step, yet none may fall asleep (checked inside).
     assert!(!check_search(&ctx, &kinds, &links, "long zigzag"));
-    // Even at rest, an unfinished step puts no one to sleep.
-    let bodies: Vec<Body> = kinds
-        .iter()
-        .map(|&k| body(k, Pose::identity()))
-        .collect();
-    let mut sleep = GpuSleep::new(&ctx);
-    let gpu: Vec<_> = bodies.iter().map(gpu_body).collect();
-    // A step of TIME_TO_SLEEP: one step at rest would be enough to sleep.
-    sleep.enable(&gpu, TIME_TO_SLEEP).unwrap();
-    let still = vec![(Vec3::zeros(), Vec3::zeros()); bodies.len()];
-    let input = StageInput {
-        velocities: &still,
-        links: &links,
-        aabbs: &points(bodies.len()),
-        queued: &[],
-    };
-    let (island, ..) = run_stage(&ctx, &mut sleep, &bodies, &input);
-    assert!(island.iter().all(|&l| l == AWAKE));
 }
 
 #[test]

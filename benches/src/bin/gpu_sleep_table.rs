@@ -2,8 +2,11 @@
 //! docs/benchmarks.md's sleep measurement (`effects_table` gives the CPU one).
 //!
 //! ```sh
-//! cargo run --release -p tumble-benches --bin gpu_sleep_table [-- --cubes 1000 --steps 40]
+//! cargo run --release -p tumble-benches --bin gpu_sleep_table [-- --cubes 1000 --steps 40 --stages]
 //! ```
+//!
+//! `--stages` adds the GPU time of each stage in the last timed step of each world, from
+//! timestamp queries (where the device has them).
 //!
 //! Two GPU worlds drop the same pool of cubes, one with sleep on and one with it off, and
 //! step in lockstep until every cube of the first sleeps (the second has then settled the
@@ -61,9 +64,10 @@ fn ms(d: Duration) -> f64 {
 fn main() {
     let cubes = arg("--cubes", 1000);
     let steps = arg("--steps", 40);
+    let stages = std::env::args().any(|a| a == "--stages");
     let ctx = GpuContext::new().expect("a GPU adapter");
-    let mut asleep = gpu_pool(&ctx, cubes, true);
-    let mut awake = gpu_pool(&ctx, cubes, false);
+    let mut asleep = gpu_pool(&ctx, cubes, true, stages);
+    let mut awake = gpu_pool(&ctx, cubes, false, stages);
     let mut settle = 0;
     let mut sleeping = 0;
     while sleeping < cubes && settle < MAX_SETTLE_STEPS {
@@ -96,4 +100,16 @@ fn main() {
         "| asleep / awake | {:.3} |",
         t_asleep.as_secs_f64() / t_awake.as_secs_f64()
     );
+    if stages {
+        let awake_stages = awake.timings().expect("the device answers");
+        let asleep_stages = asleep.timings().expect("the device answers");
+        println!("\n| stage | awake, ms | asleep, ms |\n|---|---:|---:|");
+        for (name, t) in &asleep_stages {
+            let a = awake_stages
+                .iter()
+                .find(|(n, _)| n == name)
+                .map_or("-".to_string(), |(_, t)| format!("{:.3}", t * 1e3));
+            println!("| {name} | {a} | {:.3} |", t * 1e3);
+        }
+    }
 }

@@ -142,6 +142,12 @@ impl SleepCpu {
             .filter(|l| l.touching)
             .map(|l| (l.a, l.b))
             .collect();
+        // plan_search: with no body rested long enough, no island can sleep, and the GPU
+        // skips the search.
+        let ready = (0..linkable.len()).any(|i| linkable[i] && self.rest_time[i] >= TIME_TO_SLEEP);
+        if !ready {
+            return Vec::new();
+        }
         let search = island_search_cpu(&linkable, &pairs, ISLAND_ROUNDS);
         if !search.finished {
             return Vec::new();

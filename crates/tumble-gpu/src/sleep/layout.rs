@@ -5,7 +5,7 @@ use bytemuck::{Pod, Zeroable};
 
 use crate::layout::StructLayout;
 
-/// The sleep stage's per-world settings (uniform). 16 bytes.
+/// The sleep stage's per-world settings (uniform). 32 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct SleepParams {
@@ -16,7 +16,15 @@ pub struct SleepParams {
     /// Kinematic bodies (entries of the kinematic list).
     pub kinematic_count: u32,
     /// Padding.
-    pub _pad: u32,
+    pub _pad0: u32,
+    /// Workgroups along x of a dispatch over every body ([`crate::constants::workgroups_for`]).
+    pub body_groups_x: u32,
+    /// Workgroups along y of the same dispatch.
+    pub body_groups_y: u32,
+    /// Padding.
+    pub _pad1: u32,
+    /// Padding.
+    pub _pad2: u32,
 }
 
 /// Every struct of `sleep_types.wgsl`, for the layout check against naga.
@@ -31,7 +39,17 @@ pub fn sleep_struct_layouts() -> Vec<StructLayout> {
                 "kinematic_count",
                 std::mem::offset_of!(SleepParams, kinematic_count),
             ),
-            ("_pad", std::mem::offset_of!(SleepParams, _pad)),
+            ("_pad0", std::mem::offset_of!(SleepParams, _pad0)),
+            (
+                "body_groups_x",
+                std::mem::offset_of!(SleepParams, body_groups_x),
+            ),
+            (
+                "body_groups_y",
+                std::mem::offset_of!(SleepParams, body_groups_y),
+            ),
+            ("_pad1", std::mem::offset_of!(SleepParams, _pad1)),
+            ("_pad2", std::mem::offset_of!(SleepParams, _pad2)),
         ],
     }]
 }

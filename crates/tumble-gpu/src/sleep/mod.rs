@@ -5,8 +5,9 @@
 //! ```text
 //! start of a step   wake_bodies (host-touched bodies) -> wake_islands (flagged islands)
 //! after the solver  update_rest -> touch_sleepers -> kinematic_wake (if any kinematic body)
-//!                   -> ISLAND_ROUNDS x (hook_labels, jump_labels) -> check_labels
-//!                   -> island_rest -> fall_asleep
+//!                   -> plan_search -> ISLAND_ROUNDS x (hook_labels, jump_labels)
+//!                   -> check_labels -> island_rest -> fall_asleep
+//!                   (from hook_labels on, zero workgroups unless some body rested long enough)
 //! ```
 //!
 //! A sleeping body is taken out of the step by turning it, in the solver's body buffer and
@@ -22,6 +23,7 @@ pub mod islands;
 pub mod kinematic;
 pub mod layout;
 pub mod pipelines;
+pub mod plan_search;
 pub mod rest;
 pub mod shaders;
 pub mod stage;
@@ -42,6 +44,7 @@ pub fn kernels() -> Vec<&'static KernelSpec> {
         &rest::UPDATE_REST,
         &touch::TOUCH_SLEEPERS,
         &kinematic::KINEMATIC_WAKE,
+        &plan_search::PLAN_SEARCH,
         &islands::HOOK_LABELS,
         &islands::JUMP_LABELS,
         &islands::CHECK_LABELS,

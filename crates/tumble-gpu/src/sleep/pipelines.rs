@@ -9,6 +9,7 @@ use crate::{GpuContext, GpuError};
 
 use super::islands::{CHECK_LABELS, HOOK_LABELS, JUMP_LABELS};
 use super::kinematic::KINEMATIC_WAKE;
+use super::plan_search::PLAN_SEARCH;
 use super::rest::{FALL_ASLEEP, ISLAND_REST, UPDATE_REST};
 use super::shaders::build_sleep_kernel;
 use super::touch::TOUCH_SLEEPERS;
@@ -27,6 +28,8 @@ pub struct SleepPipelines {
     pub touch_sleepers: Kernel,
     /// Sleeping islands a moving kinematic body's AABB reaches.
     pub kinematic_wake: Kernel,
+    /// The search's dispatch sizes.
+    pub plan_search: Kernel,
     /// One round's hooks.
     pub hook_labels: Kernel,
     /// One round's pointer jumps.
@@ -51,6 +54,7 @@ impl SleepPipelines {
             update_rest: build(&UPDATE_REST)?,
             touch_sleepers: build(&TOUCH_SLEEPERS)?,
             kinematic_wake: build(&KINEMATIC_WAKE)?,
+            plan_search: build(&PLAN_SEARCH)?,
             hook_labels: build(&HOOK_LABELS)?,
             jump_labels: build(&JUMP_LABELS)?,
             check_labels: build(&CHECK_LABELS)?,

@@ -24,6 +24,7 @@ pub static UPDATE_REST: KernelSpec = KernelSpec {
         Binding::StorageReadWrite,
         Binding::StorageReadWrite,
         Binding::StorageReadWrite,
+        Binding::StorageReadWrite,
     ],
 };
 
@@ -45,6 +46,8 @@ pub struct UpdateRestArgs<'a> {
     pub next_labels: &'a wgpu::Buffer,
     /// `array<u32>`: shortest rest time bits by label, reset to `REST_UNSET`.
     pub shortest_rest: &'a wgpu::Buffer,
+    /// One `atomic<u32>`: bodies whose rest reached `TIME_TO_SLEEP`, counted up.
+    pub ready: &'a wgpu::Buffer,
 }
 
 impl KernelArgs for UpdateRestArgs<'_> {
@@ -58,6 +61,7 @@ impl KernelArgs for UpdateRestArgs<'_> {
             self.labels,
             self.next_labels,
             self.shortest_rest,
+            self.ready,
         ]
     }
 }

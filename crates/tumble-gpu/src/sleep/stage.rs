@@ -7,7 +7,7 @@
 use std::sync::Arc;
 
 use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE};
-use crate::layout::WORK_LIST_GROUPS_OFFSET;
+use crate::layout::{DispatchArgs, WORK_LIST_GROUPS_OFFSET};
 use crate::solver::constants::BODY_KINEMATIC;
 use crate::solver::layout::GpuBody;
 use crate::{GpuContext, GpuError, StageTimer};
@@ -17,6 +17,7 @@ use super::islands::{JumpLabelsArgs, LinkLabelsArgs};
 use super::kinematic::KinematicWakeArgs;
 use super::layout::SleepParams;
 use super::pipelines::SleepPipelines;
+use super::plan_search::{BODY_GROUPS_OFFSET, LINK_GROUPS_OFFSET, PlanSearchArgs};
 use super::rest::{FallAsleepArgs, IslandRestArgs, UpdateRestArgs};
 use super::touch::TouchSleepersArgs;
 use super::wake::{WakeBodiesArgs, WakeIslandsArgs};
@@ -37,6 +38,8 @@ const SHORTEST_REST: &str = "sleep shortest rest";
 const WAKE: &str = "sleep wake flags";
 const UNFINISHED: &str = "sleep unfinished search";
 const KINEMATIC: &str = "sleep kinematic bodies";
+const READY: &str = "sleep ready bodies";
+const SEARCH_GROUPS: &str = "sleep search dispatch sizes";
 
 /// Buffers of the step the sleep stage reads and writes.
 #[derive(Clone, Copy, Debug)]
@@ -62,6 +65,7 @@ struct Groups {
     update_rest: wgpu::BindGroup,
     touch_sleepers: wgpu::BindGroup,
     kinematic_wake: wgpu::BindGroup,
+    plan_search: wgpu::BindGroup,
     /// Round `r` hooks into `NEXT_LABELS[r % 2]`.
     hook_labels: [wgpu::BindGroup; 2],
     /// Round `r` jumps from `NEXT_LABELS[r % 2]` and leaves the spare in the other one.
@@ -135,6 +139,12 @@ impl GpuSleep {
             pool.ensure(name, per_body, STORAGE_USAGE)?;
         }
         pool.ensure(UNFINISHED, 4, STORAGE_USAGE)?;
+        pool.ensure(READY, 4, STORAGE_USAGE)?;
+        pool.ensure(
+            SEARCH_GROUPS,
+            2 * std::mem::size_of::<DispatchArgs>() as u64,
+            STORAGE_USAGE,
+        )?;
         let kinematic: Vec<u32> = (0..n)
             .filter(|&i| awake_bodies[i as usize].kind == BODY_KINEMATIC)
             .collect();
@@ -142,10 +152,13 @@ impl GpuSleep {
         pool.ensure(KINEMATIC, kinematic_bytes, STORAGE_USAGE)?;
         let queue = &self.ctx.queue;
         queue.write_buffer(pool.get(KINEMATIC), 0, bytemuck::cast_slice(&kinematic));
+        let (body_groups_x, body_groups_y) = crate::constants::workgroups_for(n);
         let params = SleepParams {
             body_count: n,
             dt,
             kinematic_count: kinematic.len() as u32,
+            body_groups_x,
+            body_groups_y,
             ..Default::default()
         };
         queue.write_buffer(pool.get(PARAMS), 0, bytemuck::bytes_of(&params));
@@ -264,6 +277,7 @@ impl GpuSleep {
                     labels: p.get(LABELS),
                     next_labels: p.get(NEXT_LABELS[0]),
                     shortest_rest: p.get(SHORTEST_REST),
+                    ready: p.get(READY),
                 },
             ),
             touch_sleepers: k.touch_sleepers.bind(
@@ -287,6 +301,15 @@ impl GpuSleep {
                     aabbs: inputs.aabbs,
                     island: p.get(ISLAND),
                     wake: p.get(WAKE),
+                },
+            ),
+            plan_search: k.plan_search.bind(
+                ctx,
+                &PlanSearchArgs {
+                    params: p.get(PARAMS),
+                    work: inputs.pair_work,
+                    ready: p.get(READY),
+                    search_groups: p.get(SEARCH_GROUPS),
                 },
             ),
             hook_labels: [
@@ -410,6 +433,8 @@ impl GpuSleep {
         let n = self.body_count;
         let work = inputs.pair_work;
         encoder.clear_buffer(self.pool.get(UNFINISHED), 0, None);
+        encoder.clear_buffer(self.pool.get(READY), 0, None);
+        let search = self.pool.get(SEARCH_GROUPS);
         let mut pass = timer.begin_pass(encoder, SLEEP_ISLANDS);
         k.update_rest.dispatch(&mut pass, &g.update_rest, n);
         k.touch_sleepers
@@ -417,19 +442,24 @@ impl GpuSleep {
         if self.kinematic_count > 0 {
             k.kinematic_wake.dispatch(&mut pass, &g.kinematic_wake, n);
         }
+        k.plan_search
+            .dispatch_workgroups(&mut pass, &g.plan_search, 1, 1);
         for round in 0..ISLAND_ROUNDS as usize {
             let side = round % 2;
             k.hook_labels.dispatch_indirect(
                 &mut pass,
                 &g.hook_labels[side],
-                work,
-                WORK_LIST_GROUPS_OFFSET,
+                search,
+                LINK_GROUPS_OFFSET,
             );
-            k.jump_labels.dispatch(&mut pass, &g.jump_labels[side], n);
+            k.jump_labels
+                .dispatch_indirect(&mut pass, &g.jump_labels[side], search, BODY_GROUPS_OFFSET);
         }
         k.check_labels
-            .dispatch_indirect(&mut pass, &g.check_labels, work, WORK_LIST_GROUPS_OFFSET);
-        k.island_rest.dispatch(&mut pass, &g.island_rest, n);
-        k.fall_asleep.dispatch(&mut pass, &g.fall_asleep, n);
+            .dispatch_indirect(&mut pass, &g.check_labels, search, LINK_GROUPS_OFFSET);
+        k.island_rest
+            .dispatch_indirect(&mut pass, &g.island_rest, search, BODY_GROUPS_OFFSET);
+        k.fall_asleep
+            .dispatch_indirect(&mut pass, &g.fall_asleep, search, BODY_GROUPS_OFFSET);
     }
 }

@@ -115,9 +115,7 @@ pub fn effect_pool(options: PoolOptions, effects: EffectOverrides) -> World {
         world.add_body(desc).expect("valid wall");
     }
     for pose in layout.cubes {
-        let mut desc = BodyDesc::dynamic()
-            .pose(pose)
-            .friction(options.friction);
+        let mut desc = BodyDesc::dynamic().pose(pose).friction(options.friction);
         if options.lock_rotations {
             desc = desc.lock_rotations();
         }

@@ -23,10 +23,13 @@ pub fn gpu_pool_bodies(cubes: usize) -> Vec<Body> {
     let body = |kind, half: Vec3, pose: Pose| {
         Body::new(kind, Cuboid::new(half), pose, DENSITY, material).expect("valid pool body")
     };
-    let walls = layout
-        .walls
-        .iter()
-        .map(|&(half, centre)| body(BodyKind::Fixed, half, Pose::translation(centre.x, centre.y, centre.z)));
+    let walls = layout.walls.iter().map(|&(half, centre)| {
+        body(
+            BodyKind::Fixed,
+            half,
+            Pose::translation(centre.x, centre.y, centre.z),
+        )
+    });
     let half = Vec3::repeat(tumble::DEFAULT_HALF_EXTENTS);
     let cubes = layout
         .cubes

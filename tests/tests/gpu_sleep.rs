@@ -141,10 +141,16 @@ fn run_stage(
     };
     sleep.record_update(&mut encoder, &mut timer, &inputs);
     ctx.queue.submit([encoder.finish()]);
-    let island = ctx.read_buffer(sleep.island_labels().unwrap(), 0, n).unwrap();
+    let island = ctx
+        .read_buffer(sleep.island_labels().unwrap(), 0, n)
+        .unwrap();
     let rest = ctx.read_buffer(sleep.rest_times().unwrap(), 0, n).unwrap();
-    let labels = ctx.read_buffer(sleep.search_labels().unwrap(), 0, n).unwrap();
-    let unfinished: Vec<u32> = ctx.read_buffer(sleep.unfinished_flag().unwrap(), 0, 1).unwrap();
+    let labels = ctx
+        .read_buffer(sleep.search_labels().unwrap(), 0, n)
+        .unwrap();
+    let unfinished: Vec<u32> = ctx
+        .read_buffer(sleep.unfinished_flag().unwrap(), 0, 1)
+        .unwrap();
     (island, rest, labels, unfinished[0] == 0)
 }
 
@@ -232,10 +238,7 @@ fn touching(links: &[(u32, u32)]) -> Vec<SleepLink> {
 /// with the same labels (each island's smallest body), and every dynamic body asleep under
 /// its island's label.
 fn check_search(ctx: &GpuContext, kinds: &[BodyKind], links: &[SleepLink], what: &str) -> bool {
-    let bodies: Vec<Body> = kinds
-        .iter()
-        .map(|&k| body(k, Pose::identity()))
-        .collect();
+    let bodies: Vec<Body> = kinds.iter().map(|&k| body(k, Pose::identity())).collect();
     let still = (Vec3::zeros(), Vec3::zeros());
     let mut sleep = GpuSleep::new(ctx);
     let gpu: Vec<_> = bodies.iter().map(gpu_body).collect();
@@ -261,7 +264,11 @@ fn check_search(ctx: &GpuContext, kinds: &[BodyKind], links: &[SleepLink], what:
         assert_eq!(labels, islands.label, "{what}: not union-find's islands");
     }
     for (i, &dynamic) in linkable.iter().enumerate() {
-        let expected = if finished && dynamic { labels[i] } else { AWAKE };
+        let expected = if finished && dynamic {
+            labels[i]
+        } else {
+            AWAKE
+        };
         assert_eq!(island[i], expected, "{what}: body {i}'s island label");
     }
     finished
@@ -280,7 +287,10 @@ fn the_island_search_equals_its_cpu_twin_and_union_find() {
         let finished = check_search(&ctx, &kinds, &touching(&links), &format!("case {case}"));
         // Every graph here is far shorter than 2^ISLAND_ROUNDS bodies: the search must
         // finish, or the rounds were miscounted.
-        assert!(finished, "case {case} (family {family}, {n} bodies) did not finish");
+        assert!(
+            finished,
+            "case {case} (family {family}, {n} bodies) did not finish"
+        );
     }
     // Manifolds without points link nothing: a chain of them leaves every body alone.
     let mut links = touching(&shuffled_chain(&mut rng, 300));
@@ -316,10 +326,7 @@ fn the_sleep_stage_equals_its_cpu_twin_step_by_step() {
     for case in 0..6 {
         let n = rng.random_range(20..300usize);
         let kinds = random_kinds(&mut rng, n);
-        let bodies: Vec<Body> = kinds
-            .iter()
-            .map(|&k| body(k, Pose::identity()))
-            .collect();
+        let bodies: Vec<Body> = kinds.iter().map(|&k| body(k, Pose::identity())).collect();
         let mut sleep = GpuSleep::new(&ctx);
         let gpu: Vec<_> = bodies.iter().map(gpu_body).collect();
         sleep.enable(&gpu, dt).unwrap();
@@ -384,7 +391,10 @@ fn the_sleep_stage_equals_its_cpu_twin_step_by_step() {
             assert_eq!(bits(&rest), bits(&twin.rest_time), "{what}: rest times");
         }
         // The comparison covered both transitions, or it proved little.
-        assert!(slept > 0 && woke > 0, "case {case}: slept {slept}, woke {woke}");
+        assert!(
+            slept > 0 && woke > 0,
+            "case {case}: slept {slept}, woke {woke}"
+        );
     }
 }
 
@@ -418,7 +428,10 @@ fn pile(x: Real, z: Real, side: usize, layers: usize) -> Vec<Body> {
     for layer in 0..layers {
         for i in 0..side {
             for k in 0..side {
-                let (cx, cz) = (x + i as Real * pitch - offset, z + k as Real * pitch - offset);
+                let (cx, cz) = (
+                    x + i as Real * pitch - offset,
+                    z + k as Real * pitch - offset,
+                );
                 out.push(cube(cx, layer, cz));
             }
         }
@@ -511,7 +524,10 @@ fn a_settled_pool_falls_asleep_and_then_stops_changing() {
     let (asleep, steps) = step_until_asleep(&mut world, &dynamic, SETTLE_STEPS);
     eprintln!("{}-box pool asleep after {steps} steps", dynamic.len());
     // Resting takes TIME_TO_SLEEP at least: an island cannot sleep before 30 steps.
-    assert!(steps as Real * DT >= TIME_TO_SLEEP, "asleep after {steps} steps");
+    assert!(
+        steps as Real * DT >= TIME_TO_SLEEP,
+        "asleep after {steps} steps"
+    );
     assert!(!asleep.sleeping[0], "the floor is fixed, it never sleeps");
     for &i in &dynamic {
         // Asleep where it rests: each cube within 5 mm of its layer's height (the soft
@@ -519,9 +535,15 @@ fn a_settled_pool_falls_asleep_and_then_stops_changing() {
         let layer = ((i - 1) / (POOL_SIDE * POOL_SIDE)) as Real;
         let expected = HALF + layer * 2.0 * HALF;
         let y = asleep.pose(i).translation.y;
-        assert!((y - expected).abs() < 0.005, "body {i}: y {y}, expected {expected}");
+        assert!(
+            (y - expected).abs() < 0.005,
+            "body {i}: y {y}, expected {expected}"
+        );
         let v = &asleep.velocities[i];
-        assert!(v.linear.iter().chain(&v.angular).all(|&c| c == 0.0), "body {i}: {v:?}");
+        assert!(
+            v.linear.iter().chain(&v.angular).all(|&c| c == 0.0),
+            "body {i}: {v:?}"
+        );
     }
     // Once asleep, a second of steps changes no bit of any pose.
     for _ in 0..60 {
@@ -579,9 +601,20 @@ fn a_box_dropped_on_one_sleeping_pile_wakes_that_pile_only() {
     assert!(pile_a_woke, "the dropped cube did not wake pile A");
     // It landed on pile A: its centre one cube above the pile's top, within 5 cm (it may
     // settle on the edge between two columns, slightly tilted).
-    let landed = world.read_now(STATE).unwrap().pose(dropper).translation.vector;
-    assert!((landed.y - (top + HALF)).abs() < 0.05, "dropper at {landed:?}");
-    assert!((landed.x + 3.0).abs() < 0.6 && landed.z.abs() < 0.6, "dropper at {landed:?}");
+    let landed = world
+        .read_now(STATE)
+        .unwrap()
+        .pose(dropper)
+        .translation
+        .vector;
+    assert!(
+        (landed.y - (top + HALF)).abs() < 0.05,
+        "dropper at {landed:?}"
+    );
+    assert!(
+        (landed.x + 3.0).abs() < 0.6 && landed.z.abs() < 0.6,
+        "dropper at {landed:?}"
+    );
 }
 
 #[test]
@@ -622,7 +655,10 @@ fn host_pose_velocity_impulse_and_wake_calls_wake_a_sleeping_island() {
     }
     for i in [bottom(4), top(4)] {
         assert!(snap.sleeping[i], "stack 4 was not touched: body {i} woke");
-        assert!(same_bits(&snap.poses[i], &asleep.poses[i]), "body {i} moved");
+        assert!(
+            same_bits(&snap.poses[i], &asleep.poses[i]),
+            "body {i} moved"
+        );
     }
     // The woken cubes moved as dynamic bodies in that very step: at 1 m/s less one step of
     // gravity, a cube rises by about dt (1/60 m); half of that is a safe floor.
@@ -707,8 +743,6 @@ fn turning_sleep_off_wakes_every_sleeping_body() {
     assert!(after.pose(2).translation.y - before > 0.5 * DT);
 }
 
-
-
 #[test]
 fn a_moving_kinematic_box_wakes_the_sleeping_box_it_reaches_and_pushes_it() {
     let Some(ctx) = GpuContext::for_tests() else {
@@ -739,7 +773,10 @@ fn a_moving_kinematic_box_wakes_the_sleeping_box_it_reaches_and_pushes_it() {
     let pusher_x = asleep.pose(2).translation.x;
     // The slab has not reached the cube yet when it sleeps (their faces are 2.25 m apart at
     // the start; the margins and sweeps add centimetres).
-    assert!(pusher_x + pusher_half.x < -HALF - 0.5, "slab at {pusher_x} after {steps} steps");
+    assert!(
+        pusher_x + pusher_half.x < -HALF - 0.5,
+        "slab at {pusher_x} after {steps} steps"
+    );
     // Three more seconds: the slab crosses the cube's starting place.
     let mut woke = false;
     for _ in 0..180 {
@@ -752,6 +789,12 @@ fn a_moving_kinematic_box_wakes_the_sleeping_box_it_reaches_and_pushes_it() {
     // slab's face, less 1 cm of contact softness.
     let slab_face = end.pose(2).translation.x + pusher_half.x;
     let x = end.pose(1).translation.x;
-    assert!(slab_face > HALF, "the slab did not get past x = 0: {slab_face}");
-    assert!(x > slab_face + HALF - 0.01, "cube at {x}, slab face at {slab_face}");
+    assert!(
+        slab_face > HALF,
+        "the slab did not get past x = 0: {slab_face}"
+    );
+    assert!(
+        x > slab_face + HALF - 0.01,
+        "cube at {x}, slab face at {slab_face}"
+    );
 }

@@ -220,8 +220,8 @@ fn log_uniform(rng: &mut ChaCha8Rng, lo: Real, hi: Real) -> Real {
 fn random_cuboid(rng: &mut ChaCha8Rng) -> Cuboid {
     let longest = log_uniform(rng, 0.01, 10.0);
     let mut h = [longest, 0.0, 0.0];
-    for k in 1..3 {
-        h[k] = (longest / log_uniform(rng, 1.0, 100.0)).max(0.01);
+    for short in &mut h[1..] {
+        *short = (longest / log_uniform(rng, 1.0, 100.0)).max(0.01);
     }
     let first = rng.random_range(0..3);
     h.swap(0, first);

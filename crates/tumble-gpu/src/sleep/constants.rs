@@ -24,23 +24,16 @@ pub fn sleep_constants() -> Vec<(&'static str, f64)> {
     vec![
         ("TIME_TO_SLEEP", f64::from(TIME_TO_SLEEP)),
         ("LINEAR_SLEEP_TOLERANCE", f64::from(LINEAR_SLEEP_TOLERANCE)),
-        ("ANGULAR_SLEEP_TOLERANCE", f64::from(ANGULAR_SLEEP_TOLERANCE)),
+        (
+            "ANGULAR_SLEEP_TOLERANCE",
+            f64::from(ANGULAR_SLEEP_TOLERANCE),
+        ),
         ("AWAKE", f64::from(AWAKE)),
         ("REST_UNSET", f64::from(REST_UNSET)),
     ]
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn rest_unset_is_the_bits_of_infinity() {
-        assert_eq!(REST_UNSET, f32::INFINITY.to_bits());
-    }
-
-    #[test]
-    fn the_awake_label_is_beyond_any_body_index() {
-        assert!(crate::MAX_BODIES < AWAKE);
-    }
-}
+// Checked when the crate compiles: the infinity the shaders start from, and a label that no
+// body index can take.
+const _: () = assert!(REST_UNSET == f32::INFINITY.to_bits());
+const _: () = assert!(crate::MAX_BODIES < AWAKE);

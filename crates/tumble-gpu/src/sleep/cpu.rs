@@ -112,7 +112,12 @@ impl SleepCpu {
 
     /// `kinematic_wake`: a sleeping body whose AABB overlaps that of a moving kinematic body
     /// flags its island.
-    pub fn kinematic_wake(&mut self, kinds: &[BodyKind], velocities: &[(Vec3, Vec3)], aabbs: &[Aabb]) {
+    pub fn kinematic_wake(
+        &mut self,
+        kinds: &[BodyKind],
+        velocities: &[(Vec3, Vec3)],
+        aabbs: &[Aabb],
+    ) {
         let moving: Vec<usize> = (0..kinds.len())
             .filter(|&k| {
                 kinds[k] == BodyKind::Kinematic

@@ -130,7 +130,11 @@ impl GpuSleep {
         let per_body = u64::from(n.max(1)) * 4;
         let body_bytes = std::mem::size_of_val(awake_bodies) as u64;
         let pool = &mut self.pool;
-        pool.ensure(PARAMS, std::mem::size_of::<SleepParams>() as u64, UNIFORM_USAGE)?;
+        pool.ensure(
+            PARAMS,
+            std::mem::size_of::<SleepParams>() as u64,
+            UNIFORM_USAGE,
+        )?;
         pool.ensure(AWAKE_BODIES, body_bytes, STORAGE_USAGE)?;
         for name in [ISLAND, REST_TIME, LABELS, SHORTEST_REST, WAKE] {
             pool.ensure(name, per_body, STORAGE_USAGE)?;
@@ -162,7 +166,11 @@ impl GpuSleep {
             ..Default::default()
         };
         queue.write_buffer(pool.get(PARAMS), 0, bytemuck::bytes_of(&params));
-        queue.write_buffer(pool.get(AWAKE_BODIES), 0, bytemuck::cast_slice(awake_bodies));
+        queue.write_buffer(
+            pool.get(AWAKE_BODIES),
+            0,
+            bytemuck::cast_slice(awake_bodies),
+        );
         let awake = vec![AWAKE; n as usize];
         queue.write_buffer(pool.get(ISLAND), 0, bytemuck::cast_slice(&awake));
         let zeros = vec![0u32; n as usize];
@@ -189,12 +197,12 @@ impl GpuSleep {
             self.ctx
                 .queue
                 .write_buffer(self.pool.get(WAKE), 0, bytemuck::cast_slice(&every));
-            let mut encoder = self
-                .ctx
-                .device
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some("sleep off"),
-                });
+            let mut encoder =
+                self.ctx
+                    .device
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("sleep off"),
+                    });
             let mut timer = StageTimer::disabled(&self.ctx);
             self.record_wake(&mut encoder, &mut timer, bodies, shapes);
             self.ctx.queue.submit([encoder.finish()]);
@@ -437,8 +445,12 @@ impl GpuSleep {
         let search = self.pool.get(SEARCH_GROUPS);
         let mut pass = timer.begin_pass(encoder, SLEEP_ISLANDS);
         k.update_rest.dispatch(&mut pass, &g.update_rest, n);
-        k.touch_sleepers
-            .dispatch_indirect(&mut pass, &g.touch_sleepers, work, WORK_LIST_GROUPS_OFFSET);
+        k.touch_sleepers.dispatch_indirect(
+            &mut pass,
+            &g.touch_sleepers,
+            work,
+            WORK_LIST_GROUPS_OFFSET,
+        );
         if self.kinematic_count > 0 {
             k.kinematic_wake.dispatch(&mut pass, &g.kinematic_wake, n);
         }
@@ -452,8 +464,12 @@ impl GpuSleep {
                 search,
                 LINK_GROUPS_OFFSET,
             );
-            k.jump_labels
-                .dispatch_indirect(&mut pass, &g.jump_labels[side], search, BODY_GROUPS_OFFSET);
+            k.jump_labels.dispatch_indirect(
+                &mut pass,
+                &g.jump_labels[side],
+                search,
+                BODY_GROUPS_OFFSET,
+            );
         }
         k.check_labels
             .dispatch_indirect(&mut pass, &g.check_labels, search, LINK_GROUPS_OFFSET);

@@ -798,3 +798,28 @@ fn a_moving_kinematic_box_wakes_the_sleeping_box_it_reaches_and_pushes_it() {
         "cube at {x}, slab face at {slab_face}"
     );
 }
+
+#[test]
+fn sleep_turned_on_before_any_body_is_uploaded_works_and_bad_wakes_are_errors() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let mut world = GpuWorld::new(&ctx, GpuWorldConfig::default()).unwrap();
+    let effects = Effects {
+        sleep: true,
+        ..world.effects()
+    };
+    world.set_effects(effects).unwrap();
+    world.step().unwrap();
+    // A body index past the world is an error naming the field, not a panic.
+    let err = world.wake_up(0).unwrap_err().to_string();
+    assert!(err.contains("body"), "{err}");
+    let bodies = vec![floor(), cube(0.0, 0, 0.0)];
+    world
+        .set_bodies(&bodies, &vec![BodyState::default(); 2])
+        .unwrap();
+    assert!(world.effects().sleep, "an upload keeps sleep on");
+    step_until_asleep(&mut world, &[1], SETTLE_STEPS);
+    let err = world.wake_up(2).unwrap_err().to_string();
+    assert!(err.contains("body") && err.contains('2'), "{err}");
+}

@@ -457,11 +457,15 @@ fn sleep_turned_on_before_any_body_is_uploaded_works_and_bad_wakes_are_errors() 
         return;
     };
     let mut world = GpuWorld::new(&ctx, GpuWorldConfig::default()).unwrap();
-    let effects = Effects {
+    let on = Effects {
         sleep: true,
         ..world.effects()
     };
-    world.set_effects(effects).unwrap();
+    // On, off and on again with no body uploaded: nothing to wake, nothing to fail on.
+    world.set_effects(on).unwrap();
+    world.set_effects(Effects { sleep: false, ..on }).unwrap();
+    assert!(!world.effects().sleep);
+    world.set_effects(on).unwrap();
     world.step().unwrap();
     // A body index past the world is an error naming the field, not a panic.
     let err = world.wake_up(0).unwrap_err().to_string();

@@ -182,17 +182,17 @@ impl GpuSleep {
         Ok(())
     }
 
-    /// Turns the stage off, waking every sleeping body first (its solver data restored in
-    /// `bodies` and its shape flag in `shapes`), in a submit of its own.
+    /// Turns the stage off, waking every sleeping body first, in a submit of its own: `restore`
+    /// holds the solver's bodies and the collision shapes to restore them in (`None` for a
+    /// world without body buffers yet).
     pub fn disable(
         &mut self,
-        bodies: &wgpu::Buffer,
-        shapes: &wgpu::Buffer,
+        restore: Option<(&wgpu::Buffer, &wgpu::Buffer)>,
     ) -> Result<(), GpuError> {
         if !self.is_enabled() {
             return Ok(());
         }
-        if self.body_count > 0 {
+        if let Some((bodies, shapes)) = restore.filter(|_| self.body_count > 0) {
             let every = vec![1u32; self.body_count as usize];
             self.ctx
                 .queue

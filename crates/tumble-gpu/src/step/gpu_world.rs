@@ -143,8 +143,10 @@ impl GpuWorld {
             self.sleep.enable(&gpu, self.config.dt)?;
         } else if !effects.sleep && self.sleep.is_enabled() {
             self.flush_impulses()?;
-            let shapes = self.collision.buffers().shapes;
-            self.sleep.disable(self.pool.get(BODIES), shapes)?;
+            // An empty world has no body buffers, and no body to wake.
+            let restore = (!self.bodies.is_empty())
+                .then(|| (self.pool.get(BODIES), self.collision.buffers().shapes));
+            self.sleep.disable(restore)?;
         }
         Ok(())
     }

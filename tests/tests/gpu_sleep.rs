@@ -285,17 +285,18 @@ fn host_pose_velocity_impulse_and_wake_calls_wake_a_sleeping_island() {
     let top = |s: usize| 2 + 2 * s;
     let bottom = |s: usize| 1 + 2 * s;
     let y0 = |i: usize| asleep.pose(i).translation.y;
+    let up = Vec3::new(0.0, 1.0, 0.0);
+    // Stack 2: its top cube gets an upward impulse of 1 m/s times its mass, at its centre,
+    // queued first: the pose set next submits it at once, and it must still count.
+    let mass = 1.0 / bodies[top(2)].inverse_mass;
+    let centre = Point3::from(asleep.pose(top(2)).translation.vector);
+    world.apply_impulse(top(2), &(up * mass), &centre).unwrap();
     // Stack 0: its top cube is lifted 2 cm.
     let mut lifted = asleep.pose(top(0));
     lifted.translation.y += 0.02;
     world.set_pose(top(0), &lifted).unwrap();
     // Stack 1: its top cube is sent up at 1 m/s.
-    let up = Vec3::new(0.0, 1.0, 0.0);
     world.set_velocity(top(1), &up, &Vec3::zeros()).unwrap();
-    // Stack 2: its top cube gets an upward impulse of 1 m/s times its mass, at its centre.
-    let mass = 1.0 / bodies[top(2)].inverse_mass;
-    let centre = Point3::from(asleep.pose(top(2)).translation.vector);
-    world.apply_impulse(top(2), &(up * mass), &centre).unwrap();
     // Stack 3: an explicit wake of its bottom cube.
     world.wake_up(bottom(3)).unwrap();
     world.step().unwrap();

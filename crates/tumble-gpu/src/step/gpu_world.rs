@@ -159,7 +159,7 @@ impl GpuWorld {
         }
     }
 
-    /// Wakes body `i`'s island at the start of the next step (and restarts its rest time);
+    /// Wakes body `i`'s island by the start of the next step (and restarts its rest time);
     /// a no-op for an awake body or with sleep off. Setting a pose or a velocity or applying
     /// an impulse does the same.
     pub fn wake_up(&mut self, i: usize) -> Result<(), GpuError> {
@@ -339,13 +339,17 @@ impl GpuWorld {
     }
 
     /// Submits the queued impulses now, so a later write of a pose or velocity lands after
-    /// them, as the calls were made.
+    /// them, as the calls were made. The islands queued to wake wake first, as at the start
+    /// of a step: an impulse skips a sleeping body (a fixed one to the kernel).
     fn flush_impulses(&mut self) -> Result<(), GpuError> {
         if self.impulses.is_empty() {
             return Ok(());
         }
         let mut encoder = self.encoder("impulses");
         self.timer.reset();
+        let shapes = self.collision.buffers().shapes;
+        self.sleep
+            .record_wake(&mut encoder, &mut self.timer, self.pool.get(BODIES), shapes);
         self.record_impulses(&mut encoder);
         self.ctx.queue.submit([encoder.finish()]);
         Ok(())

@@ -41,6 +41,9 @@ const KINEMATIC: &str = "sleep kinematic bodies";
 const READY: &str = "sleep ready bodies";
 const SEARCH_GROUPS: &str = "sleep search dispatch sizes";
 
+/// Pair buffer sets the collision stages alternate between (this step's and last step's).
+const PAIR_SETS: usize = 2;
+
 /// Buffers of the step the sleep stage reads and writes.
 #[derive(Clone, Copy, Debug)]
 pub struct SleepInputs<'a> {
@@ -84,7 +87,9 @@ pub struct GpuSleep {
     body_count: u32,
     kinematic_count: u32,
     queued: Vec<u32>,
-    groups: Option<Groups>,
+    /// Bind groups of the last input sets: the collision stages alternate between two pair
+    /// buffer sets, so two are kept.
+    groups: Vec<Groups>,
     /// The `wake_islands` bind group, by pool generation and solver bodies and shapes.
     wake_group: Option<(WakeKey, wgpu::BindGroup)>,
 }
@@ -101,7 +106,7 @@ impl GpuSleep {
             body_count: 0,
             kinematic_count: 0,
             queued: Vec::new(),
-            groups: None,
+            groups: Vec::new(),
             wake_group: None,
         }
     }
@@ -208,7 +213,7 @@ impl GpuSleep {
             self.ctx.queue.submit([encoder.finish()]);
         }
         self.pipelines = None;
-        self.groups = None;
+        self.groups.clear();
         self.wake_group = None;
         Ok(())
     }
@@ -242,7 +247,8 @@ impl GpuSleep {
         self.is_enabled().then(|| self.pool.get(UNFINISHED))
     }
 
-    fn ensure_groups(&mut self, inputs: &SleepInputs<'_>) {
+    /// The index in `groups` of the bind groups over `inputs`, built if missing.
+    fn ensure_groups(&mut self, inputs: &SleepInputs<'_>) -> usize {
         let key = (
             self.pool.generation(),
             vec![
@@ -254,8 +260,8 @@ impl GpuSleep {
                 inputs.aabbs.clone(),
             ],
         );
-        if self.groups.as_ref().is_some_and(|g| g.key == key) {
-            return;
+        if let Some(found) = self.groups.iter().position(|g| g.key == key) {
+            return found;
         }
         let k = self.pipelines.as_ref().expect("enabled");
         let (ctx, p) = (&self.ctx, &self.pool);
@@ -356,7 +362,11 @@ impl GpuSleep {
             ),
             key,
         };
-        self.groups = Some(groups);
+        if self.groups.len() == PAIR_SETS {
+            self.groups.remove(0);
+        }
+        self.groups.push(groups);
+        self.groups.len() - 1
     }
 
     fn ensure_wake_group(&mut self, bodies: &wgpu::Buffer, shapes: &wgpu::Buffer) {
@@ -435,9 +445,9 @@ impl GpuSleep {
         if !self.is_enabled() || self.body_count == 0 {
             return;
         }
-        self.ensure_groups(inputs);
+        let index = self.ensure_groups(inputs);
         let k = self.pipelines.as_ref().expect("enabled");
-        let g = self.groups.as_ref().expect("built above");
+        let g = &self.groups[index];
         let n = self.body_count;
         let work = inputs.pair_work;
         encoder.clear_buffer(self.pool.get(UNFINISHED), 0, None);

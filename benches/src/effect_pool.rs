@@ -40,20 +40,22 @@ impl Default for PoolOptions {
     }
 }
 
-/// The pool world with `effects` overriding the derived effects. Panics when the backend is
-/// unavailable (a bench has nothing to time then).
-pub fn effect_pool(options: PoolOptions, effects: EffectOverrides) -> World {
-    let config = WorldConfig {
-        gravity: Vec3::new(0.0, -options.gravity, 0.0),
-        effects,
-        backend: options.backend,
-        ..Default::default()
-    };
-    let mut world = World::new(config).expect("a valid config on an available backend");
-    let g = (options.cubes as f64).cbrt().ceil() as usize;
+/// Where the pool's bodies go: the container's fixed walls and the dropped cubes.
+#[derive(Clone, Debug)]
+pub struct PoolLayout {
+    /// Half extents and centre of each fixed slab (the floor, then four walls).
+    pub walls: Vec<(Vec3, Vec3)>,
+    /// Pose of each unit cube, in a grid with its own orientation each.
+    pub cubes: Vec<Pose>,
+}
+
+/// The layout of a pool of `cubes` unit cubes: shared by the facade's pool and the GPU
+/// world's, so the CPU and GPU sleep measurements step the same scene.
+pub fn pool_layout(cubes: usize) -> PoolLayout {
+    let g = (cubes as f64).cbrt().ceil() as usize;
     let inner = 0.5 * g as Real * PITCH + CLEARANCE;
     let height = FIRST_LAYER + g as Real * PITCH + 1.0;
-    let walls = [
+    let walls = vec![
         (
             Vec3::new(inner + 1.0, 0.5, inner + 1.0),
             Vec3::new(0.0, -0.5, 0.0),
@@ -75,28 +77,45 @@ pub fn effect_pool(options: PoolOptions, effects: EffectOverrides) -> World {
             Vec3::new(0.0, height, -inner - 0.5),
         ),
     ];
-    for (half, centre) in walls {
+    let first = -0.5 * (g as Real - 1.0) * PITCH;
+    let cubes = (0..cubes)
+        .map(|i| {
+            let (col, row, layer) = (i % g, (i / g) % g, i / (g * g));
+            let centre = Vec3::new(
+                first + col as Real * PITCH,
+                FIRST_LAYER + layer as Real * PITCH,
+                first + row as Real * PITCH,
+            );
+            // Golden-ratio phases give every cube its own reproducible orientation.
+            let phase = (i as Real * 0.618_034).fract();
+            let axis = Vec3::new(1.0, phase, 1.0 - phase).normalize();
+            let rotation = Rot::from_scaled_axis(axis * phase * std::f32::consts::PI);
+            Pose::from_parts(centre.into(), rotation)
+        })
+        .collect();
+    PoolLayout { walls, cubes }
+}
+
+/// The pool world with `effects` overriding the derived effects. Panics when the backend is
+/// unavailable (a bench has nothing to time then).
+pub fn effect_pool(options: PoolOptions, effects: EffectOverrides) -> World {
+    let config = WorldConfig {
+        gravity: Vec3::new(0.0, -options.gravity, 0.0),
+        effects,
+        backend: options.backend,
+        ..Default::default()
+    };
+    let mut world = World::new(config).expect("a valid config on an available backend");
+    let layout = pool_layout(options.cubes);
+    for (half, centre) in layout.walls {
         let desc = BodyDesc::fixed()
             .cuboid(half)
             .translation(centre.x, centre.y, centre.z)
             .friction(options.friction);
         world.add_body(desc).expect("valid wall");
     }
-    let first = -0.5 * (g as Real - 1.0) * PITCH;
-    for i in 0..options.cubes {
-        let (col, row, layer) = (i % g, (i / g) % g, i / (g * g));
-        let centre = Vec3::new(
-            first + col as Real * PITCH,
-            FIRST_LAYER + layer as Real * PITCH,
-            first + row as Real * PITCH,
-        );
-        // Golden-ratio phases give every cube its own reproducible orientation.
-        let phase = (i as Real * 0.618_034).fract();
-        let axis = Vec3::new(1.0, phase, 1.0 - phase).normalize();
-        let rotation = Rot::from_scaled_axis(axis * phase * std::f32::consts::PI);
-        let mut desc = BodyDesc::dynamic()
-            .pose(Pose::from_parts(centre.into(), rotation))
-            .friction(options.friction);
+    for pose in layout.cubes {
+        let mut desc = BodyDesc::dynamic().pose(pose).friction(options.friction);
         if options.lock_rotations {
             desc = desc.lock_rotations();
         }

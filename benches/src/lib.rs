@@ -1,6 +1,7 @@
 //! Shared helpers for the criterion benches.
 #![warn(missing_docs)]
 pub mod effect_pool;
+pub mod gpu_pool;
 
 use tumble_geometry::nalgebra::{Quaternion, Translation3, UnitQuaternion};
 use tumble_geometry::{Cuboid, Pose, Vec3};

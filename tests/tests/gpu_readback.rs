@@ -134,6 +134,7 @@ fn how_the_caller_reads_never_changes_a_result() {
         poses: EffectSwitch::Off,
         velocities: EffectSwitch::Off,
         contacts: EffectSwitch::Off,
+        sleeping: EffectSwitch::Off,
     };
     // Reads copied with every step, read rarely, never copied with the step: the GPU step is
     // deterministic, so any difference would be a stale host value uploaded back, a lost
@@ -256,4 +257,60 @@ fn changes_are_made_to_the_current_state() {
         (moved - target.translation.vector).norm() < 0.2,
         "the step started from the set pose: {moved:?}"
     );
+}
+
+#[test]
+fn sleep_on_the_gpu_is_read_through_the_facade() {
+    if !have_gpu() {
+        return;
+    }
+    let config = WorldConfig {
+        backend: Backend::Gpu,
+        effects: EffectOverrides {
+            sleep: EffectSwitch::On,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let mut world = World::new(config).expect("GPU world");
+    world
+        .add_body(
+            BodyDesc::fixed()
+                .cuboid(Vec3::new(10.0, 0.5, 10.0))
+                .translation(0.0, -0.5, 0.0),
+        )
+        .unwrap();
+    let mut stacks = Vec::new();
+    for x in [-2.0, 2.0] {
+        let stack: Vec<BodyHandle> = (0..2)
+            .map(|level| {
+                let cube = BodyDesc::dynamic().translation(x, 0.5 + level as Real, 0.0);
+                world.add_body(cube).unwrap()
+            })
+            .collect();
+        stacks.push(stack);
+    }
+    // Resting stacks settle in a fraction of a second and sleep TIME_TO_SLEEP (0.5 s) later:
+    // 2 s is ample, and a body still awake then is not coming to rest.
+    let mut steps = 0;
+    while world.sleeping_count() < 4 && steps < 120 {
+        world.step().unwrap();
+        steps += 1;
+    }
+    assert_eq!(
+        world.sleeping_count(),
+        4,
+        "all four cubes asleep after {steps} steps"
+    );
+    let resting = world.pose(stacks[1][1]).unwrap();
+    // Waking one cube wakes its stack only; the other stays asleep and does not move a bit.
+    world.wake_up(stacks[0][1]).unwrap();
+    world.step().unwrap();
+    for &h in &stacks[0] {
+        assert!(!world.is_sleeping(h).unwrap(), "the woken stack is awake");
+    }
+    for &h in &stacks[1] {
+        assert!(world.is_sleeping(h).unwrap(), "the other stack sleeps on");
+    }
+    assert_eq!(world.pose(stacks[1][1]).unwrap(), resting);
 }

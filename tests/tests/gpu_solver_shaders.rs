@@ -79,6 +79,7 @@ fn every_effect_combination_specializes() {
             restitution: false,
             gravity: false,
             rotation: false,
+            sleep: false,
         },
     ];
     for effects in variants {

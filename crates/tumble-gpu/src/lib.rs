@@ -1,5 +1,6 @@
 //! Tumble's GPU runtime: device setup, buffers, one pipeline per kernel, and the collision
-//! stages (`update_aabbs`, `broad_phase`, `narrow_phase`) recorded into one command stream.
+//! stages (`update_aabbs`, `broad_phase`, `narrow_phase`) recorded into one command stream,
+//! with the solver stages ([`solver`]) and sleeping islands ([`sleep`]) after them.
 //!
 //! Shaders are WGSL files in the repository's `shaders/` folder, embedded at compile time;
 //! constants shared with them are defined in [`constants`] and reach them as `override`
@@ -17,6 +18,7 @@ pub mod layout;
 pub mod readback;
 pub mod registry;
 pub mod shader;
+pub mod sleep;
 pub mod solver;
 pub mod stage_timer;
 pub mod step;

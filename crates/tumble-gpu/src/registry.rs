@@ -26,6 +26,7 @@ pub fn all_kernels() -> Vec<RegisteredKernel> {
             overrides: Vec::new(),
         })
         .chain(crate::solver::registered_kernels())
+        .chain(crate::sleep::registered_kernels())
         .collect()
 }
 
@@ -34,6 +35,7 @@ pub fn all_common_files() -> Vec<WgslFile> {
     common::ALL
         .iter()
         .chain(crate::solver::shaders::ALL_COMMON)
+        .chain(crate::sleep::shaders::ALL_COMMON)
         .copied()
         .collect()
 }
@@ -44,6 +46,7 @@ pub fn host_shared_files() -> Vec<(WgslFile, Vec<WgslFile>)> {
     vec![
         (common::LAYOUT, vec![common::CONSTANTS]),
         (crate::solver::shaders::SOLVER_TYPES, vec![common::LAYOUT]),
+        (crate::sleep::shaders::SLEEP_TYPES, vec![]),
     ]
 }
 
@@ -51,5 +54,6 @@ pub fn host_shared_files() -> Vec<(WgslFile, Vec<WgslFile>)> {
 pub fn all_struct_layouts() -> Vec<StructLayout> {
     let mut layouts = shared_struct_layouts();
     layouts.extend(crate::solver::layout::solver_struct_layouts());
+    layouts.extend(crate::sleep::layout::sleep_struct_layouts());
     layouts
 }

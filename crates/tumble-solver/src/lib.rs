@@ -22,6 +22,7 @@ mod integrate;
 mod islands;
 mod mass;
 mod material;
+mod sleep;
 mod softness;
 mod solve;
 mod sweep;
@@ -55,6 +56,7 @@ pub use integrate::{
 pub use islands::Islands;
 pub use mass::MassProperties;
 pub use material::{DEFAULT_FRICTION, Material, mix_friction, mix_restitution};
+pub use sleep::{ANGULAR_SLEEP_TOLERANCE, LINEAR_SLEEP_TOLERANCE, TIME_TO_SLEEP, is_resting};
 pub use softness::Softness;
 pub use solve::{SolveStats, solve, solve_with_effects};
 pub use sweep::{Batch, sweep};

@@ -63,6 +63,8 @@ pub struct ReadbackOverrides {
     pub velocities: EffectSwitch,
     /// The step's manifolds with their impulses (contact pairs, contact reports, counts).
     pub contacts: EffectSwitch,
+    /// Which bodies sleep (only copied when the sleep effect runs).
+    pub sleeping: EffectSwitch,
 }
 
 impl ReadbackOverrides {
@@ -71,6 +73,7 @@ impl ReadbackOverrides {
         poses: EffectSwitch::On,
         velocities: EffectSwitch::On,
         contacts: EffectSwitch::On,
+        sleeping: EffectSwitch::On,
     };
 
     /// The reads a step records, given what the caller read after the previous one.
@@ -79,6 +82,7 @@ impl ReadbackOverrides {
             poses: self.poses.resolve(read.poses),
             velocities: self.velocities.resolve(read.velocities),
             contacts: self.contacts.resolve(read.contacts),
+            sleeping: self.sleeping.resolve(read.sleeping),
         }
     }
 }

@@ -146,8 +146,8 @@ impl World {
         if self.gpu.is_none() {
             return Ok(None);
         }
-        // The effects the step runs, with the config's overrides; sleep is not on the GPU
-        // backends (no islands there), so bodies never sleep on them.
+        // The effects the step runs, with the config's overrides. Sleep runs on the GPU
+        // itself on `Backend::Gpu`; `Backend::Hybrid` has no islands.
         let effects = self.effects();
         let Some(gpu) = self.gpu.as_mut() else {
             return Ok(None);
@@ -184,7 +184,8 @@ impl World {
                 // Otherwise the caller changed nothing since the last step: every change
                 // brings the host arrays up to date first.
                 gpu.set_effects(GpuEffects::from(&effects)).map_err(fail)?;
-                let reads = self.config.effects.readback.resolve(asked);
+                let mut reads = self.config.effects.readback.resolve(asked);
+                reads.sleeping &= effects.sleep;
                 gpu.request_reads(reads.request());
                 gpu.step().map_err(fail)?;
                 state.last_asked = asked;
@@ -310,6 +311,32 @@ impl World {
                 .map_err(|e| unavailable(self.config.backend, e)),
             None => Ok(self.states[d]),
         }
+    }
+
+    /// Which bodies sleep on `Backend::Gpu` (read lazily); `None` on the other backends.
+    pub(crate) fn gpu_sleeping(&self) -> Result<Option<&[bool]>, Error> {
+        let Some(GpuBackend::Gpu(state)) = self.gpu.as_ref() else {
+            return Ok(None);
+        };
+        match state.unread.as_ref() {
+            Some(u) if self.effects().sleep => u
+                .sleeping(&state.gpu)
+                .map(Some)
+                .map_err(|e| unavailable(self.config.backend, e)),
+            // Before any step, with sleep off, or once bodies were added or removed (which
+            // wakes every body on the GPU), nothing sleeps: the host's awake state says so.
+            _ => Ok(None),
+        }
+    }
+
+    /// Wakes the island of the body at dense index `d` on `Backend::Gpu` before the next step.
+    pub(crate) fn wake_on_gpu(&mut self, d: usize) -> Result<(), Error> {
+        let backend = self.config.backend;
+        if let Some(GpuBackend::Gpu(state)) = self.gpu.as_mut() {
+            let gpu = state.gpu.get_mut().map_err(|_| poisoned(backend))?;
+            gpu.wake_up(d).map_err(|e| unavailable(backend, e))?;
+        }
+        Ok(())
     }
 
     /// Last step's manifolds and the handles of their bodies. A failed GPU read reports no

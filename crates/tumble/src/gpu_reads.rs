@@ -31,17 +31,21 @@ pub(crate) struct Reads {
     pub velocities: bool,
     /// The manifolds with their impulses.
     pub contacts: bool,
+    /// Which bodies sleep.
+    pub sleeping: bool,
 }
 
 impl Reads {
     const POSES: u8 = 1;
     const VELOCITIES: u8 = 2;
     const CONTACTS: u8 = 4;
+    const SLEEPING: u8 = 8;
 
     fn bits(self) -> u8 {
         (u8::from(self.poses) * Self::POSES)
             | (u8::from(self.velocities) * Self::VELOCITIES)
             | (u8::from(self.contacts) * Self::CONTACTS)
+            | (u8::from(self.sleeping) * Self::SLEEPING)
     }
 
     fn from_bits(bits: u8) -> Self {
@@ -49,6 +53,7 @@ impl Reads {
             poses: bits & Self::POSES != 0,
             velocities: bits & Self::VELOCITIES != 0,
             contacts: bits & Self::CONTACTS != 0,
+            sleeping: bits & Self::SLEEPING != 0,
         }
     }
 
@@ -58,6 +63,7 @@ impl Reads {
             poses: self.poses,
             velocities: self.velocities,
             contacts: self.contacts,
+            sleeping: self.sleeping,
         }
     }
 }
@@ -97,6 +103,7 @@ pub(crate) struct Unread {
     poses: OnceLock<Result<Vec<Pose>, String>>,
     velocities: OnceLock<Result<Vec<BodyState>, String>>,
     contacts: OnceLock<Result<ContactView, String>>,
+    sleeping: OnceLock<Result<Vec<bool>, String>>,
     stats: OnceLock<StepStats>,
     /// True once a mutating call copied poses and velocities into the world's host arrays,
     /// which are then the state to report (and to upload changes from).
@@ -119,6 +126,7 @@ impl Unread {
             poses: OnceLock::new(),
             velocities: OnceLock::new(),
             contacts: OnceLock::new(),
+            sleeping: OnceLock::new(),
             stats: OnceLock::new(),
             motion_in_host: false,
         }
@@ -137,6 +145,7 @@ impl Unread {
         err(self.poses.get())
             .or_else(|| err(self.velocities.get()))
             .or_else(|| err(self.contacts.get()))
+            .or_else(|| err(self.sleeping.get()))
     }
 
     /// Reads `want` from the step's copy where it holds it, from the GPU buffers otherwise.
@@ -166,6 +175,9 @@ impl Unread {
             if want.velocities {
                 out.velocities = std::mem::take(&mut s.velocities);
             }
+            if want.sleeping {
+                out.sleeping = std::mem::take(&mut s.sleeping);
+            }
             if want.contacts {
                 // A copy sized from an older count may have missed manifolds: read them all.
                 out.contacts = s
@@ -178,6 +190,7 @@ impl Unread {
             poses: want.poses && out.poses.is_empty(),
             velocities: want.velocities && out.velocities.is_empty(),
             contacts: want.contacts && out.contacts.is_none(),
+            sleeping: want.sleeping && out.sleeping.is_empty(),
         };
         if missing != ReadRequest::default() {
             let direct = gpu.read_now(missing)?;
@@ -189,6 +202,9 @@ impl Unread {
             }
             if missing.contacts {
                 out.contacts = direct.contacts;
+            }
+            if missing.sleeping {
+                out.sleeping = direct.sleeping;
             }
         }
         Ok(out)
@@ -214,6 +230,17 @@ impl Unread {
             Ok((0..s.velocities.len()).map(|i| s.state(i)).collect())
         });
         velocities.as_deref().map_err(Clone::clone)
+    }
+
+    /// Which bodies sleep after the step.
+    pub(crate) fn sleeping(&self, gpu: &Mutex<GpuWorld>) -> Result<&[bool], String> {
+        let flags = self.sleeping.get_or_init(|| {
+            let s = self
+                .fetch(gpu, Reads::from_bits(Reads::SLEEPING))
+                .map_err(failed)?;
+            Ok(s.sleeping)
+        });
+        flags.as_deref().map_err(Clone::clone)
     }
 
     /// The step's manifolds with their impulses.

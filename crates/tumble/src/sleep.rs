@@ -10,8 +10,10 @@
 //! fixed for that one step and wakes its island for the next (Box2D does the same: a touch
 //! wakes the island, which rejoins the solver on the following step).
 //!
-//! Sleep runs on the CPU step only: `Backend::Gpu` and `Backend::Hybrid` step every body, and
-//! their bodies never sleep.
+//! On `Backend::Gpu` the islands are found and put to sleep on the GPU (`tumble_gpu::sleep`,
+//! label propagation instead of union-find, the same thresholds); `is_sleeping` and
+//! `sleeping_count` read its flags back lazily like any other result. `Backend::Hybrid` steps
+//! every body, and its bodies never sleep.
 
 use std::collections::HashSet;
 
@@ -21,14 +23,7 @@ use tumble_solver::{Body, BodyKind, BodyState, Contact, Effects, Islands, PairKe
 
 use crate::{BodyHandle, Error, StepStats, World, stages};
 
-/// Box2D's `b2_timeToSleep`: an island sleeps after half a second at rest.
-pub const TIME_TO_SLEEP: Real = 0.5;
-
-/// Box2D's `b2_linearSleepTolerance`: below 5 cm/s a body counts as resting.
-pub const LINEAR_SLEEP_TOLERANCE: Real = 0.05;
-
-/// Box2D's `b2_angularSleepTolerance`: below 2 degrees per second a body counts as resting.
-pub const ANGULAR_SLEEP_TOLERANCE: Real = 2.0 / 180.0 * std::f32::consts::PI;
+pub use tumble_solver::{ANGULAR_SLEEP_TOLERANCE, LINEAR_SLEEP_TOLERANCE, TIME_TO_SLEEP};
 
 /// Island label of an awake body.
 const AWAKE: u32 = u32::MAX;
@@ -92,17 +87,27 @@ impl SleepState {
 impl World {
     /// True when the body sleeps (it is out of the step until something wakes its island).
     pub fn is_sleeping(&self, h: BodyHandle) -> Result<bool, Error> {
-        Ok(self.sleep.is_asleep(self.handles.dense(h)?))
+        let d = self.handles.dense(h)?;
+        match self.gpu_sleeping()? {
+            Some(flags) => Ok(flags[d]),
+            None => Ok(self.sleep.is_asleep(d)),
+        }
     }
 
     /// Bodies asleep.
     pub fn sleeping_count(&self) -> usize {
-        self.sleep.asleep
+        match self.gpu_sleeping() {
+            Ok(Some(flags)) => flags.iter().filter(|&&s| s).count(),
+            // A failed read reports its error from the next step.
+            Err(_) => 0,
+            Ok(None) => self.sleep.asleep,
+        }
     }
 
     /// Wakes the body's island (a no-op for an awake body).
     pub fn wake_up(&mut self, h: BodyHandle) -> Result<(), Error> {
         let d = self.handles.dense(h)?;
+        self.wake_on_gpu(d)?;
         self.sleep.wake(d);
         Ok(())
     }

@@ -16,6 +16,10 @@ pub struct Effects {
     pub gravity: bool,
     /// Angular terms (off when every moving body is dynamic with all rotations locked).
     pub rotation: bool,
+    /// Islands and sleep ([`crate::sleep`]). Not a solver switch: a world with it off never
+    /// records the sleep stage, and its solver pipelines are the same either way. Like the
+    /// CPU's, it changes results (sleeping bodies stop), so it is never derived from bodies.
+    pub sleep: bool,
 }
 
 impl Effects {
@@ -25,15 +29,16 @@ impl Effects {
         restitution: true,
         gravity: true,
         rotation: true,
+        sleep: true,
     };
 
-    /// The effects `bodies` under `gravity` can need: tumble-solver's derivation
+    /// The effects `bodies` under `gravity` can need (sleep off): tumble-solver's derivation
     /// ([`tumble_solver::Effects::of_bodies`]), so the GPU and the CPU compile in the same.
     pub fn of_scene(bodies: &[Body], gravity: &Vec3) -> Self {
         Self::from(&tumble_solver::Effects::of_bodies(bodies, gravity))
     }
 
-    /// The `override` values of the switches.
+    /// The `override` values of the solver's switches (sleep has none: it is a stage).
     pub fn overrides(&self) -> [(&'static str, f64); 4] {
         let flag = |on: bool| if on { 1.0 } else { 0.0 };
         [
@@ -46,14 +51,15 @@ impl Effects {
 }
 
 impl From<&tumble_solver::Effects> for Effects {
-    /// The switches the GPU solver has (kinematic handling and sleep have none here: the GPU
-    /// step always moves kinematic bodies and has no islands).
+    /// The switches the GPU step has (kinematic handling has none here: the GPU step always
+    /// moves kinematic bodies, and its sleep stage always checks them).
     fn from(e: &tumble_solver::Effects) -> Self {
         Self {
             friction: e.friction,
             restitution: e.restitution,
             gravity: e.gravity,
             rotation: e.rotation,
+            sleep: e.sleep,
         }
     }
 }

@@ -103,6 +103,10 @@ pub struct GpuSolver {
 impl GpuSolver {
     /// A solver with `effects` compiled in.
     pub fn new(ctx: &GpuContext, effects: Effects) -> Result<Self, GpuError> {
+        let effects = Effects {
+            sleep: false,
+            ..effects
+        };
         let pipelines = SolverPipelines::shared(ctx, effects)?;
         let params = ctx.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("solver params"),
@@ -147,7 +151,12 @@ impl GpuSolver {
     }
 
     /// Switches to pipelines with `effects` (bind groups are rebuilt on the next record).
+    /// The sleep switch is not the solver's: it is dropped, so toggling it builds nothing.
     pub fn set_effects(&mut self, effects: Effects) -> Result<(), GpuError> {
+        let effects = Effects {
+            sleep: false,
+            ..effects
+        };
         if effects != self.pipelines.effects {
             self.pipelines = SolverPipelines::shared(&self.ctx, effects)?;
             self.bind = None;

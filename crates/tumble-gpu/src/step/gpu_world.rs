@@ -11,14 +11,17 @@ use tumble_solver::{Body, BodyState, Contact};
 use crate::buffer_pool::{BufferPool, STORAGE_USAGE};
 use crate::collision::GpuCollision;
 use crate::layout::{GpuContact, GpuManifold, GpuPose, GpuVelocity, WorkList};
-use crate::readback::{Readback, Region, Ticket};
+use crate::readback::{Readback, Region};
+use crate::sleep::constants::AWAKE;
+use crate::sleep::{GpuSleep, SleepInputs};
 use crate::solver::apply_impulses::ApplyImpulsesArgs;
 use crate::solver::convert::{gpu_body, gpu_manifold, gpu_pose, gpu_shape, gpu_tilt, gpu_velocity};
-use crate::solver::layout::{GpuBody, GpuConstraint, GpuImpulse, GpuTilt};
+use crate::solver::layout::{GpuBody, GpuImpulse, GpuTilt};
 use crate::solver::{Effects, GpuSolver, SolvePath, SolverInputs, StepParams};
 use crate::{GpuContext, GpuError, MAX_MANIFOLD_POINTS, StageTimer};
 
 use super::config::{GpuWorldConfig, PathPolicy};
+use super::read_plan::{PendingRead, ReadSizes, decode};
 use super::snapshot::{ContactSnapshot, ReadRequest, Snapshot};
 use super::stats_ring::StatsRing;
 
@@ -50,14 +53,6 @@ enum ContactSource {
     Host,
 }
 
-#[derive(Debug)]
-struct PendingRead {
-    ticket: Ticket,
-    regions: Vec<Region>,
-    request: ReadRequest,
-    step: u64,
-}
-
 /// A world of boxes simulated entirely on the GPU.
 #[derive(Debug)]
 pub struct GpuWorld {
@@ -81,6 +76,7 @@ pub struct GpuWorld {
     last_path: Option<SolvePath>,
     /// Bytes copied from the GPU for the host so far.
     bytes_read: u64,
+    sleep: GpuSleep,
 }
 
 fn invalid(field: impl Into<String>, value: impl std::fmt::Debug) -> GpuError {
@@ -119,6 +115,7 @@ impl GpuWorld {
             host_count: 0,
             last_path: None,
             bytes_read: 0,
+            sleep: GpuSleep::new(ctx),
         })
     }
 
@@ -140,8 +137,43 @@ impl GpuWorld {
 
     /// Compiles in exactly `effects` from the next step on (instead of those derived from the
     /// bodies on upload): an effect forced off is left out even where the scene needs it.
+    /// Turning sleep on starts every body awake with no rest time; turning it off wakes every
+    /// sleeping body.
     pub fn set_effects(&mut self, effects: Effects) -> Result<(), GpuError> {
-        self.solver.set_effects(effects)
+        self.solver.set_effects(effects)?;
+        if effects.sleep && !self.sleep.is_enabled() {
+            let gpu: Vec<GpuBody> = self.bodies.iter().map(gpu_body).collect();
+            self.sleep.enable(&gpu, self.config.dt)?;
+        } else if !effects.sleep && self.sleep.is_enabled() {
+            self.flush_impulses()?;
+            // An empty world has no body buffers, and no body to wake.
+            let restore = (!self.bodies.is_empty())
+                .then(|| (self.pool.get(BODIES), self.collision.buffers().shapes));
+            self.sleep.disable(restore)?;
+        }
+        Ok(())
+    }
+
+    /// The effects compiled in, sleep included.
+    pub fn effects(&self) -> Effects {
+        Effects {
+            sleep: self.sleep.is_enabled(),
+            ..self.solver.effects()
+        }
+    }
+
+    /// Wakes body `i`'s island by the start of the next step (and restarts its rest time);
+    /// a no-op for an awake body or with sleep off. Setting a pose or a velocity or applying
+    /// an impulse does the same.
+    pub fn wake_up(&mut self, i: usize) -> Result<(), GpuError> {
+        self.check_body(i)?;
+        self.sleep.queue_wake(i as u32);
+        Ok(())
+    }
+
+    /// The sleep stage (for tests and tools: its island labels and rest times).
+    pub fn sleep_stage(&self) -> &GpuSleep {
+        &self.sleep
     }
 
     /// The device.
@@ -195,13 +227,13 @@ impl GpuWorld {
         self.pending.clear();
         self.impulses.clear();
         self.known_manifolds = None;
+        let gpu: Vec<GpuBody> = bodies.iter().map(gpu_body).collect();
         if !bodies.is_empty() {
             let poses: Vec<GpuPose> = bodies.iter().map(|b| gpu_pose(&b.pose)).collect();
             let velocities: Vec<GpuVelocity> = states.iter().map(gpu_velocity).collect();
             let shapes: Vec<_> = bodies.iter().map(gpu_shape).collect();
             self.collision.set_bodies(&poses, &velocities, &shapes)?;
             self.collision.forget_history();
-            let gpu: Vec<GpuBody> = bodies.iter().map(gpu_body).collect();
             let bytes: &[u8] = bytemuck::cast_slice(&gpu);
             self.pool
                 .ensure(BODIES, bytes.len() as u64, STORAGE_USAGE)?;
@@ -210,6 +242,7 @@ impl GpuWorld {
         self.solver
             .set_effects(Effects::of_scene(bodies, &self.config.gravity))?;
         self.solver.forget_colors();
+        self.sleep.reset(&gpu, self.config.dt)?;
         self.bodies = bodies.to_vec();
         Ok(())
     }
@@ -233,6 +266,7 @@ impl GpuWorld {
             return Err(invalid("pose", pose));
         }
         self.flush_impulses()?;
+        self.sleep.queue_wake(i as u32);
         let offset = (i * std::mem::size_of::<GpuPose>()) as u64;
         let poses = self.collision.buffers().poses;
         self.ctx
@@ -256,6 +290,7 @@ impl GpuWorld {
             return Err(invalid("angular_velocity", angular));
         }
         self.flush_impulses()?;
+        self.sleep.queue_wake(i as u32);
         let offset = (i * std::mem::size_of::<GpuVelocity>()) as u64;
         let velocity = gpu_velocity(&BodyState::moving(*linear, *angular));
         let velocities = self.collision.buffers().velocities;
@@ -280,6 +315,7 @@ impl GpuWorld {
         if !point.iter().all(|c| c.is_finite()) {
             return Err(invalid("point", point));
         }
+        self.sleep.queue_wake(i as u32);
         self.impulses.push(GpuImpulse {
             body: i as u32,
             impulse: [impulse.x, impulse.y, impulse.z, 0.0],
@@ -313,13 +349,17 @@ impl GpuWorld {
     }
 
     /// Submits the queued impulses now, so a later write of a pose or velocity lands after
-    /// them, as the calls were made.
+    /// them, as the calls were made. The islands queued to wake wake first, as at the start
+    /// of a step: an impulse skips a sleeping body (a fixed one to the kernel).
     fn flush_impulses(&mut self) -> Result<(), GpuError> {
         if self.impulses.is_empty() {
             return Ok(());
         }
         let mut encoder = self.encoder("impulses");
         self.timer.reset();
+        let shapes = self.collision.buffers().shapes;
+        self.sleep
+            .record_wake(&mut encoder, &mut self.timer, self.pool.get(BODIES), shapes);
         self.record_impulses(&mut encoder);
         self.ctx.queue.submit([encoder.finish()]);
         Ok(())
@@ -387,6 +427,10 @@ impl GpuWorld {
         let params = self.params();
         let mut encoder = self.encoder("tumble step");
         self.timer.reset();
+        // Islands wake before the impulses, which skip bodies that are not dynamic.
+        let shapes = self.collision.buffers().shapes;
+        self.sleep
+            .record_wake(&mut encoder, &mut self.timer, self.pool.get(BODIES), shapes);
         self.record_impulses(&mut encoder);
         self.collision.record(&mut encoder, &mut self.timer)?;
         let buffers = self.collision.buffers();
@@ -402,6 +446,16 @@ impl GpuWorld {
         };
         self.solver
             .record(&mut encoder, &mut self.timer, &inputs, &params.params, path)?;
+        let sleep_inputs = SleepInputs {
+            bodies: self.pool.get(BODIES),
+            shapes: buffers.shapes,
+            velocities: buffers.velocities,
+            pair_work: buffers.pair_work,
+            manifolds: buffers.manifolds,
+            aabbs: buffers.aabbs,
+        };
+        self.sleep
+            .record_update(&mut encoder, &mut self.timer, &sleep_inputs);
         self.source = ContactSource::Collision;
         self.finish_step(encoder, path)
     }
@@ -504,6 +558,10 @@ impl GpuWorld {
         let params = self.params();
         let mut encoder = self.encoder("tumble solver step");
         self.timer.reset();
+        // Host wakes still apply; islands only fall asleep in `step`.
+        let shapes = self.collision.buffers().shapes;
+        self.sleep
+            .record_wake(&mut encoder, &mut self.timer, self.pool.get(BODIES), shapes);
         self.record_impulses(&mut encoder);
         let buffers = self.collision.buffers();
         let inputs = SolverInputs {
@@ -568,7 +626,7 @@ impl GpuWorld {
         self.timer.resolve(&mut encoder);
         let index = self.ctx.queue.submit([encoder.finish()]);
         self.stats.submitted(index);
-        if let Some((slot, regions)) = read {
+        if let Some((slot, regions, islands_copied)) = read {
             let ticket = self.readback.submitted(slot);
             // Two staging slots: a third pending read would reuse the oldest one's.
             if self.pending.len() == 2 {
@@ -579,6 +637,7 @@ impl GpuWorld {
                 regions,
                 request: self.request,
                 step: self.steps + 1,
+                islands_copied,
             });
         }
         self.last_path = Some(path);
@@ -592,7 +651,7 @@ impl GpuWorld {
         encoder: &mut wgpu::CommandEncoder,
         request: ReadRequest,
         manifolds: u32,
-    ) -> Result<(usize, Vec<Region>), GpuError> {
+    ) -> Result<(usize, Vec<Region>, bool), GpuError> {
         let n = self.bodies.len() as u64;
         let (manifold_buffer, point_buffer, work, capacity) = self.contact_buffers();
         let m = u64::from(manifolds.min(capacity));
@@ -620,8 +679,12 @@ impl GpuWorld {
             ));
             regions.push(rb.copy(encoder, slot, self.solver.tilts(), 0, sizes.tilts));
         }
+        let islands = self.sleep.island_labels().filter(|_| request.sleeping);
+        if let Some(islands) = islands {
+            regions.push(rb.copy(encoder, slot, islands, 0, sizes.islands));
+        }
         self.bytes_read += regions.iter().map(|r| r.len).sum::<u64>();
-        Ok((slot, regions))
+        Ok((slot, regions, islands.is_some()))
     }
 
     /// The most recent requested read whose copy has arrived, without waiting (older ones
@@ -633,7 +696,8 @@ impl GpuWorld {
                 break;
             };
             let done = self.pending.pop_front().expect("front exists");
-            latest = Some(bytes.map(|b| decode(&done.request, done.step, b)));
+            let n = self.bodies.len();
+            latest = Some(bytes.map(|b| decode(&done, n, b)));
         }
         latest
     }
@@ -651,7 +715,7 @@ impl GpuWorld {
         let deadline = std::time::Instant::now() + READ_TIMEOUT;
         loop {
             if let Some(bytes) = self.readback.try_read(&last.ticket, &last.regions) {
-                return Ok(Some(decode(&last.request, last.step, bytes?)));
+                return Ok(Some(decode(&last, self.bodies.len(), bytes?)));
             }
             if std::time::Instant::now() > deadline {
                 return Err(GpuError::Device("readback was not mapped in time".into()));
@@ -694,6 +758,16 @@ impl GpuWorld {
             });
         }
         self.bytes_read += snapshot_bytes(&snapshot);
+        if request.sleeping {
+            snapshot.sleeping = match self.sleep.island_labels() {
+                Some(islands) => {
+                    let labels: Vec<u32> = self.ctx.read_buffer(islands, 0, n)?;
+                    self.bytes_read += std::mem::size_of_val(labels.as_slice()) as u64;
+                    labels.iter().map(|&l| l != AWAKE).collect()
+                }
+                None => vec![false; n as usize],
+            };
+        }
         Ok(snapshot)
     }
 
@@ -716,91 +790,4 @@ fn snapshot_bytes(s: &Snapshot) -> u64 {
             + bytes(&c.tilts)
     });
     bytes(&s.poses) + bytes(&s.velocities) + contacts
-}
-
-/// Byte sizes of the parts of a readback.
-struct ReadSizes {
-    poses: u64,
-    velocities: u64,
-    work: u64,
-    manifolds: u64,
-    points: u64,
-    constraints: u64,
-    tilts: u64,
-}
-
-impl ReadSizes {
-    fn new(bodies: u64, manifolds: u64) -> Self {
-        let size = |bytes: usize, count: u64| bytes as u64 * count;
-        Self {
-            poses: size(std::mem::size_of::<GpuPose>(), bodies),
-            velocities: size(std::mem::size_of::<GpuVelocity>(), bodies),
-            work: size(std::mem::size_of::<WorkList>(), 1),
-            manifolds: size(std::mem::size_of::<GpuManifold>(), manifolds),
-            points: size(
-                std::mem::size_of::<GpuContact>(),
-                manifolds * u64::from(MAX_MANIFOLD_POINTS),
-            ),
-            constraints: size(std::mem::size_of::<GpuConstraint>(), manifolds),
-            tilts: size(std::mem::size_of::<GpuTilt>(), manifolds),
-        }
-    }
-
-    /// Staging bytes for `request`, with alignment slack per region.
-    fn total(&self, request: &ReadRequest) -> u64 {
-        let slack = 2 * wgpu::MAP_ALIGNMENT;
-        let mut total = 0;
-        if request.poses {
-            total += self.poses + slack;
-        }
-        if request.velocities {
-            total += self.velocities + slack;
-        }
-        if request.contacts {
-            total += self.work
-                + self.manifolds
-                + self.points
-                + self.constraints
-                + self.tilts
-                + 5 * slack;
-        }
-        total
-    }
-}
-
-/// The snapshot in the bytes of a readback's regions, in the order they were recorded.
-fn decode(request: &ReadRequest, step: u64, bytes: Vec<Vec<u8>>) -> Snapshot {
-    let mut parts = bytes.into_iter();
-    let mut next = || parts.next().unwrap_or_default();
-    let mut snapshot = Snapshot {
-        step,
-        ..Default::default()
-    };
-    if request.poses {
-        snapshot.poses = bytemuck::pod_collect_to_vec(&next());
-    }
-    if request.velocities {
-        snapshot.velocities = bytemuck::pod_collect_to_vec(&next());
-    }
-    if request.contacts {
-        let work: WorkList = bytemuck::pod_read_unaligned(&next());
-        let mut manifolds: Vec<GpuManifold> = bytemuck::pod_collect_to_vec(&next());
-        let mut points: Vec<GpuContact> = bytemuck::pod_collect_to_vec(&next());
-        let mut constraints: Vec<GpuConstraint> = bytemuck::pod_collect_to_vec(&next());
-        let mut tilts: Vec<GpuTilt> = bytemuck::pod_collect_to_vec(&next());
-        // Keep this step's manifolds only (the copy may be longer than the count).
-        let count = (work.count as usize).min(manifolds.len());
-        manifolds.truncate(count);
-        points.truncate(count * MAX_MANIFOLD_POINTS as usize);
-        constraints.truncate(count);
-        tilts.truncate(count);
-        snapshot.contacts = Some(ContactSnapshot {
-            work,
-            manifolds,
-            points,
-            constraints,
-            tilts,
-        });
-    }
-    snapshot
 }

@@ -19,6 +19,8 @@ pub struct ReadRequest {
     pub velocities: bool,
     /// The manifolds of the step with their solved impulses.
     pub contacts: bool,
+    /// Which bodies sleep (all awake while sleep is off, and then nothing is copied).
+    pub sleeping: bool,
 }
 
 impl ReadRequest {
@@ -27,12 +29,14 @@ impl ReadRequest {
         poses: true,
         velocities: true,
         contacts: false,
+        sleeping: false,
     };
     /// Everything.
     pub const ALL: Self = Self {
         poses: true,
         velocities: true,
         contacts: true,
+        sleeping: true,
     };
 }
 
@@ -107,9 +111,16 @@ pub struct Snapshot {
     pub velocities: Vec<GpuVelocity>,
     /// The step's manifolds (unless not requested).
     pub contacts: Option<ContactSnapshot>,
+    /// Whether each body sleeps after the step (empty unless requested).
+    pub sleeping: Vec<bool>,
 }
 
 impl Snapshot {
+    /// Bodies asleep (zero unless sleeping flags were requested).
+    pub fn sleeping_count(&self) -> usize {
+        self.sleeping.iter().filter(|&&s| s).count()
+    }
+
     /// Body `i`'s pose.
     pub fn pose(&self, i: usize) -> Pose {
         pose_from_gpu(&self.poses[i])

@@ -1,0 +1,115 @@
+//! The awake and asleep step of a settled pool on the GPU world: the GPU row of
+//! docs/benchmarks.md's sleep measurement (`effects_table` gives the CPU one).
+//!
+//! ```sh
+//! cargo run --release -p tumble-benches --bin gpu_sleep_table [-- --cubes 1000 --steps 40 --stages]
+//! ```
+//!
+//! `--stages` adds the GPU time of each stage in the last timed step of each world, from
+//! timestamp queries (where the device has them).
+//!
+//! Two GPU worlds drop the same pool of cubes, one with sleep on and one with it off, and
+//! step in lockstep until every cube of the first sleeps (the second has then settled the
+//! same way); then each step of each is timed to completion (submit and wait for the device),
+//! and the table gives the median step times and their ratio. No timing is asserted: the
+//! numbers mean something on a real GPU only, not on a software rasterizer.
+
+use std::time::{Duration, Instant};
+
+use tumble_benches::gpu_pool::gpu_pool;
+use tumble_gpu::GpuContext;
+use tumble_gpu::step::{GpuWorld, ReadRequest};
+
+/// Most steps to wait for the pool to sleep (30 s at 60 Hz), as the CPU measurement does.
+const MAX_SETTLE_STEPS: usize = 1800;
+/// Steps between checks of the sleeping count while settling (each check waits for the GPU).
+const CHECK_EVERY: usize = 10;
+/// Walls of the pool before its cubes.
+const WALLS: usize = 5;
+
+/// Only the sleeping flags.
+const SLEEPING: ReadRequest = ReadRequest {
+    poses: false,
+    velocities: false,
+    contacts: false,
+    sleeping: true,
+};
+
+fn arg(name: &str, default: usize) -> usize {
+    let args: Vec<String> = std::env::args().collect();
+    args.iter()
+        .position(|a| a == name)
+        .and_then(|i| args.get(i + 1))
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
+fn median(mut t: Vec<Duration>) -> Duration {
+    t.sort();
+    t[t.len() / 2]
+}
+
+/// One step, waited for.
+fn timed_step(world: &mut GpuWorld) -> Duration {
+    let t = Instant::now();
+    world.step().expect("a valid world steps");
+    world.context().wait_idle().expect("the device answers");
+    t.elapsed()
+}
+
+fn ms(d: Duration) -> f64 {
+    d.as_secs_f64() * 1e3
+}
+
+fn main() {
+    let cubes = arg("--cubes", 1000);
+    let steps = arg("--steps", 40);
+    let stages = std::env::args().any(|a| a == "--stages");
+    let ctx = GpuContext::new().expect("a GPU adapter");
+    let mut asleep = gpu_pool(&ctx, cubes, true, stages);
+    let mut awake = gpu_pool(&ctx, cubes, false, stages);
+    let mut settle = 0;
+    let mut sleeping = 0;
+    while sleeping < cubes && settle < MAX_SETTLE_STEPS {
+        for _ in 0..CHECK_EVERY {
+            asleep.step().expect("a valid world steps");
+            awake.step().expect("a valid world steps");
+        }
+        settle += CHECK_EVERY;
+        let snap = asleep.read_now(SLEEPING).expect("the device answers");
+        sleeping = snap.sleeping[WALLS..].iter().filter(|&&s| s).count();
+    }
+    let (mut t_awake, mut t_asleep) = (Vec::new(), Vec::new());
+    for _ in 0..steps {
+        t_awake.push(timed_step(&mut awake));
+        t_asleep.push(timed_step(&mut asleep));
+    }
+    let (t_awake, t_asleep) = (median(t_awake), median(t_asleep));
+    println!(
+        "{cubes} cubes on {}, median of {steps} steps",
+        ctx.info.name
+    );
+    println!(
+        "settled pool after {settle} steps ({:.1} s), {sleeping} of {cubes} asleep\n",
+        settle as f64 / 60.0
+    );
+    println!("| GPU pool step | ms |\n|---|---:|");
+    println!("| awake (sleep off) | {:.3} |", ms(t_awake));
+    println!("| asleep | {:.3} |", ms(t_asleep));
+    println!(
+        "| asleep / awake | {:.3} |",
+        t_asleep.as_secs_f64() / t_awake.as_secs_f64()
+    );
+    if stages {
+        let awake_stages = awake.timings().expect("the device answers");
+        let asleep_stages = asleep.timings().expect("the device answers");
+        println!("\n| stage | awake, ms | asleep, ms |\n|---|---:|---:|");
+        for (name, t) in &asleep_stages {
+            let a = awake_stages
+                .iter()
+                .find(|(n, _)| n == name)
+                .map_or("-".to_string(), |(_, t)| format!("{:.3}", t * 1e3));
+            println!("| {name} | {a} | {:.3} |", t * 1e3);
+        }
+    }
+}

@@ -1,0 +1,491 @@
+//! [`GpuSleep`]: the sleep stage's buffers and its two places in a step, recorded into the
+//! step's command encoder: [`GpuSleep::record_wake`] before the collision stages (islands
+//! flagged last step or by the host wake up) and [`GpuSleep::record_update`] after the solver
+//! (rest timers, the island search, islands falling asleep). Nothing is read back inside a
+//! step; the manifold kernels are dispatched indirectly from the pair work list.
+
+use std::sync::Arc;
+
+use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE};
+use crate::layout::{DispatchArgs, WORK_LIST_GROUPS_OFFSET};
+use crate::solver::constants::BODY_KINEMATIC;
+use crate::solver::layout::GpuBody;
+use crate::{GpuContext, GpuError, StageTimer};
+
+use super::constants::{AWAKE, ISLAND_ROUNDS};
+use super::islands::{JumpLabelsArgs, LinkLabelsArgs};
+use super::kinematic::KinematicWakeArgs;
+use super::layout::SleepParams;
+use super::pipelines::SleepPipelines;
+use super::plan_search::{BODY_GROUPS_OFFSET, LINK_GROUPS_OFFSET, PlanSearchArgs};
+use super::rest::{FallAsleepArgs, IslandRestArgs, UpdateRestArgs};
+use super::touch::TouchSleepersArgs;
+use super::wake::{WakeBodiesArgs, WakeIslandsArgs};
+
+/// Timer name of the pass that wakes flagged islands.
+pub const SLEEP_WAKE: &str = "sleep: wake";
+/// Timer name of the pass that updates rest times and puts islands to sleep.
+pub const SLEEP_ISLANDS: &str = "sleep: islands";
+
+const PARAMS: &str = "sleep params";
+const AWAKE_BODIES: &str = "sleep awake bodies";
+const ISLAND: &str = "sleep island labels";
+const REST_TIME: &str = "sleep rest times";
+const LABELS: &str = "sleep search labels";
+/// The two copies the rounds hook into, in turn.
+const NEXT_LABELS: [&str; 2] = ["sleep search labels next 0", "sleep search labels next 1"];
+const SHORTEST_REST: &str = "sleep shortest rest";
+const WAKE: &str = "sleep wake flags";
+const UNFINISHED: &str = "sleep unfinished search";
+const KINEMATIC: &str = "sleep kinematic bodies";
+const READY: &str = "sleep ready bodies";
+const SEARCH_GROUPS: &str = "sleep search dispatch sizes";
+
+/// Pair buffer sets the collision stages alternate between (this step's and last step's).
+const PAIR_SETS: usize = 2;
+
+/// Buffers of the step the sleep stage reads and writes.
+#[derive(Clone, Copy, Debug)]
+pub struct SleepInputs<'a> {
+    /// `array<GpuBody>`: the solver's bodies (sleeping ones are made fixed in it).
+    pub bodies: &'a wgpu::Buffer,
+    /// `array<GpuShape>`: the collision shapes (sleeping ones are flagged static in it).
+    pub shapes: &'a wgpu::Buffer,
+    /// `array<GpuVelocity>`: the velocities (sleeping bodies' are zero).
+    pub velocities: &'a wgpu::Buffer,
+    /// The step's pair `WorkList` (manifold count and indirect dispatch size).
+    pub pair_work: &'a wgpu::Buffer,
+    /// `array<GpuManifold>`: the step's manifolds.
+    pub manifolds: &'a wgpu::Buffer,
+    /// `array<GpuAabb>`: the step's AABBs.
+    pub aabbs: &'a wgpu::Buffer,
+}
+
+/// The bind groups of one set of inputs.
+#[derive(Debug)]
+struct Groups {
+    key: (u64, Vec<wgpu::Buffer>),
+    update_rest: wgpu::BindGroup,
+    touch_sleepers: wgpu::BindGroup,
+    kinematic_wake: wgpu::BindGroup,
+    plan_search: wgpu::BindGroup,
+    /// Round `r` hooks into `NEXT_LABELS[r % 2]`.
+    hook_labels: [wgpu::BindGroup; 2],
+    /// Round `r` jumps from `NEXT_LABELS[r % 2]` and leaves the spare in the other one.
+    jump_labels: [wgpu::BindGroup; 2],
+    check_labels: wgpu::BindGroup,
+    island_rest: wgpu::BindGroup,
+    fall_asleep: wgpu::BindGroup,
+}
+
+/// The sleep stage of a GPU world: off (no buffers, nothing recorded) until enabled.
+#[derive(Debug)]
+pub struct GpuSleep {
+    ctx: GpuContext,
+    pipelines: Option<Arc<SleepPipelines>>,
+    pool: BufferPool,
+    body_count: u32,
+    kinematic_count: u32,
+    queued: Vec<u32>,
+    /// Bind groups of the last input sets: the collision stages alternate between two pair
+    /// buffer sets, so two are kept.
+    groups: Vec<Groups>,
+    /// The `wake_islands` bind group, by pool generation and solver bodies and shapes.
+    wake_group: Option<(WakeKey, wgpu::BindGroup)>,
+}
+
+type WakeKey = (u64, wgpu::Buffer, wgpu::Buffer);
+
+impl GpuSleep {
+    /// The stage, off.
+    pub fn new(ctx: &GpuContext) -> Self {
+        Self {
+            ctx: ctx.clone(),
+            pipelines: None,
+            pool: BufferPool::new(ctx),
+            body_count: 0,
+            kinematic_count: 0,
+            queued: Vec::new(),
+            groups: Vec::new(),
+            wake_group: None,
+        }
+    }
+
+    /// True when the stage runs in each step.
+    pub fn is_enabled(&self) -> bool {
+        self.pipelines.is_some()
+    }
+
+    /// Turns the stage on (building its pipelines on first use on this device) with every
+    /// body awake and no rest time. `awake_bodies` are the bodies as uploaded; `dt` the step.
+    pub fn enable(&mut self, awake_bodies: &[GpuBody], dt: f32) -> Result<(), GpuError> {
+        if self.pipelines.is_none() {
+            self.pipelines = Some(SleepPipelines::shared(&self.ctx)?);
+        }
+        self.reset(awake_bodies, dt)
+    }
+
+    /// Every body awake with no rest time, for `awake_bodies` (after an upload). A no-op
+    /// while the stage is off.
+    pub fn reset(&mut self, awake_bodies: &[GpuBody], dt: f32) -> Result<(), GpuError> {
+        if !self.is_enabled() {
+            return Ok(());
+        }
+        let n = awake_bodies.len() as u32;
+        let per_body = u64::from(n.max(1)) * 4;
+        let body_bytes = std::mem::size_of_val(awake_bodies) as u64;
+        let pool = &mut self.pool;
+        pool.ensure(
+            PARAMS,
+            std::mem::size_of::<SleepParams>() as u64,
+            UNIFORM_USAGE,
+        )?;
+        pool.ensure(AWAKE_BODIES, body_bytes, STORAGE_USAGE)?;
+        for name in [ISLAND, REST_TIME, LABELS, SHORTEST_REST, WAKE] {
+            pool.ensure(name, per_body, STORAGE_USAGE)?;
+        }
+        for name in NEXT_LABELS {
+            pool.ensure(name, per_body, STORAGE_USAGE)?;
+        }
+        pool.ensure(UNFINISHED, 4, STORAGE_USAGE)?;
+        pool.ensure(READY, 4, STORAGE_USAGE)?;
+        pool.ensure(
+            SEARCH_GROUPS,
+            2 * std::mem::size_of::<DispatchArgs>() as u64,
+            STORAGE_USAGE,
+        )?;
+        let kinematic: Vec<u32> = (0..n)
+            .filter(|&i| awake_bodies[i as usize].kind == BODY_KINEMATIC)
+            .collect();
+        let kinematic_bytes = std::mem::size_of_val(kinematic.as_slice()) as u64;
+        pool.ensure(KINEMATIC, kinematic_bytes, STORAGE_USAGE)?;
+        let queue = &self.ctx.queue;
+        queue.write_buffer(pool.get(KINEMATIC), 0, bytemuck::cast_slice(&kinematic));
+        let (body_groups_x, body_groups_y) = crate::constants::workgroups_for(n);
+        let params = SleepParams {
+            body_count: n,
+            dt,
+            kinematic_count: kinematic.len() as u32,
+            body_groups_x,
+            body_groups_y,
+            ..Default::default()
+        };
+        queue.write_buffer(pool.get(PARAMS), 0, bytemuck::bytes_of(&params));
+        queue.write_buffer(
+            pool.get(AWAKE_BODIES),
+            0,
+            bytemuck::cast_slice(awake_bodies),
+        );
+        let awake = vec![AWAKE; n as usize];
+        queue.write_buffer(pool.get(ISLAND), 0, bytemuck::cast_slice(&awake));
+        let zeros = vec![0u32; n as usize];
+        queue.write_buffer(pool.get(REST_TIME), 0, bytemuck::cast_slice(&zeros));
+        queue.write_buffer(pool.get(WAKE), 0, bytemuck::cast_slice(&zeros));
+        self.body_count = n;
+        self.kinematic_count = kinematic.len() as u32;
+        self.queued.clear();
+        Ok(())
+    }
+
+    /// Turns the stage off, waking every sleeping body first, in a submit of its own: `restore`
+    /// holds the solver's bodies and the collision shapes to restore them in (`None` for a
+    /// world without body buffers yet).
+    pub fn disable(
+        &mut self,
+        restore: Option<(&wgpu::Buffer, &wgpu::Buffer)>,
+    ) -> Result<(), GpuError> {
+        if !self.is_enabled() {
+            return Ok(());
+        }
+        if let Some((bodies, shapes)) = restore.filter(|_| self.body_count > 0) {
+            let every = vec![1u32; self.body_count as usize];
+            self.ctx
+                .queue
+                .write_buffer(self.pool.get(WAKE), 0, bytemuck::cast_slice(&every));
+            let mut encoder =
+                self.ctx
+                    .device
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("sleep off"),
+                    });
+            let mut timer = StageTimer::disabled(&self.ctx);
+            self.record_wake(&mut encoder, &mut timer, bodies, shapes);
+            self.ctx.queue.submit([encoder.finish()]);
+        }
+        self.pipelines = None;
+        self.groups.clear();
+        self.wake_group = None;
+        Ok(())
+    }
+
+    /// Wakes body `i`'s island (if it sleeps) and restarts its rest time at the start of the
+    /// next step. A no-op while the stage is off.
+    pub fn queue_wake(&mut self, i: u32) {
+        if self.is_enabled() {
+            self.queued.push(i);
+        }
+    }
+
+    /// `array<u32>`: each body's island label, [`AWAKE`] for an awake body (`None` while
+    /// the stage is off).
+    pub fn island_labels(&self) -> Option<&wgpu::Buffer> {
+        self.is_enabled().then(|| self.pool.get(ISLAND))
+    }
+
+    /// `array<f32>`: each body's rest time, s (`None` while the stage is off).
+    pub fn rest_times(&self) -> Option<&wgpu::Buffer> {
+        self.is_enabled().then(|| self.pool.get(REST_TIME))
+    }
+
+    /// `array<u32>`: the last island search's labels (`None` while the stage is off).
+    pub fn search_labels(&self) -> Option<&wgpu::Buffer> {
+        self.is_enabled().then(|| self.pool.get(LABELS))
+    }
+
+    /// One `u32`, nonzero when the last island search did not finish (`None` while off).
+    pub fn unfinished_flag(&self) -> Option<&wgpu::Buffer> {
+        self.is_enabled().then(|| self.pool.get(UNFINISHED))
+    }
+
+    /// The index in `groups` of the bind groups over `inputs`, built if missing.
+    fn ensure_groups(&mut self, inputs: &SleepInputs<'_>) -> usize {
+        let key = (
+            self.pool.generation(),
+            vec![
+                inputs.bodies.clone(),
+                inputs.shapes.clone(),
+                inputs.velocities.clone(),
+                inputs.pair_work.clone(),
+                inputs.manifolds.clone(),
+                inputs.aabbs.clone(),
+            ],
+        );
+        if let Some(found) = self.groups.iter().position(|g| g.key == key) {
+            return found;
+        }
+        let k = self.pipelines.as_ref().expect("enabled");
+        let (ctx, p) = (&self.ctx, &self.pool);
+        let link = |labels: &'static str, output: &'static str| LinkLabelsArgs {
+            work: inputs.pair_work,
+            manifolds: inputs.manifolds,
+            awake_bodies: p.get(AWAKE_BODIES),
+            island: p.get(ISLAND),
+            labels: p.get(labels),
+            output: p.get(output),
+        };
+        let jump = |from: usize| JumpLabelsArgs {
+            params: p.get(PARAMS),
+            next_labels: p.get(NEXT_LABELS[from]),
+            labels: p.get(LABELS),
+            spare: p.get(NEXT_LABELS[1 - from]),
+        };
+        let groups = Groups {
+            update_rest: k.update_rest.bind(
+                ctx,
+                &UpdateRestArgs {
+                    params: p.get(PARAMS),
+                    awake_bodies: p.get(AWAKE_BODIES),
+                    velocities: inputs.velocities,
+                    island: p.get(ISLAND),
+                    rest_time: p.get(REST_TIME),
+                    labels: p.get(LABELS),
+                    next_labels: p.get(NEXT_LABELS[0]),
+                    shortest_rest: p.get(SHORTEST_REST),
+                    ready: p.get(READY),
+                },
+            ),
+            touch_sleepers: k.touch_sleepers.bind(
+                ctx,
+                &TouchSleepersArgs {
+                    work: inputs.pair_work,
+                    manifolds: inputs.manifolds,
+                    awake_bodies: p.get(AWAKE_BODIES),
+                    velocities: inputs.velocities,
+                    island: p.get(ISLAND),
+                    rest_time: p.get(REST_TIME),
+                    wake: p.get(WAKE),
+                },
+            ),
+            kinematic_wake: k.kinematic_wake.bind(
+                ctx,
+                &KinematicWakeArgs {
+                    params: p.get(PARAMS),
+                    kinematic: p.get(KINEMATIC),
+                    velocities: inputs.velocities,
+                    aabbs: inputs.aabbs,
+                    island: p.get(ISLAND),
+                    wake: p.get(WAKE),
+                },
+            ),
+            plan_search: k.plan_search.bind(
+                ctx,
+                &PlanSearchArgs {
+                    params: p.get(PARAMS),
+                    work: inputs.pair_work,
+                    ready: p.get(READY),
+                    search_groups: p.get(SEARCH_GROUPS),
+                },
+            ),
+            hook_labels: [
+                k.hook_labels.bind(ctx, &link(LABELS, NEXT_LABELS[0])),
+                k.hook_labels.bind(ctx, &link(LABELS, NEXT_LABELS[1])),
+            ],
+            jump_labels: [
+                k.jump_labels.bind(ctx, &jump(0)),
+                k.jump_labels.bind(ctx, &jump(1)),
+            ],
+            check_labels: k.check_labels.bind(ctx, &link(LABELS, UNFINISHED)),
+            island_rest: k.island_rest.bind(
+                ctx,
+                &IslandRestArgs {
+                    params: p.get(PARAMS),
+                    awake_bodies: p.get(AWAKE_BODIES),
+                    island: p.get(ISLAND),
+                    labels: p.get(LABELS),
+                    rest_time: p.get(REST_TIME),
+                    shortest_rest: p.get(SHORTEST_REST),
+                },
+            ),
+            fall_asleep: k.fall_asleep.bind(
+                ctx,
+                &FallAsleepArgs {
+                    params: p.get(PARAMS),
+                    unfinished: p.get(UNFINISHED),
+                    awake_bodies: p.get(AWAKE_BODIES),
+                    labels: p.get(LABELS),
+                    shortest_rest: p.get(SHORTEST_REST),
+                    island: p.get(ISLAND),
+                    velocities: inputs.velocities,
+                    bodies: inputs.bodies,
+                    shapes: inputs.shapes,
+                },
+            ),
+            key,
+        };
+        if self.groups.len() == PAIR_SETS {
+            self.groups.remove(0);
+        }
+        self.groups.push(groups);
+        self.groups.len() - 1
+    }
+
+    fn ensure_wake_group(&mut self, bodies: &wgpu::Buffer, shapes: &wgpu::Buffer) {
+        let key = (self.pool.generation(), bodies.clone(), shapes.clone());
+        if self.wake_group.as_ref().is_some_and(|(k, _)| *k == key) {
+            return;
+        }
+        let k = self.pipelines.as_ref().expect("enabled");
+        let p = &self.pool;
+        let group = k.wake_islands.bind(
+            &self.ctx,
+            &WakeIslandsArgs {
+                params: p.get(PARAMS),
+                wake: p.get(WAKE),
+                awake_bodies: p.get(AWAKE_BODIES),
+                island: p.get(ISLAND),
+                rest_time: p.get(REST_TIME),
+                bodies,
+                shapes,
+            },
+        );
+        self.wake_group = Some((key, group));
+    }
+
+    /// Records the start of a step: the islands of the bodies the host touched are flagged,
+    /// then every flagged island wakes, its bodies restored in the solver's `bodies` and the
+    /// collision `shapes`, and the flags clear. Nothing is recorded while the stage is off.
+    pub fn record_wake(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut StageTimer,
+        bodies: &wgpu::Buffer,
+        shapes: &wgpu::Buffer,
+    ) {
+        if !self.is_enabled() || self.body_count == 0 {
+            return;
+        }
+        self.ensure_wake_group(bodies, shapes);
+        let k = self.pipelines.as_ref().expect("enabled");
+        let (_, wake_group) = self.wake_group.as_ref().expect("built above");
+        let queued = (!self.queued.is_empty()).then(|| {
+            let buffer = self.ctx.storage_buffer("queued wakes", &self.queued);
+            let p = &self.pool;
+            let group = k.wake_bodies.bind(
+                &self.ctx,
+                &WakeBodiesArgs {
+                    queued: &buffer,
+                    island: p.get(ISLAND),
+                    rest_time: p.get(REST_TIME),
+                    wake: p.get(WAKE),
+                },
+            );
+            (buffer, group)
+        });
+        self.queued.clear();
+        {
+            let mut pass = timer.begin_pass(encoder, SLEEP_WAKE);
+            if let Some((_, group)) = &queued {
+                k.wake_bodies.dispatch_workgroups(&mut pass, group, 1, 1);
+            }
+            k.wake_islands
+                .dispatch(&mut pass, wake_group, self.body_count);
+        }
+        encoder.clear_buffer(self.pool.get(WAKE), 0, None);
+    }
+
+    /// Records the end of a step, after the solver: rest times, the island search over the
+    /// step's manifolds, each island's shortest rest, and the islands that fall asleep.
+    /// Nothing is recorded while the stage is off.
+    pub fn record_update(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut StageTimer,
+        inputs: &SleepInputs<'_>,
+    ) {
+        if !self.is_enabled() || self.body_count == 0 {
+            return;
+        }
+        let index = self.ensure_groups(inputs);
+        let k = self.pipelines.as_ref().expect("enabled");
+        let g = &self.groups[index];
+        let n = self.body_count;
+        let work = inputs.pair_work;
+        encoder.clear_buffer(self.pool.get(UNFINISHED), 0, None);
+        encoder.clear_buffer(self.pool.get(READY), 0, None);
+        let search = self.pool.get(SEARCH_GROUPS);
+        let mut pass = timer.begin_pass(encoder, SLEEP_ISLANDS);
+        k.update_rest.dispatch(&mut pass, &g.update_rest, n);
+        k.touch_sleepers.dispatch_indirect(
+            &mut pass,
+            &g.touch_sleepers,
+            work,
+            WORK_LIST_GROUPS_OFFSET,
+        );
+        if self.kinematic_count > 0 {
+            k.kinematic_wake.dispatch(&mut pass, &g.kinematic_wake, n);
+        }
+        k.plan_search
+            .dispatch_workgroups(&mut pass, &g.plan_search, 1, 1);
+        for round in 0..ISLAND_ROUNDS as usize {
+            let side = round % 2;
+            k.hook_labels.dispatch_indirect(
+                &mut pass,
+                &g.hook_labels[side],
+                search,
+                LINK_GROUPS_OFFSET,
+            );
+            k.jump_labels.dispatch_indirect(
+                &mut pass,
+                &g.jump_labels[side],
+                search,
+                BODY_GROUPS_OFFSET,
+            );
+        }
+        k.check_labels
+            .dispatch_indirect(&mut pass, &g.check_labels, search, LINK_GROUPS_OFFSET);
+        k.island_rest
+            .dispatch_indirect(&mut pass, &g.island_rest, search, BODY_GROUPS_OFFSET);
+        k.fall_asleep
+            .dispatch_indirect(&mut pass, &g.fall_asleep, search, BODY_GROUPS_OFFSET);
+    }
+}

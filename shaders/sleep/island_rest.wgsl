@@ -1,0 +1,24 @@
+// island_rest: one thread per body. Each linkable body reports its rest time to its island
+// (named by its label) with atomicMin on the f32 bits: rest times are never negative, and
+// non-negative floats order like their bit patterns, so the minimum of the bits is the bits
+// of the minimum, in any thread order.
+
+@group(0) @binding(0) var<uniform> params: SleepParams;
+@group(0) @binding(1) var<storage, read> awake_bodies: array<GpuBody>;
+@group(0) @binding(2) var<storage, read> island: array<u32>;
+@group(0) @binding(3) var<storage, read> labels: array<u32>;
+@group(0) @binding(4) var<storage, read> rest_time: array<f32>;
+@group(0) @binding(5) var<storage, read_write> shortest_rest: array<atomic<u32>>;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn main(
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let i = linear_index(workgroup, groups, local);
+    if i >= params.body_count || !is_linkable(awake_bodies[i].kind, island[i]) {
+        return;
+    }
+    atomicMin(&shortest_rest[labels[i]], bitcast<u32>(rest_time[i]));
+}

@@ -1,0 +1,25 @@
+// jump_labels: one thread per body, the second half of a round of the island search. Each
+// body's label becomes its label's label (pointer jumping: a chain of hooks halves in length
+// each round). It reads `next_labels` only and writes the result twice, into `labels` (read
+// by the next hook) and `spare` (the copy the next hook lowers), so no thread reads what
+// another writes.
+
+@group(0) @binding(0) var<uniform> params: SleepParams;
+@group(0) @binding(1) var<storage, read> next_labels: array<u32>;
+@group(0) @binding(2) var<storage, read_write> labels: array<u32>;
+@group(0) @binding(3) var<storage, read_write> spare: array<u32>;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn main(
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let i = linear_index(workgroup, groups, local);
+    if i >= params.body_count {
+        return;
+    }
+    let jumped = next_labels[next_labels[i]];
+    labels[i] = jumped;
+    spare[i] = jumped;
+}

@@ -1,0 +1,20 @@
+// wake_bodies: one thread goes through the bodies the host touched since the last step (a
+// pose, a velocity or an impulse set, or an explicit wake), in queue order: each body's rest
+// time starts over, and a sleeping body's island is flagged to wake in wake_islands.
+
+@group(0) @binding(0) var<storage, read> queued: array<u32>;
+@group(0) @binding(1) var<storage, read> island: array<u32>;
+@group(0) @binding(2) var<storage, read_write> rest_time: array<f32>;
+@group(0) @binding(3) var<storage, read_write> wake: array<u32>;
+
+@compute @workgroup_size(1)
+fn main() {
+    for (var k = 0u; k < arrayLength(&queued); k++) {
+        let body = queued[k];
+        rest_time[body] = 0.0;
+        let label = island[body];
+        if label != AWAKE {
+            wake[label] = 1u;
+        }
+    }
+}

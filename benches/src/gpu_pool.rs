@@ -38,12 +38,28 @@ pub fn gpu_pool_bodies(cubes: usize) -> Vec<Body> {
     walls.chain(cubes).collect()
 }
 
-/// A GPU world holding the pool of `cubes` cubes at rest in the air, with sleep on or off
-/// and GPU timestamps per stage when `timestamps` (and the device has them).
-pub fn gpu_pool(ctx: &GpuContext, cubes: usize, sleep: bool, timestamps: bool) -> GpuWorld {
+/// How a pool world runs.
+#[derive(Clone, Copy, Debug)]
+pub struct PoolRun {
+    /// The sleep stage on.
+    pub sleep: bool,
+    /// Idle steps skipped (see `tumble_gpu::step::idle`); off records every stage.
+    pub skip_idle: bool,
+    /// GPU timestamps per stage (where the device has them).
+    pub timestamps: bool,
+}
+
+/// A GPU world holding the pool of `cubes` cubes at rest in the air, run as `run` says.
+pub fn gpu_pool(ctx: &GpuContext, cubes: usize, run: PoolRun) -> GpuWorld {
+    let PoolRun {
+        sleep,
+        skip_idle,
+        timestamps,
+    } = run;
     let bodies = gpu_pool_bodies(cubes);
     let config = GpuWorldConfig {
         timestamps,
+        skip_idle_steps: skip_idle,
         ..Default::default()
     };
     let mut world = GpuWorld::new(ctx, config).expect("a valid config");

@@ -2,6 +2,12 @@
 // awake body last step, or by the host) wakes: its label turns AWAKE, its rest time starts
 // over, and its solver data and shape flags are restored from the awake copy, so the step
 // that follows moves it again.
+//
+// It also counts the bodies the step will move (every body not fixed once the islands have
+// woken: awake dynamic bodies and kinematic ones) into `moving[0]`, cleared by the host
+// before the dispatch: a step that moves none, forms no contact and had none before changes
+// nothing, and the host skips the steps after it until something changes (GpuWorld's idle
+// steps). The count is exact whatever the thread order.
 
 @group(0) @binding(0) var<uniform> params: SleepParams;
 @group(0) @binding(1) var<storage, read> wake: array<u32>;
@@ -10,6 +16,10 @@
 @group(0) @binding(4) var<storage, read_write> rest_time: array<f32>;
 @group(0) @binding(5) var<storage, read_write> bodies: array<GpuBody>;
 @group(0) @binding(6) var<storage, read_write> shapes: array<GpuShape>;
+@group(0) @binding(7) var<storage, read_write> moving: array<atomic<u32>>;
+
+// This workgroup's moving bodies, added to `moving` once.
+var<workgroup> group_moving: atomic<u32>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn main(
@@ -18,16 +28,31 @@ fn main(
     @builtin(local_invocation_index) local: u32,
 ) {
     let i = linear_index(workgroup, groups, local);
-    if i >= params.body_count {
-        return;
+    if local == 0u {
+        atomicStore(&group_moving, 0u);
     }
-    let label = island[i];
-    if label == AWAKE || wake[label] == 0u {
-        return;
+    workgroupBarrier();
+    if i < params.body_count {
+        var kind = bodies[i].kind;
+        let label = island[i];
+        if label != AWAKE && wake[label] != 0u {
+            island[i] = AWAKE;
+            rest_time[i] = 0.0;
+            let body = awake_bodies[i];
+            bodies[i] = body;
+            kind = body.kind;
+            // Only dynamic bodies sleep, and a dynamic body's shape is never static.
+            shapes[i].flags = shapes[i].flags & ~BODY_STATIC;
+        }
+        if kind != BODY_FIXED {
+            atomicAdd(&group_moving, 1u);
+        }
     }
-    island[i] = AWAKE;
-    rest_time[i] = 0.0;
-    bodies[i] = awake_bodies[i];
-    // Only dynamic bodies sleep, and a dynamic body's shape is never static.
-    shapes[i].flags = shapes[i].flags & ~BODY_STATIC;
+    workgroupBarrier();
+    if local == 0u {
+        let count = atomicLoad(&group_moving);
+        if count != 0u {
+            atomicAdd(&moving[0], count);
+        }
+    }
 }

@@ -40,6 +40,7 @@ const UNFINISHED: &str = "sleep unfinished search";
 const KINEMATIC: &str = "sleep kinematic bodies";
 const READY: &str = "sleep ready bodies";
 const SEARCH_GROUPS: &str = "sleep search dispatch sizes";
+const ACTIVE: &str = "sleep active bodies";
 
 /// Pair buffer sets the collision stages alternate between (this step's and last step's).
 const PAIR_SETS: usize = 2;
@@ -149,6 +150,7 @@ impl GpuSleep {
         }
         pool.ensure(UNFINISHED, 4, STORAGE_USAGE)?;
         pool.ensure(READY, 4, STORAGE_USAGE)?;
+        pool.ensure(ACTIVE, 4, STORAGE_USAGE)?;
         pool.ensure(
             SEARCH_GROUPS,
             2 * std::mem::size_of::<DispatchArgs>() as u64,
@@ -240,6 +242,12 @@ impl GpuSleep {
     /// `array<u32>`: the last island search's labels (`None` while the stage is off).
     pub fn search_labels(&self) -> Option<&wgpu::Buffer> {
         self.is_enabled().then(|| self.pool.get(LABELS))
+    }
+
+    /// One `u32`: the bodies the last recorded wake left to move (every body not fixed:
+    /// awake dynamic bodies and kinematic ones; `None` while the stage is off).
+    pub fn active_count(&self) -> Option<&wgpu::Buffer> {
+        self.is_enabled().then(|| self.pool.get(ACTIVE))
     }
 
     /// One `u32`, nonzero when the last island search did not finish (`None` while off).
@@ -386,6 +394,7 @@ impl GpuSleep {
                 rest_time: p.get(REST_TIME),
                 bodies,
                 shapes,
+                active: p.get(ACTIVE),
             },
         );
         self.wake_group = Some((key, group));
@@ -422,6 +431,7 @@ impl GpuSleep {
             (buffer, group)
         });
         self.queued.clear();
+        encoder.clear_buffer(self.pool.get(ACTIVE), 0, None);
         {
             let mut pass = timer.begin_pass(encoder, SLEEP_WAKE);
             if let Some((_, group)) = &queued {

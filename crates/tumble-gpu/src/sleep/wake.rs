@@ -1,5 +1,6 @@
 //! Waking: `wake_bodies` flags the islands of the bodies the host touched, `wake_islands`
-//! wakes every body of a flagged island at the start of a step. Their CPU twins are
+//! wakes every body of a flagged island at the start of a step and counts the bodies the
+//! step moves. Their CPU twins are
 //! [`super::cpu::SleepCpu::wake_bodies`] and [`super::cpu::SleepCpu::wake_islands`].
 
 use crate::kernel::{KernelArgs, KernelSpec};
@@ -55,6 +56,7 @@ pub static WAKE_ISLANDS: KernelSpec = KernelSpec {
         Binding::StorageReadWrite,
         Binding::StorageReadWrite,
         Binding::StorageReadWrite,
+        Binding::StorageReadWrite,
     ],
 };
 
@@ -74,6 +76,9 @@ pub struct WakeIslandsArgs<'a> {
     pub bodies: &'a wgpu::Buffer,
     /// `array<GpuShape>`: the collision shapes, static flag cleared for the bodies woken.
     pub shapes: &'a wgpu::Buffer,
+    /// One `u32`, cleared before: the bodies the step moves (not fixed once woken) are
+    /// added to it.
+    pub active: &'a wgpu::Buffer,
 }
 
 impl KernelArgs for WakeIslandsArgs<'_> {
@@ -86,6 +91,7 @@ impl KernelArgs for WakeIslandsArgs<'_> {
             self.rest_time,
             self.bodies,
             self.shapes,
+            self.active,
         ]
     }
 }

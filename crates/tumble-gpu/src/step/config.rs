@@ -35,11 +35,15 @@ pub struct GpuWorldConfig {
     pub min_pair_capacity: u32,
     /// Time each stage with GPU timestamps when the device has them.
     pub timestamps: bool,
+    /// Skip the work of steps that would repeat an idle step (every body asleep or fixed, no
+    /// contact, no change by the host since; see [`super::idle`]). The results are the same
+    /// bit for bit either way; off records every stage of every step (for measuring it).
+    pub skip_idle_steps: bool,
 }
 
 impl Default for GpuWorldConfig {
     /// Earth gravity along -y, 60 Hz, the collision stages' default margin and pair
-    /// capacity, the default soft-step solver, automatic path.
+    /// capacity, the default soft-step solver, automatic path, idle steps skipped.
     fn default() -> Self {
         let collision = CollisionConfig::default();
         Self {
@@ -51,6 +55,7 @@ impl Default for GpuWorldConfig {
             pairs_per_body: collision.pairs_per_body,
             min_pair_capacity: collision.min_pair_capacity,
             timestamps: false,
+            skip_idle_steps: true,
         }
     }
 }

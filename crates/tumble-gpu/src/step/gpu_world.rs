@@ -21,6 +21,7 @@ use crate::solver::{Effects, GpuSolver, SolvePath, SolverInputs, StepParams};
 use crate::{GpuContext, GpuError, MAX_MANIFOLD_POINTS, StageTimer};
 
 use super::config::{GpuWorldConfig, PathPolicy};
+use super::idle::IdleSteps;
 use super::read_plan::{PendingRead, ReadSizes, decode};
 use super::snapshot::{ContactSnapshot, ReadRequest, Snapshot};
 use super::stats_ring::StatsRing;
@@ -77,6 +78,7 @@ pub struct GpuWorld {
     /// Bytes copied from the GPU for the host so far.
     bytes_read: u64,
     sleep: GpuSleep,
+    idle: IdleSteps,
 }
 
 fn invalid(field: impl Into<String>, value: impl std::fmt::Debug) -> GpuError {
@@ -116,6 +118,7 @@ impl GpuWorld {
             last_path: None,
             bytes_read: 0,
             sleep: GpuSleep::new(ctx),
+            idle: IdleSteps::default(),
         })
     }
 
@@ -131,6 +134,9 @@ impl GpuWorld {
             ..self.config
         };
         config.validate()?;
+        if config != self.config {
+            self.idle.changed();
+        }
         self.config = config;
         Ok(())
     }
@@ -140,6 +146,9 @@ impl GpuWorld {
     /// Turning sleep on starts every body awake with no rest time; turning it off wakes every
     /// sleeping body.
     pub fn set_effects(&mut self, effects: Effects) -> Result<(), GpuError> {
+        if effects != self.effects() {
+            self.idle.changed();
+        }
         self.solver.set_effects(effects)?;
         if effects.sleep && !self.sleep.is_enabled() {
             let gpu: Vec<GpuBody> = self.bodies.iter().map(gpu_body).collect();
@@ -167,6 +176,7 @@ impl GpuWorld {
     /// an impulse does the same.
     pub fn wake_up(&mut self, i: usize) -> Result<(), GpuError> {
         self.check_body(i)?;
+        self.idle.changed();
         self.sleep.queue_wake(i as u32);
         Ok(())
     }
@@ -203,6 +213,12 @@ impl GpuWorld {
         self.bytes_read
     }
 
+    /// Steps whose work was skipped because they would repeat an idle step (see
+    /// [`super::idle`]).
+    pub fn idle_steps(&self) -> u64 {
+        self.idle.skipped_steps()
+    }
+
     /// Times the pair buffers overflowed (and grew); the steps concerned missed pairs.
     pub fn pair_overflows(&self) -> u32 {
         self.pair_overflows
@@ -224,6 +240,7 @@ impl GpuWorld {
             ));
         }
         self.stats.reset()?;
+        self.idle.changed();
         self.pending.clear();
         self.impulses.clear();
         self.known_manifolds = None;
@@ -266,6 +283,7 @@ impl GpuWorld {
             return Err(invalid("pose", pose));
         }
         self.flush_impulses()?;
+        self.idle.changed();
         self.sleep.queue_wake(i as u32);
         let offset = (i * std::mem::size_of::<GpuPose>()) as u64;
         let poses = self.collision.buffers().poses;
@@ -290,6 +308,7 @@ impl GpuWorld {
             return Err(invalid("angular_velocity", angular));
         }
         self.flush_impulses()?;
+        self.idle.changed();
         self.sleep.queue_wake(i as u32);
         let offset = (i * std::mem::size_of::<GpuVelocity>()) as u64;
         let velocity = gpu_velocity(&BodyState::moving(*linear, *angular));
@@ -315,6 +334,7 @@ impl GpuWorld {
         if !point.iter().all(|c| c.is_finite()) {
             return Err(invalid("point", point));
         }
+        self.idle.changed();
         self.sleep.queue_wake(i as u32);
         self.impulses.push(GpuImpulse {
             body: i as u32,
@@ -379,9 +399,12 @@ impl GpuWorld {
     /// Reads the two-steps-old manifold count (waiting for it if needed) and grows the pair
     /// buffers if that step overflowed.
     fn take_stats(&mut self) -> Result<(), GpuError> {
-        let Some(work) = self.stats.take_lagged()? else {
+        let stats = self.stats.take_lagged()?;
+        self.idle.observe(stats.as_ref());
+        let Some(stats) = stats else {
             return Ok(());
         };
+        let work = stats.work;
         self.known_manifolds = Some(work.count);
         if work.requested > work.capacity {
             self.pair_overflows += 1;
@@ -424,6 +447,13 @@ impl GpuWorld {
         }
         self.take_stats()?;
         let path = self.choose_path();
+        if self.config.skip_idle_steps && self.idle.can_skip() {
+            // Repeats an idle step: only the stats copy and the requested reads.
+            self.idle.skipped();
+            self.timer.reset();
+            let encoder = self.encoder("tumble idle step");
+            return self.finish_step(encoder, self.last_path.unwrap_or(path));
+        }
         let params = self.params();
         let mut encoder = self.encoder("tumble step");
         self.timer.reset();
@@ -498,6 +528,8 @@ impl GpuWorld {
             self.steps += 1;
             return Ok(());
         }
+        // Host manifolds are a change: the steps after are not idle repeats.
+        self.idle.changed();
         let count = contacts.len() as u32;
         let max_previous = previous
             .iter()
@@ -610,7 +642,9 @@ impl GpuWorld {
         path: SolvePath,
     ) -> Result<(), GpuError> {
         let (_, _, work, _) = self.contact_buffers();
-        self.stats.record(&mut encoder, &work);
+        let active = self.sleep.active_count();
+        self.stats
+            .record(&mut encoder, &work, active, self.idle.changes());
         let read = if self.request == ReadRequest::default() {
             None
         } else {

@@ -5,6 +5,7 @@
 pub mod config;
 pub mod gpu_world;
 pub mod hybrid;
+pub mod idle;
 mod read_plan;
 pub mod snapshot;
 pub mod stats_ring;

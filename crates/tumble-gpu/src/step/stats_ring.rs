@@ -1,6 +1,7 @@
-//! A small per-step readback of the pair work list (count, requested, capacity), read two
-//! steps late: it sizes the solver path choice and reports pair overflow without ever making
-//! a step wait for its own results.
+//! A small per-step readback of the pair work list (count, requested, capacity) and of the
+//! sleep stage's count of bodies the step moved, read two steps late: it sizes the solver
+//! path choice, reports pair overflow and finds idle steps without ever making a step wait
+//! for its own results.
 
 use std::sync::{Arc, Mutex};
 
@@ -18,9 +19,25 @@ type MapResult = Arc<Mutex<Option<Result<(), String>>>>;
 /// beyond any step (a lost device, not a slow one).
 const MAP_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(60);
 
+/// What a step's stats slot holds once read.
+#[derive(Clone, Copy, Debug)]
+pub struct StepStats {
+    /// The step's pair work list.
+    pub work: WorkList,
+    /// Bodies the step moved (not fixed once its islands woke), when the sleep stage ran.
+    pub active: Option<u32>,
+    /// The host's change count when the step was recorded ([`StatsRing::record`]).
+    pub changes: u64,
+}
+
+/// Bytes of the work list copy; the active count follows it.
+const WORK_BYTES: u64 = std::mem::size_of::<WorkList>() as u64;
+
 #[derive(Debug)]
 struct Slot {
     buffer: wgpu::Buffer,
+    /// Whether the active count was copied, and the change count, of the pending step.
+    recorded: (bool, u64),
     pending: Option<(wgpu::SubmissionIndex, MapResult)>,
 }
 
@@ -39,10 +56,11 @@ impl StatsRing {
             .map(|_| Slot {
                 buffer: ctx.device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("step stats staging"),
-                    size: std::mem::size_of::<WorkList>() as u64,
+                    size: WORK_BYTES + 4,
                     usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
                     mapped_at_creation: false,
                 }),
+                recorded: (false, 0),
                 pending: None,
             })
             .collect();
@@ -53,9 +71,9 @@ impl StatsRing {
         }
     }
 
-    /// The work list of the step recorded [`STATS_LAG`] steps ago, waiting for it if needed;
+    /// The stats of the step recorded [`STATS_LAG`] steps ago, waiting for them if needed;
     /// `None` when there was none (after a reset).
-    pub fn take_lagged(&mut self) -> Result<Option<WorkList>, GpuError> {
+    pub fn take_lagged(&mut self) -> Result<Option<StepStats>, GpuError> {
         let slot = &mut self.slots[self.next];
         let Some((index, mapped)) = slot.pending.take() else {
             return Ok(None);
@@ -82,21 +100,39 @@ impl StatsRing {
             std::thread::yield_now();
         };
         status.map_err(GpuError::Device)?;
-        let work = {
+        let (work, active) = {
             let view = slot
                 .buffer
                 .get_mapped_range(..)
                 .map_err(|e| GpuError::Device(e.to_string()))?;
-            bytemuck::pod_read_unaligned(&view)
+            let work: WorkList = bytemuck::pod_read_unaligned(&view[..WORK_BYTES as usize]);
+            let active: u32 = bytemuck::pod_read_unaligned(&view[WORK_BYTES as usize..]);
+            (work, active)
         };
         slot.buffer.unmap();
-        Ok(Some(work))
+        let (copied, changes) = slot.recorded;
+        Ok(Some(StepStats {
+            work,
+            active: copied.then_some(active),
+            changes,
+        }))
     }
 
-    /// Records the copy of this step's work list into the current slot.
-    pub fn record(&self, encoder: &mut wgpu::CommandEncoder, work: &wgpu::Buffer) {
-        let slot = &self.slots[self.next];
-        encoder.copy_buffer_to_buffer(work, 0, &slot.buffer, 0, slot.buffer.size());
+    /// Records the copy of this step's work list and, when the sleep stage ran, its count of
+    /// moving bodies into the current slot; `changes` is the host's change count.
+    pub fn record(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        work: &wgpu::Buffer,
+        active: Option<&wgpu::Buffer>,
+        changes: u64,
+    ) {
+        let slot = &mut self.slots[self.next];
+        encoder.copy_buffer_to_buffer(work, 0, &slot.buffer, 0, WORK_BYTES);
+        if let Some(active) = active {
+            encoder.copy_buffer_to_buffer(active, 0, &slot.buffer, WORK_BYTES, 4);
+        }
+        slot.recorded = (active.is_some(), changes);
     }
 
     /// Starts mapping the current slot after the submit that holds its copy.

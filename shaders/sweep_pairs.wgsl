@@ -1,7 +1,8 @@
 // sweep_pairs: each body, in sorted order, scans forward while the next box's lower bound
 // on the sweep axis is not past its upper bound, tests the other two axes (closed
 // intervals: touching boxes pair, as on the CPU), and appends each overlapping pair as
-// (smaller index, larger index) through an atomic counter. Static-static pairs are skipped.
+// (smaller index, larger index) through an atomic counter. Static-static pairs are skipped,
+// and so are long boxes, which long_pairs pairs (common/sweep.wgsl).
 // The counter keeps counting past the capacity, so an overflow is reported, never hidden.
 // On the sweep axis the test is implied: sorted lower bounds make lo_p <= lo_q <= hi_q.
 //
@@ -15,6 +16,7 @@
 @group(0) @binding(2) var<storage, read_write> counter: array<atomic<u32>>;
 @group(0) @binding(3) var<storage, read_write> pair_a: array<u32>;
 @group(0) @binding(4) var<storage, read_write> pair_b: array<u32>;
+@group(0) @binding(5) var<storage, read> long_boxes: array<u32>;
 
 var<workgroup> candidates: array<GpuSweepBox, WORKGROUP_SIZE>;
 var<workgroup> still_scanning: atomic<u32>;
@@ -22,10 +24,7 @@ var<workgroup> continue_flag: u32;
 
 // Tests one candidate against `me` and appends the pair when it overlaps.
 fn test_pair(me: GpuSweepBox, other: GpuSweepBox) {
-    let overlaps = other.lo_1 <= me.hi_1 && me.lo_1 <= other.hi_1
-        && other.lo_2 <= me.hi_2 && me.lo_2 <= other.hi_2;
-    let both_static = (me.flags & other.flags & BODY_STATIC) != 0u;
-    if !overlaps || both_static {
+    if !overlap_12(me, other) || both_static(me, other) {
         return;
     }
     let slot = atomicAdd(&counter[0], 1u);
@@ -42,12 +41,14 @@ fn main(
     @builtin(local_invocation_index) local: u32,
 ) {
     let n = params.body_count;
+    let listed = long_boxes_listed(long_boxes[0]);
     let first = linear_group(workgroup, groups) * WORKGROUP_SIZE;
     let p = first + local;
     var scanning = p < n;
     var me: GpuSweepBox;
     if scanning {
         me = sweep_boxes[p];
+        scanning = !is_long(me, params.long_extent, listed);
     }
     // Candidates start right after the workgroup's first body.
     var start = first + 1u;
@@ -71,7 +72,9 @@ fn main(
                     scanning = false;
                     break;
                 }
-                test_pair(me, other);
+                if !is_long(other, params.long_extent, listed) {
+                    test_pair(me, other);
+                }
             }
             if start + WORKGROUP_SIZE >= n {
                 scanning = false;

@@ -85,7 +85,8 @@ struct SweepParams {
     body_count: u32,
     // Slots in the pair buffers.
     pair_capacity: u32,
-    _pad0: u32,
+    // Boxes longer than this on the sweep axis (m) are paired by long_pairs (sweep.wgsl).
+    long_extent: f32,
     _pad1: u32,
 }
 

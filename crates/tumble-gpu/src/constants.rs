@@ -63,6 +63,16 @@ pub const SEGMENT_DEGENERATE_RATIO: f32 = f32::EPSILON;
 /// value of `tumble_geometry`'s segment routine, which keeps it private.
 pub const SEGMENT_PARALLEL_SIN_SQ: f32 = 1e-6;
 
+/// Long boxes the broad phase pairs apart from its sweep (see `shaders/common/sweep.wgsl`):
+/// floors, walls and terrain slabs, a handful in a scene. With more, the sweep pairs them all
+/// as before.
+pub const MAX_LONG_BOXES: u32 = 64;
+
+/// A box is long on the sweep axis past this many times the median body's diameter.
+/// A pile's boxes scan a few neighbours each; a box spanning 16 of them already scans 16
+/// times as many, and a floor under a pile of 42,926 cubes spans all of them.
+pub const LONG_BOX_FACTOR: f32 = 16.0;
+
 /// Every override value the shaders may declare, by WGSL name.
 pub fn shader_constants() -> Vec<(&'static str, f64)> {
     use tumble_narrow::feature_id as id;
@@ -77,6 +87,7 @@ pub fn shader_constants() -> Vec<(&'static str, f64)> {
             f64::from(MAX_WORKGROUPS_PER_DIMENSION),
         ),
         ("BODY_STATIC", f64::from(crate::layout::BODY_STATIC)),
+        ("MAX_LONG_BOXES", f64::from(MAX_LONG_BOXES)),
         ("NO_PREVIOUS", f64::from(NO_PREVIOUS)),
         ("MANIFOLD_FACE_A", f64::from(MANIFOLD_FACE_A)),
         ("MANIFOLD_FACE_B", f64::from(MANIFOLD_FACE_B)),

@@ -174,14 +174,15 @@ pub struct RadixPassParams {
 
 /// Parameters of `sweep_pairs`. 16 bytes.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct SweepParams {
     /// Bodies.
     pub body_count: u32,
     /// Slots in the pair buffers.
     pub pair_capacity: u32,
-    /// Padding.
-    pub _pad0: u32,
+    /// Boxes longer than this on the sweep axis (m) are paired by `long_pairs` instead of
+    /// the sweep (see `shaders/common/sweep.wgsl`).
+    pub long_extent: f32,
     /// Padding.
     pub _pad1: u32,
 }
@@ -385,7 +386,7 @@ pub fn shared_struct_layouts() -> Vec<StructLayout> {
         struct_layout!(SweepParams {
             body_count,
             pair_capacity,
-            _pad0,
+            long_extent,
             _pad1
         }),
         struct_layout!(SweepAxis {

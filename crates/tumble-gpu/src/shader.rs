@@ -63,6 +63,8 @@ pub mod common {
     pub const VERTEX_CONTACT: WgslFile = wgsl_file!("common/vertex_contact.wgsl");
     /// Reduction to four points.
     pub const REDUCE: WgslFile = wgsl_file!("common/reduce.wgsl");
+    /// The sweep's pair test and its long boxes.
+    pub const SWEEP: WgslFile = wgsl_file!("common/sweep.wgsl");
     /// Workgroup-wide prefix sum of a tile.
     pub const TILE_SCAN: WgslFile = wgsl_file!("common/tile_scan.wgsl");
     /// The contact persistence tolerances (overrides from `tumble-solver`'s contact cache).
@@ -100,6 +102,7 @@ pub mod common {
         REDUCE,
         TILE_SCAN,
         PERSISTENCE,
+        SWEEP,
     ];
 }
 

@@ -39,6 +39,8 @@ pub const SORT_BODIES: [&str; 2] = ["sorted bodies 0", "sorted bodies 1"];
 pub const SWEEP_BOXES: &str = "sweep boxes";
 /// Tile counts of the body sort.
 pub const BODY_TILES: &str = "body sort tiles";
+/// The long box count and list (`shaders/common/sweep.wgsl`).
+pub const LONG_BOXES: &str = "long boxes";
 /// The sweep's append counter.
 pub const PAIR_COUNTER: &str = "pair counter";
 /// First bodies of the pairs, `[parity][copy]`.
@@ -97,6 +99,11 @@ pub fn ensure_body_buffers(pool: &mut BufferPool, bodies: u32) -> Result<bool, G
         grew |= pool.ensure(name, bytes_of::<u32>(n), STORAGE_USAGE)?;
     }
     grew |= pool.ensure(SWEEP_BOXES, bytes_of::<GpuSweepBox>(n), STORAGE_USAGE)?;
+    grew |= pool.ensure(
+        LONG_BOXES,
+        crate::kernels::sweep_pairs::LONG_BOXES_BYTES,
+        STORAGE_USAGE,
+    )?;
     grew |= pool.ensure(
         BODY_TILES,
         bytes_of::<u32>(tile_count_len(bodies)),

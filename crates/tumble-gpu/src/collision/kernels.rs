@@ -16,7 +16,7 @@ use crate::kernels::plan_dispatch::{PLAN_DISPATCH, PlanDispatchArgs};
 use crate::kernels::radix_sort::{
     RadixBindGroups, RadixBuffers, RadixSort, index_bits, plan_passes, result_copy,
 };
-use crate::kernels::sweep_pairs::{SWEEP_PAIRS, SweepPairsArgs};
+use crate::kernels::sweep_pairs::{LONG_PAIRS, SWEEP_PAIRS, SweepPairsArgs};
 use crate::kernels::update_aabbs::{UPDATE_AABBS, UpdateAabbsArgs};
 use crate::kernels::write_sort_keys::{WRITE_SORT_KEYS, WriteSortKeysArgs};
 use crate::{GpuContext, GpuError};
@@ -36,6 +36,8 @@ pub struct CollisionKernels {
     pub gather_sweep_boxes: Kernel,
     /// `sweep_pairs`.
     pub sweep_pairs: Kernel,
+    /// `long_pairs`.
+    pub long_pairs: Kernel,
     /// `plan_dispatch`.
     pub plan_dispatch: Kernel,
     /// `match_pairs`.
@@ -64,6 +66,7 @@ impl CollisionKernels {
             radix: RadixSort::new(ctx)?,
             gather_sweep_boxes: Kernel::new(ctx, &GATHER_SWEEP_BOXES)?,
             sweep_pairs: Kernel::new(ctx, &SWEEP_PAIRS)?,
+            long_pairs: Kernel::new(ctx, &LONG_PAIRS)?,
             plan_dispatch: Kernel::new(ctx, &PLAN_DISPATCH)?,
             match_pairs: Kernel::new(ctx, &MATCH_PAIRS)?,
             collide_cuboids: Kernel::new(ctx, &COLLIDE_CUBOIDS)?,
@@ -81,6 +84,8 @@ impl CollisionKernels {
 pub struct ParityGroups {
     /// `sweep_pairs`, appending into this parity's copy 0.
     pub sweep: wgpu::BindGroup,
+    /// `long_pairs`, appending into this parity's copy 0.
+    pub long_pairs: wgpu::BindGroup,
     /// `plan_dispatch` into this parity's work list.
     pub plan: wgpu::BindGroup,
     /// The canonical pair sort.
@@ -177,6 +182,8 @@ pub fn build_groups(
             shapes: b(SHAPES),
             sorted_bodies: b(SORT_BODIES[BODY_RESULT_COPY]),
             sweep_boxes: b(SWEEP_BOXES),
+            params: b(SWEEP_PARAMS),
+            long_boxes: b(LONG_BOXES),
         },
     );
     // Pairs sort by b, then stably by a: lexicographic (a, b), the CPU's order.
@@ -186,17 +193,17 @@ pub fn build_groups(
     let parity = [0, 1].map(|p| {
         let q = 1 - p;
         let r = PAIR_RESULT_COPY;
+        let sweep_args = SweepPairsArgs {
+            params: b(SWEEP_PARAMS),
+            sweep_boxes: b(SWEEP_BOXES),
+            counter: b(PAIR_COUNTER),
+            pair_a: b(PAIR_A[p][0]),
+            pair_b: b(PAIR_B[p][0]),
+            long_boxes: b(LONG_BOXES),
+        };
         ParityGroups {
-            sweep: kernels.sweep_pairs.bind(
-                ctx,
-                &SweepPairsArgs {
-                    params: b(SWEEP_PARAMS),
-                    sweep_boxes: b(SWEEP_BOXES),
-                    counter: b(PAIR_COUNTER),
-                    pair_a: b(PAIR_A[p][0]),
-                    pair_b: b(PAIR_B[p][0]),
-                },
-            ),
+            sweep: kernels.sweep_pairs.bind(ctx, &sweep_args),
+            long_pairs: kernels.long_pairs.bind(ctx, &sweep_args),
             plan: kernels.plan_dispatch.bind(
                 ctx,
                 &PlanDispatchArgs {

@@ -4,7 +4,8 @@
 //! ```text
 //! update_aabbs   poses, velocities, shapes -> aabbs
 //! broad_phase    choose_axis -> write_sort_keys -> radix sort (bodies, 32-bit keys)
-//!                -> gather_sweep_boxes -> sweep_pairs (atomic append)
+//!                -> gather_sweep_boxes (long boxes listed) -> sweep_pairs + long_pairs
+//!                (atomic append)
 //!                -> plan_dispatch (count -> work list)
 //!                -> radix sort (pairs by b, then by a: canonical order, indirect)
 //! narrow_phase   match_pairs (last step's index) -> collide_cuboids -> carry_impulses
@@ -148,6 +149,8 @@ pub struct GpuCollision {
     pool: BufferPool,
     body_count: u32,
     pair_capacity: u32,
+    /// Boxes longer than this on the sweep axis are paired apart from the sweep (m).
+    long_extent: f32,
     groups: Option<CollisionGroups>,
     steps: u64,
     readback: Readback,
@@ -170,6 +173,7 @@ impl GpuCollision {
             pool: BufferPool::new(ctx),
             body_count: 0,
             pair_capacity: 0,
+            long_extent: f32::INFINITY,
             groups: None,
             steps: 0,
             readback: Readback::new(ctx),
@@ -229,6 +233,7 @@ impl GpuCollision {
             .max(self.config.min_pair_capacity)
             .min(self.max_pairs())
             .max(self.pair_capacity);
+        self.long_extent = crate::kernels::sweep_pairs::long_extent(shapes);
         self.allocate(n, wanted)?;
         let queue = &self.ctx.queue;
         queue.write_buffer(self.pool.get(SHAPES), 0, bytemuck::cast_slice(shapes));
@@ -293,6 +298,7 @@ impl GpuCollision {
             bytemuck::bytes_of(&SweepParams {
                 body_count: bodies,
                 pair_capacity: capacity,
+                long_extent: self.long_extent,
                 ..Default::default()
             }),
         );
@@ -384,6 +390,7 @@ impl GpuCollision {
         let n = self.body_count;
         let pair_work = self.pool.get(PAIR_WORK[p]);
         encoder.clear_buffer(self.pool.get(PAIR_COUNTER), 0, None);
+        encoder.clear_buffer(self.pool.get(LONG_BOXES), 0, Some(4));
         {
             let mut pass = timer.begin_pass(encoder, UPDATE_AABBS);
             k.update_aabbs.dispatch(&mut pass, &g.update_aabbs, n);
@@ -402,6 +409,7 @@ impl GpuCollision {
             k.gather_sweep_boxes
                 .dispatch(&mut pass, &g.gather_sweep_boxes, n);
             k.sweep_pairs.dispatch(&mut pass, &g.parity[p].sweep, n);
+            k.long_pairs.dispatch(&mut pass, &g.parity[p].long_pairs, n);
             k.plan_dispatch
                 .dispatch_workgroups(&mut pass, &g.parity[p].plan, 1, 1);
         }

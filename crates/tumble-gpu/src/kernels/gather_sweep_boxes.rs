@@ -8,7 +8,12 @@ use crate::shader::{Binding, ShaderSource, common, wgsl_file};
 pub static GATHER_SWEEP_BOXES: KernelSpec = KernelSpec {
     name: "gather_sweep_boxes",
     source: ShaderSource {
-        common: &[common::CONSTANTS, common::INDEXING, common::LAYOUT],
+        common: &[
+            common::CONSTANTS,
+            common::INDEXING,
+            common::LAYOUT,
+            common::SWEEP,
+        ],
         kernel: wgsl_file!("gather_sweep_boxes.wgsl"),
     },
     bindings: &[
@@ -17,6 +22,8 @@ pub static GATHER_SWEEP_BOXES: KernelSpec = KernelSpec {
         Binding::StorageRead,
         Binding::StorageRead,
         Binding::StorageRead,
+        Binding::StorageReadWrite,
+        Binding::Uniform,
         Binding::StorageReadWrite,
     ],
 };
@@ -35,6 +42,10 @@ pub struct GatherSweepBoxesArgs<'a> {
     pub sorted_bodies: &'a wgpu::Buffer,
     /// Output `array<GpuSweepBox>`, one per sorted position.
     pub sweep_boxes: &'a wgpu::Buffer,
+    /// [`crate::layout::SweepParams`] (the long extent).
+    pub params: &'a wgpu::Buffer,
+    /// Output: the long box count and list (cleared count before).
+    pub long_boxes: &'a wgpu::Buffer,
 }
 
 impl KernelArgs for GatherSweepBoxesArgs<'_> {
@@ -46,6 +57,8 @@ impl KernelArgs for GatherSweepBoxesArgs<'_> {
             self.shapes,
             self.sorted_bodies,
             self.sweep_boxes,
+            self.params,
+            self.long_boxes,
         ]
     }
 }

@@ -26,6 +26,7 @@ pub fn all() -> Vec<&'static KernelSpec> {
         &radix_sort::RADIX_SCATTER,
         &gather_sweep_boxes::GATHER_SWEEP_BOXES,
         &sweep_pairs::SWEEP_PAIRS,
+        &sweep_pairs::LONG_PAIRS,
         &plan_dispatch::PLAN_DISPATCH,
         &match_pairs::MATCH_PAIRS,
         &collide_cuboids::COLLIDE_CUBOIDS,

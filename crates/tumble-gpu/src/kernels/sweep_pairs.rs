@@ -1,26 +1,69 @@
-//! `sweep_pairs`: the sweep of sweep-and-prune over bodies sorted by AABB lower bound.
+//! `sweep_pairs`: the sweep of sweep-and-prune over bodies sorted by AABB lower bound, and
+//! `long_pairs`: the long boxes it leaves out (`shaders/common/sweep.wgsl`), against all.
 
+use crate::constants::{LONG_BOX_FACTOR, MAX_LONG_BOXES};
 use crate::kernel::{KernelArgs, KernelSpec};
-use crate::layout::{BODY_STATIC, GpuSweepBox};
+use crate::layout::{BODY_STATIC, GpuShape, GpuSweepBox};
 use crate::shader::{Binding, ShaderSource, common, wgsl_file};
+
+/// Common WGSL of both kernels.
+const COMMON: &[crate::shader::WgslFile] = &[
+    common::CONSTANTS,
+    common::INDEXING,
+    common::LAYOUT,
+    common::SWEEP,
+];
+
+/// Bindings of both kernels: [`SweepPairsArgs`].
+const BINDINGS: &[Binding] = &[
+    Binding::Uniform,
+    Binding::StorageRead,
+    Binding::StorageReadWrite,
+    Binding::StorageReadWrite,
+    Binding::StorageReadWrite,
+    Binding::StorageRead,
+];
 
 /// The kernel: one thread per sorted body, appending pairs through an atomic counter.
 pub static SWEEP_PAIRS: KernelSpec = KernelSpec {
     name: "sweep_pairs",
     source: ShaderSource {
-        common: &[common::CONSTANTS, common::INDEXING, common::LAYOUT],
+        common: COMMON,
         kernel: wgsl_file!("sweep_pairs.wgsl"),
     },
-    bindings: &[
-        Binding::Uniform,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-        Binding::StorageReadWrite,
-        Binding::StorageReadWrite,
-    ],
+    bindings: BINDINGS,
 };
 
-/// Buffers of [`SWEEP_PAIRS`].
+/// The kernel pairing the long boxes: one thread per sorted body, against each long box.
+pub static LONG_PAIRS: KernelSpec = KernelSpec {
+    name: "long_pairs",
+    source: ShaderSource {
+        common: COMMON,
+        kernel: wgsl_file!("long_pairs.wgsl"),
+    },
+    bindings: BINDINGS,
+};
+
+/// Bytes of the long box list: its count, then [`MAX_LONG_BOXES`] sorted positions.
+pub const LONG_BOXES_BYTES: u64 = 4 * (1 + MAX_LONG_BOXES as u64);
+
+/// The sweep-axis length past which a box is long: [`LONG_BOX_FACTOR`] times the median
+/// body's diameter (the longest an AABB of it gets, whatever its rotation). The median, so
+/// that the long boxes themselves do not raise it. Infinite (no box is long) without bodies.
+pub fn long_extent(shapes: &[GpuShape]) -> f32 {
+    let mut diameters: Vec<f32> = shapes
+        .iter()
+        .map(|s| 2.0 * (s.hx * s.hx + s.hy * s.hy + s.hz * s.hz).sqrt())
+        .collect();
+    if diameters.is_empty() {
+        return f32::INFINITY;
+    }
+    let middle = diameters.len() / 2;
+    let (_, median, _) = diameters.select_nth_unstable_by(middle, f32::total_cmp);
+    LONG_BOX_FACTOR * *median
+}
+
+/// Buffers of [`SWEEP_PAIRS`] and [`LONG_PAIRS`].
 pub struct SweepPairsArgs<'a> {
     /// [`crate::layout::SweepParams`].
     pub params: &'a wgpu::Buffer,
@@ -32,6 +75,8 @@ pub struct SweepPairsArgs<'a> {
     pub pair_a: &'a wgpu::Buffer,
     /// Output: larger body index of each pair.
     pub pair_b: &'a wgpu::Buffer,
+    /// The long box count and list from `gather_sweep_boxes`.
+    pub long_boxes: &'a wgpu::Buffer,
 }
 
 impl KernelArgs for SweepPairsArgs<'_> {
@@ -42,6 +87,7 @@ impl KernelArgs for SweepPairsArgs<'_> {
             self.counter,
             self.pair_a,
             self.pair_b,
+            self.long_boxes,
         ]
     }
 }
@@ -63,6 +109,53 @@ pub fn sweep_pairs_cpu(boxes: &[GpuSweepBox]) -> Vec<(u32, u32)> {
             let both_static = me.flags & other.flags & BODY_STATIC != 0;
             if overlaps && !both_static {
                 pairs.push((me.body.min(other.body), me.body.max(other.body)));
+            }
+        }
+    }
+    pairs.sort_unstable();
+    pairs
+}
+
+/// The CPU twin of `gather_sweep_boxes`' long box list, [`SWEEP_PAIRS`] and [`LONG_PAIRS`]
+/// as the GPU runs them with `long_extent` (in list order; the GPU's list order varies,
+/// the pair set does not), followed by the canonical sort: equal to [`sweep_pairs_cpu`].
+pub fn split_sweep_pairs_cpu(boxes: &[GpuSweepBox], long_extent: f32) -> Vec<(u32, u32)> {
+    let long_at = |b: &GpuSweepBox| b.hi_0 - b.lo_0 > long_extent;
+    let long: Vec<usize> = (0..boxes.len()).filter(|&p| long_at(&boxes[p])).collect();
+    let listed = long.len() <= MAX_LONG_BOXES as usize;
+    let is_long = |b: &GpuSweepBox| listed && long_at(b);
+    let overlap_12 = |a: &GpuSweepBox, b: &GpuSweepBox| {
+        b.lo_1 <= a.hi_1 && a.lo_1 <= b.hi_1 && b.lo_2 <= a.hi_2 && a.lo_2 <= b.hi_2
+    };
+    let both_static = |a: &GpuSweepBox, b: &GpuSweepBox| a.flags & b.flags & BODY_STATIC != 0;
+    let mut pairs = Vec::new();
+    let mut push = |a: &GpuSweepBox, b: &GpuSweepBox| {
+        pairs.push((a.body.min(b.body), a.body.max(b.body)));
+    };
+    for (p, me) in boxes.iter().enumerate() {
+        if is_long(me) {
+            continue;
+        }
+        for other in &boxes[p + 1..] {
+            if other.lo_0 > me.hi_0 {
+                break;
+            }
+            if !is_long(other) && overlap_12(me, other) && !both_static(me, other) {
+                push(me, other);
+            }
+        }
+    }
+    if listed {
+        for (q, me) in boxes.iter().enumerate() {
+            for &p in &long {
+                let l = &boxes[p];
+                if p == q || (is_long(me) && me.body < l.body) {
+                    continue;
+                }
+                let overlaps = l.lo_0 <= me.hi_0 && me.lo_0 <= l.hi_0 && overlap_12(me, l);
+                if overlaps && !both_static(me, l) {
+                    push(me, l);
+                }
             }
         }
     }
@@ -118,5 +211,82 @@ mod tests {
             let boxes = gather_sweep_boxes_cpu(&aabbs, &shapes, &order, axis);
             assert_eq!(sweep_pairs_cpu(&boxes), want);
         }
+    }
+
+    /// `count` random small boxes in a 10 m cube, then `long` slabs 8 m long along x, 0.2 m
+    /// thick, across the cube at random heights (static every third); static every seventh.
+    fn boxes_with_slabs(seed: u64, count: usize, long: usize) -> (Vec<GpuAabb>, Vec<GpuShape>) {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let mut aabbs = Vec::new();
+        let mut shapes = Vec::new();
+        for i in 0..count + long {
+            let slab = i >= count;
+            let c: [f32; 3] = std::array::from_fn(|_| rng.random_range(0.0..10.0));
+            let h: [f32; 3] = if slab {
+                [4.0, 0.1, rng.random_range(1.0..5.0)]
+            } else {
+                std::array::from_fn(|_| rng.random_range(0.1..0.5))
+            };
+            let centre = if slab { [5.0, c[1], c[2]] } else { c };
+            aabbs.push(GpuAabb {
+                min: [centre[0] - h[0], centre[1] - h[1], centre[2] - h[2], 0.0],
+                max: [centre[0] + h[0], centre[1] + h[1], centre[2] + h[2], 0.0],
+            });
+            let is_static = if slab { i % 3 == 0 } else { i % 7 == 0 };
+            shapes.push(GpuShape {
+                hx: h[0],
+                hy: h[1],
+                hz: h[2],
+                flags: if is_static { BODY_STATIC } else { 0 },
+            });
+        }
+        (aabbs, shapes)
+    }
+
+    #[test]
+    fn long_boxes_paired_apart_give_the_sweeps_pairs() {
+        // An extent of 2 m makes the 8 m slabs long and no small box (1 m at most); 1000 m
+        // makes none long. Few slabs (listed), and more than the list holds (swept).
+        for (long, extent) in [(5, 2.0), (5, 1000.0), (MAX_LONG_BOXES as usize + 3, 2.0)] {
+            let (aabbs, shapes) = boxes_with_slabs(long as u64, 400, long);
+            for axis in 0..3 {
+                let (keys, values) = write_sort_keys_cpu(&aabbs, axis);
+                let (_, order) = radix_sort_cpu(&keys, &values, 32);
+                let boxes = gather_sweep_boxes_cpu(&aabbs, &shapes, &order, axis);
+                let want = sweep_pairs_cpu(&boxes);
+                // Each slab crosses the cube, so it meets several boxes: pairs with a slab
+                // are there to be found (more than 2 per slab on average).
+                let with_slab = want.iter().filter(|&&(_, b)| b >= 400).count();
+                assert!(with_slab > 2 * long, "{with_slab} pairs with a slab");
+                assert_eq!(split_sweep_pairs_cpu(&boxes, extent), want, "axis {axis}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_long_extent_follows_the_median_body_not_the_floor() {
+        // 99 unit cubes (diameter 2 sqrt 3 x 0.5 = 1.73 m) and a 100 m floor: the floor does
+        // not move the median, so the extent is 16 x 1.73 m and the floor is past it.
+        let cube = GpuShape {
+            hx: 0.5,
+            hy: 0.5,
+            hz: 0.5,
+            flags: 0,
+        };
+        let floor = GpuShape {
+            hx: 50.0,
+            hy: 0.5,
+            hz: 50.0,
+            flags: BODY_STATIC,
+        };
+        let mut shapes = vec![cube; 99];
+        shapes.push(floor);
+        let extent = long_extent(&shapes);
+        assert!(
+            (extent - LONG_BOX_FACTOR * 3f32.sqrt()).abs() < 1e-4,
+            "{extent}"
+        );
+        assert!(100.0 > extent && extent > 2.0 * 3f32.sqrt());
+        assert_eq!(long_extent(&[]), f32::INFINITY);
     }
 }

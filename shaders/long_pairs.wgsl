@@ -1,0 +1,47 @@
+// long_pairs: one thread per sorted position tests its box against every long box that
+// gather_sweep_boxes listed (common/sweep.wgsl) and appends each overlapping pair, as
+// sweep_pairs does, through the same counter. A pair of two long boxes is appended by the
+// thread of the one with the larger body index only. Nothing happens when the list could not
+// hold every long box (the sweep did all the pairs then).
+
+@group(0) @binding(0) var<uniform> params: SweepParams;
+@group(0) @binding(1) var<storage, read> sweep_boxes: array<GpuSweepBox>;
+@group(0) @binding(2) var<storage, read_write> counter: array<atomic<u32>>;
+@group(0) @binding(3) var<storage, read_write> pair_a: array<u32>;
+@group(0) @binding(4) var<storage, read_write> pair_b: array<u32>;
+@group(0) @binding(5) var<storage, read> long_boxes: array<u32>;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn main(
+    @builtin(workgroup_id) workgroup: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let q = linear_index(workgroup, groups, local);
+    let count = long_boxes[0];
+    if q >= params.body_count || count == 0u || !long_boxes_listed(count) {
+        return;
+    }
+    let me = sweep_boxes[q];
+    let me_long = is_long(me, params.long_extent, true);
+    for (var k = 0u; k < count; k++) {
+        let p = long_boxes[1u + k];
+        if p == q {
+            continue;
+        }
+        let long_box = sweep_boxes[p];
+        if me_long && me.body < long_box.body {
+            continue;
+        }
+        let overlaps = long_box.lo_0 <= me.hi_0 && me.lo_0 <= long_box.hi_0
+            && overlap_12(me, long_box);
+        if !overlaps || both_static(me, long_box) {
+            continue;
+        }
+        let slot = atomicAdd(&counter[0], 1u);
+        if slot < params.pair_capacity {
+            pair_a[slot] = min(me.body, long_box.body);
+            pair_b[slot] = max(me.body, long_box.body);
+        }
+    }
+}

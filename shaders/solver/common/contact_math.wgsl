@@ -12,6 +12,27 @@ struct BodySim {
     delta_rotation: vec4<f32>,
     inverse_mass: vec3<f32>,
     inverse_inertia: mat3x3<f32>,
+    // Whether the body has an angular state the passes must use (see `body_turns`).
+    turns: bool,
+}
+
+// Whether a body's angular terms enter its constraints: rotation is compiled in and the body
+// has a nonzero world inverse inertia, angular velocity or delta rotation. A fixed body, and a
+// body with every rotation locked, has none of them: its angular terms are exactly zero, and
+// the passes skip them, so that a constraint between two such bodies runs the very operations
+// the pipelines without rotation run. Adding the zero terms instead gives the same value only
+// if the driver keeps the order of the remaining operations, which it need not: shader
+// compilers may contract and reassociate floating-point arithmetic, and differently in two
+// different programs (on an H100, a rotation-locked pile stepped with the zero terms added
+// did not end with the same bits as with rotation compiled out).
+fn body_turns(velocity: GpuVelocity, state: GpuSolverBody) -> bool {
+    if !ENABLE_ROTATION {
+        return false;
+    }
+    let zero = vec3<f32>(0.0);
+    let inertia = any(state.inverse_inertia_x.xyz != zero) || any(state.inverse_inertia_y.xyz != zero)
+        || any(state.inverse_inertia_z.xyz != zero);
+    return inertia || any(velocity.angular.xyz != zero) || any(state.delta_rotation.xyz != zero);
 }
 
 fn body_sim(velocity: GpuVelocity, state: GpuSolverBody) -> BodySim {
@@ -22,6 +43,7 @@ fn body_sim(velocity: GpuVelocity, state: GpuSolverBody) -> BodySim {
         state.delta_rotation,
         state.inverse_mass.xyz,
         mat3x3<f32>(state.inverse_inertia_x.xyz, state.inverse_inertia_y.xyz, state.inverse_inertia_z.xyz),
+        body_turns(velocity, state),
     );
 }
 
@@ -62,21 +84,23 @@ fn row_mass(a: BodySim, b: BodySim, anchor_a: vec3<f32>, anchor_b: vec3<f32>, d:
     return select(0.0, 1.0 / k, k > 0.0);
 }
 
-// Velocity of B's anchor relative to A's anchor.
+// Velocity of B's anchor relative to A's anchor (linear only when neither body turns).
 fn relative_velocity(a: BodySim, b: BodySim, anchor_a: vec3<f32>, anchor_b: vec3<f32>) -> vec3<f32> {
-    if ENABLE_ROTATION {
+    if a.turns || b.turns {
         return b.linear_velocity + cross(b.angular_velocity, anchor_b) - a.linear_velocity
             - cross(a.angular_velocity, anchor_a);
     }
     return b.linear_velocity - a.linear_velocity;
 }
 
-// Applies impulse p at the anchors: -p on A, +p on B.
+// Applies impulse p at the anchors: -p on A, +p on B (angular parts on bodies that turn).
 fn apply_impulse(a: ptr<function, BodySim>, b: ptr<function, BodySim>, anchor_a: vec3<f32>, anchor_b: vec3<f32>, p: vec3<f32>) {
     (*a).linear_velocity -= (*a).inverse_mass * p;
     (*b).linear_velocity += (*b).inverse_mass * p;
-    if ENABLE_ROTATION {
+    if (*a).turns {
         (*a).angular_velocity -= (*a).inverse_inertia * cross(anchor_a, p);
+    }
+    if (*b).turns {
         (*b).angular_velocity += (*b).inverse_inertia * cross(anchor_b, p);
     }
 }
@@ -149,10 +173,12 @@ fn finish_constraint(c: ptr<function, GpuConstraint>, a: BodySim, b: BodySim) {
     (*c).tilt_mass_2 = select(0.0, 1.0 / k2, k2 > 0.0);
 }
 
-// Applies angular impulse `torque`: -torque on A, +torque on B.
+// Applies angular impulse `torque`: -torque on A, +torque on B (on bodies that turn).
 fn apply_torque(a: ptr<function, BodySim>, b: ptr<function, BodySim>, torque: vec3<f32>) {
-    if ENABLE_ROTATION {
+    if (*a).turns {
         (*a).angular_velocity -= (*a).inverse_inertia * torque;
+    }
+    if (*b).turns {
         (*b).angular_velocity += (*b).inverse_inertia * torque;
     }
 }
@@ -240,14 +266,20 @@ fn solve_points(
     let normal = (*c).normal.xyz;
     let dp = (*b).delta_position - (*a).delta_position;
     let count = (*c).point_count;
+    let turns = (*a).turns || (*b).turns;
     for (var i = 0u; i < count; i++) {
         let cp = (*c).points[i];
         let anchor_a = cp.anchor_a.xyz;
         let anchor_b = cp.anchor_b.xyz;
-        var ds = dp + anchor_b - anchor_a;
-        if ENABLE_ROTATION {
-            ds = dp + quat_rotate((*b).delta_rotation, anchor_b) - quat_rotate((*a).delta_rotation, anchor_a);
+        // The anchors turned by the bodies' delta rotations, then one sum for every case, so
+        // that pipelines with and without rotation add the same three terms the same way.
+        var turned_a = anchor_a;
+        var turned_b = anchor_b;
+        if turns {
+            turned_a = quat_rotate((*a).delta_rotation, anchor_a);
+            turned_b = quat_rotate((*b).delta_rotation, anchor_b);
         }
+        let ds = dp + turned_b - turned_a;
         let s = cp.anchor_a.w + dot(ds, normal);
         var bias = 0.0;
         var mass_scale = 1.0;

@@ -1,6 +1,9 @@
 //! Effects a scene does not use are compiled out of the solver pipelines through WGSL
 //! `override` switches, never branched on per thread. Turning an effect off only removes work
-//! whose result is known to be zero, so results do not change.
+//! whose result is known to be zero, so results do not change. Work that is zero for some
+//! bodies only is skipped for those bodies in every specialization (the angular terms of a
+//! body that cannot turn: `body_turns` in `contact_math.wgsl`), so for them the pipelines with
+//! the effect run the same operations, in the same order, as the pipelines without it.
 
 use tumble_geometry::Vec3;
 use tumble_solver::Body;

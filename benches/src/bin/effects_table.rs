@@ -5,8 +5,9 @@
 //! cargo run --release -p tumble-benches --bin effects_table [-- --cubes 1000 --steps 40 --gpu]
 //! ```
 //!
-//! `--gpu` runs the effect rows on `Backend::Gpu` (sleep rows are CPU only: the GPU backends
-//! do not sleep).
+//! `--gpu` runs the effect rows on `Backend::Gpu` (the asleep and awake rows are CPU only:
+//! `gpu_sleep_table` gives the GPU's). `--diff NAME` runs only row NAME, untimed, and reports
+//! the first step after which its two worlds differ in any bit, and how.
 //!
 //! Both worlds of a row step the same scene in lockstep (one step of each in turn, so load on
 //! the machine hits both alike); the table gives the median step time of each. The program
@@ -36,6 +37,64 @@ fn arg(name: &str, default: usize) -> usize {
 fn median(mut t: Vec<Duration>) -> Duration {
     t.sort();
     t[t.len() / 2]
+}
+
+/// Each body's pose (translation, rotation), linear and angular velocity, by component.
+fn state(world: &World) -> Vec<[Real; 13]> {
+    world
+        .handles()
+        .iter()
+        .map(|&h| {
+            let p = world.pose(h).unwrap();
+            let v = world.linear_velocity(h).unwrap();
+            let w = world.angular_velocity(h).unwrap();
+            let mut out = [0.0; 13];
+            out[..3].copy_from_slice(p.translation.vector.as_slice());
+            out[3..7].copy_from_slice(p.rotation.coords.as_slice());
+            out[7..10].copy_from_slice(v.as_slice());
+            out[10..].copy_from_slice(w.as_slice());
+            out
+        })
+        .collect()
+}
+
+/// `--diff NAME`: steps the row's two worlds in lockstep and reports the first step after
+/// which any bit of any body's state differs, and how.
+fn diff(name: &str, on: &mut World, off: &mut World, steps: usize) {
+    const PARTS: [&str; 13] = [
+        "x", "y", "z", "qi", "qj", "qk", "qw", "vx", "vy", "vz", "wx", "wy", "wz",
+    ];
+    for step in 1..=steps {
+        on.step().unwrap();
+        off.step().unwrap();
+        let (a, b) = (state(on), state(off));
+        let differing: Vec<usize> = (0..a.len())
+            .filter(|&i| {
+                a[i].iter()
+                    .zip(&b[i])
+                    .any(|(x, y)| x.to_bits() != y.to_bits())
+            })
+            .collect();
+        if let Some(&first) = differing.first() {
+            println!(
+                "{name}: first difference after step {step}, in {} of {} bodies; body {first}:",
+                differing.len(),
+                a.len()
+            );
+            for (k, part) in PARTS.iter().enumerate() {
+                let (x, y) = (a[first][k], b[first][k]);
+                if x.to_bits() != y.to_bits() {
+                    println!(
+                        "  {part}: on {x:e} ({:#010x}), off {y:e} ({:#010x})",
+                        x.to_bits(),
+                        y.to_bits()
+                    );
+                }
+            }
+            return;
+        }
+    }
+    println!("{name}: same bits for {steps} steps");
 }
 
 fn bits(world: &World) -> Vec<u32> {
@@ -153,7 +212,13 @@ fn main() {
     println!("{cubes} cubes, median of {steps} steps after {WARMUP_STEPS} warm-up steps, {side}\n");
     println!("| effect | scene | forced on, ms | skipped, ms | on / skipped | same bits |");
     println!("|---|---|---:|---:|---:|---|");
+    let diff_row = std::env::args()
+        .position(|a| a == "--diff")
+        .and_then(|i| std::env::args().nth(i + 1));
     for (name, scene, options, base, set, get) in rows {
+        if diff_row.as_deref().is_some_and(|d| d != name) {
+            continue;
+        }
         let mut on_fx = base;
         set(&mut on_fx, EffectSwitch::On);
         let mut off_fx = base;
@@ -164,6 +229,10 @@ fn main() {
         assert!(!get(&auto.effects()), "{name}: the scene needs the effect");
         assert!(get(&on.effects()) && !get(&off.effects()));
         auto.step().unwrap();
+        if diff_row.is_some() {
+            diff(name, &mut on, &mut off, WARMUP_STEPS + steps);
+            continue;
+        }
         for _ in 0..WARMUP_STEPS {
             on.step().unwrap();
             off.step().unwrap();
@@ -178,7 +247,7 @@ fn main() {
         );
     }
 
-    if gpu {
+    if gpu || diff_row.is_some() {
         return;
     }
     let mut asleep = effect_pool(pool, with_sleep());

@@ -25,7 +25,11 @@ fn translation_mask(locks: u32) -> vec3<f32> {
     return axis_mask(locks, 0u);
 }
 
+// Free rotation axes; none when rotation is compiled out (then no body turns at all).
 fn rotation_mask(locks: u32) -> vec3<f32> {
+    if !ENABLE_ROTATION {
+        return vec3<f32>(0.0);
+    }
     return axis_mask(locks, LOCK_ROTATION_SHIFT);
 }
 
@@ -39,11 +43,11 @@ fn diagonal(d: vec3<f32>) -> mat3x3<f32> {
 }
 
 // The world inverse inertia P R D R^T P (Body::inverse_inertia_world): D the local inverse
-// moments, P zeroing locked rotation axes.
+// moments, P zeroing locked rotation axes; zero when rotation is compiled out.
 fn world_inverse_inertia(body: GpuBody, rotation: vec4<f32>) -> mat3x3<f32> {
     let d = body.inverse_inertia.xyz;
     let locked = rotation_locks(body.locks);
-    if locked == 7u || all(d == vec3<f32>(0.0)) {
+    if !ENABLE_ROTATION || locked == 7u || all(d == vec3<f32>(0.0)) {
         return mat3x3<f32>();
     }
     let r = quat_to_mat3(rotation);

@@ -16,19 +16,22 @@ struct BodySim {
     turns: bool,
 }
 
-// Whether a body's angular terms enter its constraints: rotation is compiled in and the body
-// has a nonzero world inverse inertia, angular velocity or delta rotation. A fixed body, and a
-// body with every rotation locked, has none of them: its angular terms are exactly zero, and
-// the passes skip them, so that a constraint between two such bodies runs the very operations
-// the pipelines without rotation run. Adding the zero terms instead gives the same value only
-// if the driver keeps the order of the remaining operations, which it need not: shader
-// compilers may contract and reassociate floating-point arithmetic, and differently in two
-// different programs (on an H100, a rotation-locked pile stepped with the zero terms added
-// did not end with the same bits as with rotation compiled out).
+// Whether a body's angular terms enter its constraints: it has a nonzero world inverse
+// inertia, angular velocity or delta rotation. A fixed body, a body with every rotation
+// locked, and every body when rotation is compiled out (body_math.wgsl zeroes their inverse
+// inertia and angular velocity) have none, and the passes skip their angular terms.
+//
+// This is decided per body at run time, in both pipeline variants, and not by the
+// ENABLE_ROTATION switch: the contact rows must run the very same code whether rotation is
+// compiled in or out, or a scene without rotation does not step to the same bits both ways.
+// Shader compilers may contract and reorder floating-point arithmetic, and do it differently
+// in two different programs: on an H100 through Vulkan, with the angular terms removed at
+// compile time, a pile of rotation-locked cubes lost bitwise equality with the rotation-on
+// pipelines at its first contacts (linear velocities differing in the last bits), even with
+// every angular term skipped at run time in the latter; with the same run-time skip in both
+// it stays equal (benches/src/bin/effects_table.rs --diff rotation). The branch is uniform
+// per constraint and also saves the angular work of fixed and locked bodies in every scene.
 fn body_turns(velocity: GpuVelocity, state: GpuSolverBody) -> bool {
-    if !ENABLE_ROTATION {
-        return false;
-    }
     let zero = vec3<f32>(0.0);
     let inertia = any(state.inverse_inertia_x.xyz != zero) || any(state.inverse_inertia_y.xyz != zero)
         || any(state.inverse_inertia_z.xyz != zero);
@@ -271,15 +274,14 @@ fn solve_points(
         let cp = (*c).points[i];
         let anchor_a = cp.anchor_a.xyz;
         let anchor_b = cp.anchor_b.xyz;
-        // The anchors turned by the bodies' delta rotations, then one sum for every case, so
-        // that pipelines with and without rotation add the same three terms the same way.
-        var turned_a = anchor_a;
-        var turned_b = anchor_b;
+        // The separation's change: the linear sum is computed on its own, as the pipelines
+        // without rotation compute it, and replaced when a body turns (the anchors turned by
+        // the bodies' delta rotations), so that its operations are the same in both.
+        var ds = dp + anchor_b - anchor_a;
         if turns {
-            turned_a = quat_rotate((*a).delta_rotation, anchor_a);
-            turned_b = quat_rotate((*b).delta_rotation, anchor_b);
+            ds = dp + quat_rotate((*b).delta_rotation, anchor_b)
+                - quat_rotate((*a).delta_rotation, anchor_a);
         }
-        let ds = dp + turned_b - turned_a;
         let s = cp.anchor_a.w + dot(ds, normal);
         var bias = 0.0;
         var mass_scale = 1.0;

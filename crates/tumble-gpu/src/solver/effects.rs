@@ -1,9 +1,11 @@
 //! Effects a scene does not use are compiled out of the solver pipelines through WGSL
 //! `override` switches, never branched on per thread. Turning an effect off only removes work
-//! whose result is known to be zero, so results do not change. Work that is zero for some
-//! bodies only is skipped for those bodies in every specialization (the angular terms of a
-//! body that cannot turn: `body_turns` in `contact_math.wgsl`), so for them the pipelines with
-//! the effect run the same operations, in the same order, as the pipelines without it.
+//! whose result is known to be zero, so results do not change. Rotation is the
+//! exception in the contact rows: there the angular terms are skipped per body at run time
+//! (a body that cannot turn: `body_turns` in `contact_math.wgsl`) in every specialization,
+//! and the switch only acts in the body passes (integration, inertia). Removing them at
+//! compile time made two different programs of the same arithmetic, which a driver may round
+//! differently: on an H100 they did (the reasoning is in `contact_math.wgsl`).
 
 use tumble_geometry::Vec3;
 use tumble_solver::Body;

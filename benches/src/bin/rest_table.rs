@@ -1,0 +1,140 @@
+//! How long an uneven pile takes to come to rest and fall asleep on the CPU step, by solver
+//! setting, and what each setting costs per step: the table of docs/solver.md ("Piles that
+//! keep rocking").
+//!
+//! ```sh
+//! cargo run --release -p tumble-benches --bin rest_table [-- --side 6 --layers 3 --seconds 30]
+//! ```
+//!
+//! The pile: `side` x `side` columns of `layers` cubes of 0.5 m on a floor, each cube raised
+//! 3 cm per layer, shifted sideways by up to 8 mm and tilted by up to 0.02 rad about each axis
+//! (seeded), so the cubes fall, land unevenly and settle. Each row steps it with sleep on
+//! until every cube sleeps or `seconds` of simulated time pass, and reports when it fell
+//! asleep, the fastest cube at the end, and the median wall time of a step over the run. No
+//! value is asserted; this is a measurement.
+
+use std::time::{Duration, Instant};
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use tumble::prelude::*;
+use tumble::{EffectOverrides, EffectSwitch};
+
+fn arg(name: &str, default: usize) -> usize {
+    let args: Vec<String> = std::env::args().collect();
+    args.iter()
+        .position(|a| a == name)
+        .and_then(|i| args.get(i + 1))
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
+/// The uneven pile in a world with `solver` and sleep on; the cubes' handles.
+fn pile(side: usize, layers: usize, solver: SolverConfig) -> (World, Vec<BodyHandle>) {
+    let config = WorldConfig {
+        solver,
+        effects: EffectOverrides {
+            sleep: EffectSwitch::On,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let mut world = World::new(config).expect("a valid config");
+    world
+        .add_body(
+            BodyDesc::fixed()
+                .cuboid(Vec3::new(20.0, 0.5, 20.0))
+                .translation(0.0, -0.5, 0.0),
+        )
+        .expect("a valid floor");
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let pitch = 0.52;
+    let mut cubes = Vec::new();
+    for layer in 0..layers {
+        for i in 0..side {
+            for k in 0..side {
+                let centre = Vec3::new(
+                    i as Real * pitch + rng.random_range(-0.008..0.008),
+                    0.25 + 0.5 * layer as Real + 0.03 * (layer + 1) as Real,
+                    k as Real * pitch + rng.random_range(-0.008..0.008),
+                );
+                let tilt = Vec3::from_fn(|_, _| rng.random_range(-0.02..0.02));
+                let desc = BodyDesc::dynamic()
+                    .cuboid(Vec3::repeat(0.25))
+                    .pose(Pose::new(centre, tilt));
+                cubes.push(world.add_body(desc).expect("a valid cube"));
+            }
+        }
+    }
+    (world, cubes)
+}
+
+fn main() {
+    let side = arg("--side", 6);
+    let layers = arg("--layers", 3);
+    let seconds = arg("--seconds", 30);
+    let base = SolverConfig::default();
+    let rows: [(&str, SolverConfig); 5] = [
+        ("default (4 substeps, 1 iteration, 1 relax)", base),
+        (
+            "2 iterations",
+            SolverConfig {
+                iterations: 2,
+                ..base
+            },
+        ),
+        (
+            "2 relax passes",
+            SolverConfig {
+                relax_iterations: 2,
+                ..base
+            },
+        ),
+        (
+            "8 substeps",
+            SolverConfig {
+                substeps: 8,
+                ..base
+            },
+        ),
+        (
+            "no warm starting",
+            SolverConfig {
+                warm_start: false,
+                ..base
+            },
+        ),
+    ];
+    println!(
+        "{side} x {side} x {layers} pile ({} cubes), at most {seconds} s\n",
+        side * side * layers
+    );
+    println!("| solver | asleep after, s | fastest cube at the end, m/s | step, ms (median) |");
+    println!("|---|---:|---:|---:|");
+    for (name, solver) in rows {
+        let (mut world, cubes) = pile(side, layers, solver);
+        let steps = seconds * 60;
+        let mut times = Vec::with_capacity(steps);
+        let mut asleep_at = None;
+        for step in 1..=steps {
+            let t = Instant::now();
+            world.step().expect("a valid world steps");
+            times.push(t.elapsed());
+            if world.sleeping_count() == cubes.len() {
+                asleep_at = Some(step);
+                break;
+            }
+        }
+        let fastest = cubes
+            .iter()
+            .map(|&h| world.linear_velocity(h).expect("a live body").norm())
+            .fold(0.0, Real::max);
+        times.sort();
+        let median: Duration = times[times.len() / 2];
+        let asleep = asleep_at.map_or("never".to_string(), |s| format!("{:.1}", s as f64 / 60.0));
+        println!(
+            "| {name} | {asleep} | {fastest:.3} | {:.3} |",
+            median.as_secs_f64() * 1e3
+        );
+    }
+}

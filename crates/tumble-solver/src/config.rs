@@ -40,7 +40,8 @@ pub struct SolverConfig {
     pub warm_start: bool,
     /// Sequential or colored visiting order.
     pub order: SolveOrder,
-    /// Soft contact stiffness in Hz (capped at a quarter of the substep rate).
+    /// Soft contact stiffness in Hz (capped at a quarter of the substep rate; contacts with a
+    /// fixed or kinematic body get twice this, within the same cap).
     pub contact_hertz: Real,
     /// Soft contact damping ratio (dimensionless; > 1 is over-damped).
     pub damping_ratio: Real,

@@ -256,17 +256,20 @@ pub fn wide_box_stands(backend: Backend, solver: SolverConfig) {
     heavy_load_stands(&scenes::wide_on_small(), backend, solver, WIDE_BOX_SAG);
 }
 
-/// Contact stiffness of [`stiff_wide_box_stands`]: the quarter-rate cap at 4 substeps of a
-/// 60 Hz step, the stiffest setting the soft step accepts there.
+/// Substeps of [`stiff_wide_box_stands`].
+pub const STIFF_SUBSTEPS: u32 = 4;
+/// Contact stiffness of [`stiff_wide_box_stands`]: the quarter-rate cap at
+/// [`STIFF_SUBSTEPS`] substeps of a 60 Hz step, the stiffest setting the soft step accepts.
 pub const STIFF_CONTACT_HERTZ: Real = 60.0;
 
 /// The 10x wider box stands 10 s with its contacts at the stiffness cap
-/// ([`STIFF_CONTACT_HERTZ`]). Contacts with the floor are twice as stiff as the others only
-/// up to that cap: at twice the cap (120 Hz, half the substep rate) the four cubes' floor
-/// contacts ring, and the plank ends jittering at 0.11 m/s after drifting 2 cm sideways,
-/// which [`HEAVY_LOAD_DRIFT`] and [`HEAVY_LOAD_SPEED`] catch.
+/// ([`STIFF_CONTACT_HERTZ`] at [`STIFF_SUBSTEPS`]). Contacts with the floor are twice as stiff
+/// as the others only up to that cap: at twice the cap (120 Hz, half the substep rate) the four
+/// cubes' floor contacts ring, and the plank ends jittering at 0.11 m/s after drifting 2 cm
+/// sideways, which [`HEAVY_LOAD_DRIFT`] and [`HEAVY_LOAD_SPEED`] catch.
 pub fn stiff_wide_box_stands(backend: Backend, solver: SolverConfig) {
     let solver = SolverConfig {
+        substeps: STIFF_SUBSTEPS,
         contact_hertz: STIFF_CONTACT_HERTZ,
         ..solver
     };

@@ -5,10 +5,11 @@
 //!
 //! Keys: `kind` (soft | baumgarte: `SolverConfig::default()` or `SolverConfig::baumgarte()`,
 //! so give it first), `substeps`, `iterations`, `relax`, `hertz`, `zeta`, `steps`. Scenes:
-//! mass_ratio, wide_on_small, stack_20, pyramid_12, wall_10x10 (default: these five) and
-//! pool_512. Sink and drift are the largest over the run, end values those after the last
-//! step; with `TRACE` set in the environment, the first 40 steps print every dynamic body's
-//! height change, mm. docs/solver.md ("Contacts under load") has the measurements.
+//! mass_ratio, wide_on_small, stack_20, pyramid_12, wall_10x10 (default: these five),
+//! pool_512 and pyramid_24. Sink and drift are the largest over the run, end values those
+//! after the last step; with `TRACE` set in the environment, the first 40 steps print every
+//! dynamic body's height change, mm. docs/solver.md ("Contacts under load") has the
+//! measurements.
 
 use tumble::prelude::*;
 use tumble::scenes::{self, Scene};
@@ -21,6 +22,7 @@ fn scene(name: &str) -> Scene {
         "pyramid_12" => scenes::pyramid(12),
         "wall_10x10" => scenes::wall(10, 10),
         "pool_512" => scenes::pool(512),
+        "pyramid_24" => scenes::pyramid(24),
         other => panic!("unknown scene {other}"),
     }
 }

@@ -109,5 +109,15 @@ macro_rules! baumgarte_checks {
     };
 }
 
+/// The 10x wider box with contacts at the stiffness cap, on the whole-GPU step only: the
+/// kernels take the floor contacts' stiffness from the host's `SolverParams`, which must hold
+/// it to the same cap as tumble-solver does (`Backend::Hybrid` solves on the CPU).
+#[test]
+fn gpu_box_10x_wider_stands_on_four_cubes_with_stiff_contacts() {
+    if have_gpu() {
+        stability::stiff_wide_box_stands(Backend::Gpu, SolverConfig::default());
+    }
+}
+
 baumgarte_checks!(gpu_baumgarte, Backend::Gpu);
 baumgarte_checks!(hybrid_baumgarte, Backend::Hybrid);

@@ -14,6 +14,16 @@ tumble_tests::stability_suite!(
     tumble::SolverConfig::baumgarte()
 );
 
+/// The 10x wider box with contacts at the stiffness cap (soft step only: the Baumgarte solver
+/// has no contact stiffness).
+#[test]
+fn box_10x_wider_stands_on_four_cubes_with_stiff_contacts() {
+    tumble_tests::stability::stiff_wide_box_stands(
+        tumble::Backend::Cpu,
+        tumble::SolverConfig::default(),
+    );
+}
+
 /// The 4,901-cube pyramid, with the default soft step only: the thesis's Baumgarte solver at
 /// 60 passes costs too much at this size for CI, and the 650-cube pyramid covers it.
 #[test]

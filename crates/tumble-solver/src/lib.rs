@@ -36,7 +36,7 @@ pub use coloring::{
 pub use config::{
     DEFAULT_BAUMGARTE, DEFAULT_BAUMGARTE_ITERATIONS, DEFAULT_CONTACT_HERTZ, DEFAULT_DAMPING_RATIO,
     DEFAULT_MAX_PUSH_OUT, DEFAULT_PARALLEL_THRESHOLD, DEFAULT_RESTITUTION_THRESHOLD, DEFAULT_SLOP,
-    SolveOrder, SolverConfig, SolverKind,
+    DEFAULT_SUBSTEPS, SolveOrder, SolverConfig, SolverKind,
 };
 pub use constraint::{
     AngularRow, ConstraintPoint, ContactConstraint, PrepareContext, patch_radius, prepare_contact,

@@ -22,7 +22,9 @@ use crate::{
 const MAX_HERTZ_PER_SUBSTEP_RATE: Real = 0.25;
 
 /// Box2D v3 makes contacts against fixed (and here kinematic) bodies twice as stiff, to keep
-/// piles from sinking into the ground.
+/// piles from sinking into the ground. Here they are held to the same quarter-rate cap as the
+/// others: at half the substep rate the floor contacts under a loaded row of cubes ring (the
+/// 100 kg plank on four 1 kg cubes jitters at 112 mm/s at 4 substeps, 60 Hz).
 const STATIC_STIFFNESS_FACTOR: Real = 2.0;
 
 /// Constraint preparation goes wide from this many manifolds (below, the pool costs more).
@@ -113,8 +115,9 @@ pub fn solve_with_effects(
     let substeps = config.substeps.max(1);
     let h = dt / substeps as Real;
     let inv_h = 1.0 / h;
-    let contact_hertz = config.contact_hertz.min(MAX_HERTZ_PER_SUBSTEP_RATE * inv_h);
-    let static_hertz = STATIC_STIFFNESS_FACTOR * contact_hertz;
+    let max_hertz = MAX_HERTZ_PER_SUBSTEP_RATE * inv_h;
+    let contact_hertz = config.contact_hertz.min(max_hertz);
+    let static_hertz = (STATIC_STIFFNESS_FACTOR * contact_hertz).min(max_hertz);
     let (contact_softness, static_softness) = match config.kind {
         SolverKind::SoftStep => (
             Softness::new(contact_hertz, config.damping_ratio, h),

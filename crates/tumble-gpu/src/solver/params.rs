@@ -12,8 +12,9 @@ use super::layout::SolverParams;
 /// GPU-versus-CPU solve test catches a drift.
 pub const MAX_HERTZ_PER_SUBSTEP_RATE: Real = 0.25;
 
-/// tumble-solver makes contacts against fixed and kinematic bodies twice as stiff (Box2D v3).
-/// Mirrors its private constant, like [`MAX_HERTZ_PER_SUBSTEP_RATE`].
+/// tumble-solver makes contacts against fixed and kinematic bodies twice as stiff (Box2D v3),
+/// within the same quarter-rate cap. Mirrors its private constant, like
+/// [`MAX_HERTZ_PER_SUBSTEP_RATE`].
 pub const STATIC_STIFFNESS_FACTOR: Real = 2.0;
 
 /// One step's solver values in both forms.
@@ -44,10 +45,12 @@ impl StepParams {
         let inv_h = 1.0 / h;
         let (contact_softness, static_softness) = match config.kind {
             SolverKind::SoftStep => {
-                let hertz = config.contact_hertz.min(MAX_HERTZ_PER_SUBSTEP_RATE * inv_h);
+                let max_hertz = MAX_HERTZ_PER_SUBSTEP_RATE * inv_h;
+                let hertz = config.contact_hertz.min(max_hertz);
+                let static_hertz = (STATIC_STIFFNESS_FACTOR * hertz).min(max_hertz);
                 (
                     Softness::new(hertz, config.damping_ratio, h),
-                    Softness::new(STATIC_STIFFNESS_FACTOR * hertz, config.damping_ratio, h),
+                    Softness::new(static_hertz, config.damping_ratio, h),
                 )
             }
             SolverKind::Baumgarte => {

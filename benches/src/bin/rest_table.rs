@@ -74,8 +74,20 @@ fn main() {
     let layers = arg("--layers", 3);
     let seconds = arg("--seconds", 30);
     let base = SolverConfig::default();
-    let rows: [(&str, SolverConfig); 5] = [
-        ("default (4 substeps, 1 iteration, 1 relax)", base),
+    let default_name = format!(
+        "default ({} substeps at {} Hz, {} iteration, {} relax pass)",
+        base.substeps, base.contact_hertz, base.iterations, base.relax_iterations
+    );
+    let rows: [(&str, SolverConfig); 6] = [
+        (default_name.as_str(), base),
+        (
+            "Box2D v3's 4 substeps at 30 Hz",
+            SolverConfig {
+                substeps: 4,
+                contact_hertz: 30.0,
+                ..base
+            },
+        ),
         (
             "2 iterations",
             SolverConfig {

@@ -3,6 +3,17 @@
 pub mod effect_pool;
 pub mod gpu_pool;
 
+/// The value after `--name` on the command line, parsed, or `default` when it is missing or
+/// does not parse (the table binaries' options).
+pub fn arg(name: &str, default: usize) -> usize {
+    let args: Vec<String> = std::env::args().collect();
+    args.iter()
+        .position(|a| a == name)
+        .and_then(|i| args.get(i + 1))
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
 use tumble_geometry::nalgebra::{Quaternion, Translation3, UnitQuaternion};
 use tumble_geometry::{Cuboid, Pose, Vec3};
 use tumble_scenes::{BodyKind as SceneKind, Scene};

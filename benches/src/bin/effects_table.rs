@@ -17,6 +17,7 @@ use std::time::{Duration, Instant};
 
 use tumble::prelude::*;
 use tumble::{EffectOverrides, EffectSwitch, Effects};
+use tumble_benches::arg;
 use tumble_benches::effect_pool::{PoolOptions, effect_pool, with_sleep};
 
 /// Steps before timing: the cubes fall and pile up (1.5 s at 60 Hz), so the timed steps have
@@ -24,15 +25,6 @@ use tumble_benches::effect_pool::{PoolOptions, effect_pool, with_sleep};
 const WARMUP_STEPS: usize = 90;
 /// Most steps to wait for the pool to sleep (30 s at 60 Hz).
 const MAX_SETTLE_STEPS: usize = 1800;
-
-fn arg(name: &str, default: usize) -> usize {
-    let args: Vec<String> = std::env::args().collect();
-    args.iter()
-        .position(|a| a == name)
-        .and_then(|i| args.get(i + 1))
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(default)
-}
 
 fn median(mut t: Vec<Duration>) -> Duration {
     t.sort();

@@ -20,6 +20,7 @@
 
 use std::time::{Duration, Instant};
 
+use tumble_benches::arg;
 use tumble_benches::gpu_pool::{PoolRun, gpu_pool};
 use tumble_gpu::GpuContext;
 use tumble_gpu::step::{GpuWorld, ReadRequest};
@@ -38,15 +39,6 @@ const SLEEPING: ReadRequest = ReadRequest {
     contacts: false,
     sleeping: true,
 };
-
-fn arg(name: &str, default: usize) -> usize {
-    let args: Vec<String> = std::env::args().collect();
-    args.iter()
-        .position(|a| a == name)
-        .and_then(|i| args.get(i + 1))
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(default)
-}
 
 fn median(mut t: Vec<Duration>) -> Duration {
     t.sort();

@@ -19,15 +19,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tumble::prelude::*;
 use tumble::{EffectOverrides, EffectSwitch};
-
-fn arg(name: &str, default: usize) -> usize {
-    let args: Vec<String> = std::env::args().collect();
-    args.iter()
-        .position(|a| a == name)
-        .and_then(|i| args.get(i + 1))
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(default)
-}
+use tumble_benches::arg;
 
 /// The uneven pile in a world with `solver` and sleep on; the cubes' handles.
 fn pile(side: usize, layers: usize, solver: SolverConfig) -> (World, Vec<BodyHandle>) {

@@ -5,6 +5,7 @@
 //! GPU and hybrid backends all run the same checks.
 
 pub mod bad_input;
+pub mod gpu_scene;
 pub mod stability;
 
 /// Instantiates the stability suite as a test module `$name` for `$backend` and `$solver`

@@ -8,12 +8,13 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use tumble_geometry::{Aabb, Cuboid, Point3, Pose, Vec3};
+use tumble_geometry::{Aabb, Cuboid, Pose, Vec3};
 use tumble_gpu::collision::CollisionConfig;
 use tumble_gpu::constants::MAX_LONG_BOXES;
 use tumble_gpu::kernels::sweep_pairs::long_extent;
 use tumble_gpu::layout::{GpuPose, GpuShape, GpuVelocity};
 use tumble_gpu::{GpuCollision, GpuContext, ReadbackRequest};
+use tumble_tests::gpu_scene::to_aabb;
 
 /// Side of the square the cubes stand on, m.
 const SIDE: f32 = 30.0;
@@ -78,16 +79,7 @@ fn pairs_equal_cpu(ctx: &GpuContext, cubes: usize, planks: usize, seed: u64) {
             ..Default::default()
         })
         .unwrap();
-    let aabbs: Vec<Aabb> = snap
-        .aabbs
-        .iter()
-        .map(|b| {
-            Aabb::new(
-                Point3::new(b.min[0], b.min[1], b.min[2]),
-                Point3::new(b.max[0], b.max[1], b.max[2]),
-            )
-        })
-        .collect();
+    let aabbs: Vec<Aabb> = snap.aabbs.iter().map(to_aabb).collect();
     let statics: Vec<bool> = shapes.iter().map(GpuShape::is_static).collect();
     let cpu = tumble_broad::sweep_and_prune_filtered(&aabbs, &statics).unwrap();
     // Every cube of the bottom layer touches the floor, and each plank meets cubes and other

@@ -1,0 +1,419 @@
+//! [`GpuCollision`]'s reads: readback recording and decoding, the touching list and its
+//! impulses, the blocking step-and-read, and the per-buffer reads for tests and tools.
+
+use super::*;
+
+impl GpuCollision {
+    /// Records copies of what `request` asks for from the last recorded step into a staging
+    /// buffer (after compacting the manifolds in contact if `touching` is asked for);
+    /// variable-length data is copied for last time's count plus headroom.
+    pub fn record_readback(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        request: ReadbackRequest,
+    ) -> Result<ReadbackPlan, GpuError> {
+        let parity = self.last_parity();
+        if request.touching {
+            self.ensure_groups();
+            let g = &self.groups.as_ref().expect("built above").parity[parity];
+            let k = &self.kernels;
+            let work = self.pool.get(PAIR_WORK[parity]);
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("compact_touching"),
+                timestamp_writes: None,
+            });
+            k.count_touching.dispatch_indirect(
+                &mut pass,
+                &g.count_touching,
+                work,
+                WORK_LIST_GROUPS_OFFSET,
+            );
+            k.scan_touching
+                .dispatch_workgroups(&mut pass, &g.scan_touching, 1, 1);
+            k.write_touching.dispatch_indirect(
+                &mut pass,
+                &g.write_touching,
+                work,
+                WORK_LIST_GROUPS_OFFSET,
+            );
+        }
+        let size = |t: usize| t as u64;
+        let pairs = if request.pairs || request.manifolds {
+            self.readback_pairs.min(self.pair_capacity)
+        } else {
+            0
+        };
+        let (touching, points) = if request.touching {
+            let t = self.readback_touching.min(self.pair_capacity);
+            (t, t.saturating_mul(MAX_MANIFOLD_POINTS))
+        } else {
+            (0, 0)
+        };
+        let per_pair = 2 * 4
+            + size(std::mem::size_of::<GpuManifold>())
+            + u64::from(MAX_MANIFOLD_POINTS) * size(std::mem::size_of::<GpuContact>());
+        let per_touching =
+            size(std::mem::size_of::<GpuTouching>()) + size(std::mem::size_of::<GpuManifold>());
+        let aabb_bytes = u64::from(self.body_count) * size(std::mem::size_of::<GpuAabb>());
+        // Each region is padded to 8 bytes: 64 covers the padding of every region.
+        let bytes = 64
+            + u64::from(pairs) * per_pair
+            + u64::from(touching) * per_touching
+            + u64::from(points) * size(std::mem::size_of::<GpuContact>())
+            + aabb_bytes
+            + 64;
+        let slot = self.readback.begin(bytes)?;
+        let mut regions = Vec::new();
+        let pool = &self.pool;
+        let rb = &mut self.readback;
+        let mut copy = |name: &'static str, element: usize, count: u64| {
+            regions.push(rb.copy(encoder, slot, pool.get(name), 0, count * element as u64));
+        };
+        copy(PAIR_WORK[parity], std::mem::size_of::<WorkList>(), 1);
+        let n = u64::from(pairs);
+        if request.pairs {
+            copy(PAIR_A[parity][PAIR_RESULT_COPY], 4, n);
+            copy(PAIR_B[parity][PAIR_RESULT_COPY], 4, n);
+        }
+        if request.manifolds {
+            copy(MANIFOLDS[parity], std::mem::size_of::<GpuManifold>(), n);
+            copy(
+                CONTACTS[parity],
+                std::mem::size_of::<GpuContact>(),
+                n * u64::from(MAX_MANIFOLD_POINTS),
+            );
+        }
+        if request.aabbs {
+            copy(
+                AABBS,
+                std::mem::size_of::<GpuAabb>(),
+                u64::from(self.body_count),
+            );
+        }
+        if request.touching {
+            copy(TOUCHING_COUNTS, std::mem::size_of::<TouchingCounts>(), 1);
+            copy(
+                TOUCHING,
+                std::mem::size_of::<GpuTouching>(),
+                u64::from(touching),
+            );
+            copy(
+                TOUCHING_MANIFOLDS,
+                std::mem::size_of::<GpuManifold>(),
+                u64::from(touching),
+            );
+            copy(
+                TOUCHING_POINTS,
+                std::mem::size_of::<GpuContact>(),
+                u64::from(points),
+            );
+        }
+        Ok(ReadbackPlan {
+            slot,
+            request,
+            parity,
+            step: self.steps,
+            copied_pairs: pairs,
+            copied_touching: touching,
+            copied_points: points,
+            regions,
+        })
+    }
+
+    /// Starts mapping a readback; call right after submitting the encoder it was recorded in.
+    pub fn submit_readback(&mut self, plan: ReadbackPlan) -> PendingReadback {
+        PendingReadback {
+            ticket: self.readback.submitted(plan.slot),
+            plan,
+        }
+    }
+
+    /// The snapshot if the GPU has finished, without waiting.
+    pub fn try_receive(
+        &mut self,
+        pending: &PendingReadback,
+    ) -> Option<Result<CollisionSnapshot, GpuError>> {
+        let snap = {
+            let mapped = self.readback.try_mapped(&pending.ticket)?;
+            mapped.and_then(|m| decode(&pending.plan, &m))
+        };
+        Some(snap.and_then(|s| self.finish_decode(&pending.plan, s)))
+    }
+
+    /// Waits for a readback and returns its snapshot.
+    pub fn receive(&mut self, pending: PendingReadback) -> Result<CollisionSnapshot, GpuError> {
+        let snap = {
+            let mapped = self.readback.wait_mapped(pending.ticket)?;
+            decode(&pending.plan, &mapped)?
+        };
+        self.finish_decode(&pending.plan, snap)
+    }
+
+    /// Sizes the next speculative copy, fetches what this one missed, trims to the count.
+    fn finish_decode(
+        &mut self,
+        plan: &ReadbackPlan,
+        mut snap: CollisionSnapshot,
+    ) -> Result<CollisionSnapshot, GpuError> {
+        let count = snap.work.count;
+        let headroom = (count as f32 * READBACK_HEADROOM) as u32;
+        self.readback_pairs = count.saturating_add(headroom).max(READBACK_MIN_PAIRS);
+        let r = &plan.request;
+        if count > plan.copied_pairs && (r.pairs || r.manifolds) {
+            self.fetch_rest(plan, &mut snap)?;
+        }
+        let n = count as usize;
+        snap.pairs.truncate(n);
+        snap.manifolds.truncate(n);
+        snap.contacts.truncate(n * MAX_MANIFOLD_POINTS as usize);
+        if r.touching {
+            let t = snap.touching_counts;
+            let headroom = (t.manifolds as f32 * READBACK_HEADROOM) as u32;
+            self.readback_touching = t.manifolds.saturating_add(headroom).max(READBACK_MIN_PAIRS);
+            if t.manifolds > plan.copied_touching || t.points > plan.copied_points {
+                self.fetch_rest_touching(plan, &mut snap)?;
+            }
+            snap.touching.touching.truncate(t.manifolds as usize);
+            snap.touching.manifolds.truncate(t.manifolds as usize);
+            snap.touching.points.truncate(t.points as usize);
+            self.last_touching = t;
+        }
+        Ok(snap)
+    }
+
+    /// Blocking copy of the dense list's part a speculative readback did not cover (valid
+    /// until the next readback compacts again).
+    fn fetch_rest_touching(
+        &self,
+        plan: &ReadbackPlan,
+        snap: &mut CollisionSnapshot,
+    ) -> Result<(), GpuError> {
+        let t = snap.touching_counts;
+        let pool = &self.pool;
+        let (from, to) = (u64::from(plan.copied_touching), u64::from(t.manifolds));
+        if to > from {
+            let list: Vec<GpuTouching> =
+                self.ctx.read_buffer(pool.get(TOUCHING), from, to - from)?;
+            snap.touching.touching.extend(list);
+            let m: Vec<GpuManifold> =
+                self.ctx
+                    .read_buffer(pool.get(TOUCHING_MANIFOLDS), from, to - from)?;
+            snap.touching.manifolds.extend(m);
+        }
+        let (from, to) = (u64::from(plan.copied_points), u64::from(t.points));
+        if to > from {
+            let p: Vec<GpuContact> =
+                self.ctx
+                    .read_buffer(pool.get(TOUCHING_POINTS), from, to - from)?;
+            snap.touching.points.extend(p);
+        }
+        Ok(())
+    }
+
+    /// Writes impulses given in the dense point order of the last `touching` readback (a CPU
+    /// solver's results) into the last step's per-pair points, on the GPU, so the next step's
+    /// `carry_impulses` warm starts them. Only the impulse fields of `impulses` are used.
+    pub fn store_touching_impulses(&mut self, impulses: &[GpuContact]) -> Result<(), GpuError> {
+        let t = self.last_touching;
+        if impulses.len() != t.points as usize {
+            return Err(GpuError::InvalidInput {
+                field: "store_touching_impulses.impulses.len()".into(),
+                value: format!(
+                    "{} (the last touching readback had {} points)",
+                    impulses.len(),
+                    t.points
+                ),
+            });
+        }
+        if t.manifolds == 0 {
+            return Ok(());
+        }
+        let bytes = std::mem::size_of_val(impulses) as u64;
+        self.pool
+            .ensure(IMPULSE_UPLOAD, bytes, crate::buffer_pool::STORAGE_USAGE)?;
+        let queue = &self.ctx.queue;
+        queue.write_buffer(
+            self.pool.get(IMPULSE_UPLOAD),
+            0,
+            bytemuck::cast_slice(impulses),
+        );
+        let params = ScatterParams {
+            count: t.manifolds,
+            ..Default::default()
+        };
+        queue.write_buffer(
+            self.pool.get(SCATTER_PARAMS),
+            0,
+            bytemuck::bytes_of(&params),
+        );
+        let pool = &self.pool;
+        let group = self.kernels.scatter_impulses.bind(
+            &self.ctx,
+            &ScatterImpulsesArgs {
+                params: pool.get(SCATTER_PARAMS),
+                touching: pool.get(TOUCHING),
+                touching_manifolds: pool.get(TOUCHING_MANIFOLDS),
+                impulses: pool.get(IMPULSE_UPLOAD),
+                contacts: pool.get(CONTACTS[self.last_parity()]),
+            },
+        );
+        let mut encoder = self.encoder();
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("scatter_impulses"),
+                timestamp_writes: None,
+            });
+            self.kernels
+                .scatter_impulses
+                .dispatch(&mut pass, &group, t.manifolds);
+        }
+        queue.submit([encoder.finish()]);
+        Ok(())
+    }
+
+    /// Blocking copy of the pairs a speculative readback did not cover. Only valid while the
+    /// step's pair set has not been overwritten (fewer than two steps recorded since).
+    fn fetch_rest(
+        &self,
+        plan: &ReadbackPlan,
+        snap: &mut CollisionSnapshot,
+    ) -> Result<(), GpuError> {
+        if self.steps >= plan.step + 2 {
+            return Err(GpuError::Device(format!(
+                "readback of step {} received after its pair buffers were reused",
+                plan.step
+            )));
+        }
+        let (from, to) = (u64::from(plan.copied_pairs), u64::from(snap.work.count));
+        let p = plan.parity;
+        let pool = &self.pool;
+        if plan.request.pairs {
+            let a: Vec<u32> =
+                self.ctx
+                    .read_buffer(pool.get(PAIR_A[p][PAIR_RESULT_COPY]), from, to - from)?;
+            let b: Vec<u32> =
+                self.ctx
+                    .read_buffer(pool.get(PAIR_B[p][PAIR_RESULT_COPY]), from, to - from)?;
+            snap.pairs.extend(a.into_iter().zip(b));
+        }
+        if plan.request.manifolds {
+            let m: Vec<GpuManifold> =
+                self.ctx
+                    .read_buffer(pool.get(MANIFOLDS[p]), from, to - from)?;
+            snap.manifolds.extend(m);
+            let per = u64::from(MAX_MANIFOLD_POINTS);
+            let c: Vec<GpuContact> =
+                self.ctx
+                    .read_buffer(pool.get(CONTACTS[p]), from * per, (to - from) * per)?;
+            snap.contacts.extend(c);
+        }
+        Ok(())
+    }
+
+    /// Runs one step and waits for `request`'s outputs. On a pair overflow with
+    /// `auto_grow`, grows the pair buffers and runs the step again (without history).
+    pub fn step_and_read(
+        &mut self,
+        request: ReadbackRequest,
+    ) -> Result<CollisionSnapshot, GpuError> {
+        let snap = self.step_and_read_once(request)?;
+        if let Err(overflow) = snap.check_overflow() {
+            if !self.config.auto_grow {
+                return Err(overflow);
+            }
+            let requested = snap.work.requested;
+            let grown = requested
+                .saturating_add((requested as f32 * GROWTH_HEADROOM) as u32)
+                .min(self.max_pairs())
+                .max(requested);
+            // Redo the same step in the same pair set: roll the step counter back.
+            self.steps -= 1;
+            self.reserve_pairs(grown)?;
+            let again = self.step_and_read_once(request)?;
+            again.check_overflow()?;
+            return Ok(again);
+        }
+        Ok(snap)
+    }
+
+    fn step_and_read_once(
+        &mut self,
+        request: ReadbackRequest,
+    ) -> Result<CollisionSnapshot, GpuError> {
+        let mut encoder = self.encoder();
+        self.record(&mut encoder, &mut StageTimer::disabled(&self.ctx))?;
+        let plan = self.record_readback(&mut encoder, request)?;
+        self.ctx.queue.submit([encoder.finish()]);
+        let pending = self.submit_readback(plan);
+        self.receive(pending)
+    }
+
+    /// Overwrites the last step's contact points from point `first_point` on (point index
+    /// `pair * MAX_MANIFOLD_POINTS + slot`), typically to store a CPU solver's impulses so
+    /// that the next step carries them over.
+    pub fn store_contacts(
+        &mut self,
+        first_point: u32,
+        points: &[GpuContact],
+    ) -> Result<(), GpuError> {
+        let capacity = u64::from(self.pair_capacity) * u64::from(MAX_MANIFOLD_POINTS);
+        if u64::from(first_point) + points.len() as u64 > capacity {
+            return Err(GpuError::InvalidInput {
+                field: "store_contacts.first_point".into(),
+                value: format!(
+                    "{first_point} + {} points past {capacity} slots",
+                    points.len()
+                ),
+            });
+        }
+        let offset = u64::from(first_point) * std::mem::size_of::<GpuContact>() as u64;
+        self.ctx.queue.write_buffer(
+            self.pool.get(CONTACTS[self.last_parity()]),
+            offset,
+            bytemuck::cast_slice(points),
+        );
+        Ok(())
+    }
+
+    /// Blocking read of the last step's manifolds in their body A's frame, one per pair (tests
+    /// and tools; meaningful where the manifold has points).
+    pub fn read_local_manifolds(&self) -> Result<Vec<GpuLocalManifold>, GpuError> {
+        let count: Vec<WorkList> =
+            self.ctx
+                .read_buffer(self.pool.get(PAIR_WORK[self.last_parity()]), 0, 1)?;
+        let n = count.first().map_or(0, |w| w.count.min(self.pair_capacity));
+        self.ctx.read_buffer(
+            self.pool.get(LOCAL_MANIFOLDS[self.last_parity()]),
+            0,
+            u64::from(n),
+        )
+    }
+
+    /// Blocking read of the last step's AABBs (tests and tools).
+    pub fn read_aabbs(&self) -> Result<Vec<GpuAabb>, GpuError> {
+        self.ctx
+            .read_buffer(self.pool.get(AABBS), 0, u64::from(self.body_count))
+    }
+
+    /// Blocking read of the last step's sweep axis (tests and tools).
+    pub fn read_sweep_axis(&self) -> Result<SweepAxis, GpuError> {
+        Ok(self.ctx.read_buffer(self.pool.get(SWEEP_AXIS), 0, 1)?[0])
+    }
+
+    /// Blocking read of the last step's boxes in sweep order (tests and tools).
+    pub fn read_sweep_boxes(&self) -> Result<Vec<GpuSweepBox>, GpuError> {
+        self.ctx
+            .read_buffer(self.pool.get(SWEEP_BOXES), 0, u64::from(self.body_count))
+    }
+
+    /// Blocking read of the last step's body order along the sweep axis (tests and tools).
+    pub fn read_sorted_bodies(&self) -> Result<(Vec<u32>, Vec<u32>), GpuError> {
+        let n = u64::from(self.body_count);
+        Ok((
+            self.ctx
+                .read_buffer(self.pool.get(SORT_KEYS[BODY_RESULT_COPY]), 0, n)?,
+            self.ctx
+                .read_buffer(self.pool.get(SORT_BODIES[BODY_RESULT_COPY]), 0, n)?,
+        ))
+    }
+}

@@ -12,6 +12,8 @@ mod error;
 mod filter;
 mod sweep_and_prune;
 mod sweep_axis;
+#[cfg(test)]
+mod tests;
 
 pub use brute_force::{brute_force_pairs, brute_force_pairs_filtered};
 pub use error::BroadPhaseError;

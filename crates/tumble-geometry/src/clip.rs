@@ -183,6 +183,41 @@ mod tests {
     }
 
     #[test]
+    fn a_polygon_holds_its_capacity_and_drops_the_rest() {
+        let mut polygon = ClipPolygon::new();
+        assert!(polygon.is_empty());
+        for k in 0..MAX_CLIP_VERTICES {
+            let v = ClipVertex {
+                position: Point3::new(k as Real, 0.0, 0.0),
+                edge_in: k as u32,
+                edge_out: k as u32 + 1,
+            };
+            assert!(polygon.push(v), "vertex {k} fits");
+            assert!(!polygon.is_empty());
+        }
+        assert!(!polygon.push(ClipVertex::default()), "past the capacity");
+        assert_eq!(polygon.len(), MAX_CLIP_VERTICES);
+        assert_eq!(polygon.vertices()[MAX_CLIP_VERTICES - 1].edge_in, 7);
+        // From corners: edge k is labelled k, so vertex k has edge_in k - 1 and edge_out k.
+        let square = square();
+        let labels: Vec<(u32, u32)> = square
+            .vertices()
+            .iter()
+            .map(|v| (v.edge_in, v.edge_out))
+            .collect();
+        assert_eq!(labels, [(3, 0), (0, 1), (1, 2), (2, 3)]);
+        // Corners past the capacity are dropped, and an empty polygon clips to empty.
+        let many: Vec<Point3> = (0..12).map(|k| Point3::new(k as Real, 0.0, 0.0)).collect();
+        let labels: Vec<u32> = (0..12).collect();
+        assert_eq!(
+            ClipPolygon::from_corners(&many, &labels).len(),
+            MAX_CLIP_VERTICES
+        );
+        let plane = Plane::from_point_normal(&Point3::origin(), &Vec3::x());
+        assert!(ClipPolygon::new().clip(&plane, 0).is_empty());
+    }
+
+    #[test]
     fn kept_vertices_keep_their_labels_and_a_plane_missing_the_polygon_changes_nothing() {
         let far = Plane::from_point_normal(&Point3::new(5.0, 0.0, 0.0), &Vec3::x());
         assert_eq!(square().clip(&far, 9), square());

@@ -139,3 +139,122 @@ impl Cuboid {
         Aabb::from_cuboid(self, pose, margin)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Rot;
+
+    fn cuboid() -> Cuboid {
+        Cuboid::new(Vec3::new(1.0, 2.0, 3.0))
+    }
+
+    #[test]
+    fn vertex_bits_select_the_sign_of_each_axis() {
+        let c = cuboid();
+        assert_eq!(c.vertex(0), Point3::new(-1.0, -2.0, -3.0));
+        assert_eq!(c.vertex(1), Point3::new(1.0, -2.0, -3.0));
+        assert_eq!(c.vertex(2), Point3::new(-1.0, 2.0, -3.0));
+        assert_eq!(c.vertex(4), Point3::new(-1.0, -2.0, 3.0));
+        assert_eq!(c.vertex(7), Point3::new(1.0, 2.0, 3.0));
+        assert_eq!(c.vertices()[6], c.vertex(6));
+    }
+
+    #[test]
+    fn faces_point_outward_and_wind_counter_clockwise_from_outside() {
+        let c = cuboid();
+        for f in 0..6 {
+            let face = c.face(f);
+            let mut n = Vec3::zeros();
+            n[f / 2] = if f % 2 == 0 { 1.0 } else { -1.0 };
+            assert_eq!(face.normal, n, "face {f}");
+            let p = c.face_polygon(f);
+            // All four corners lie on the face's plane, at h along the normal.
+            for q in &p {
+                assert_eq!(q.coords.dot(&n), c.half_extents[f / 2], "face {f}");
+            }
+            // Counter-clockwise seen from outside: consecutive edges turn about +normal.
+            for k in 0..4 {
+                let e1 = p[(k + 1) % 4] - p[k];
+                let e2 = p[(k + 2) % 4] - p[(k + 1) % 4];
+                assert!(e1.cross(&e2).dot(&n) > 0.0, "face {f} corner {k}");
+            }
+        }
+    }
+
+    #[test]
+    fn edges_run_along_their_axis_between_neighbour_vertices() {
+        let c = cuboid();
+        for e in 0..12 {
+            let (a, b) = c.edge(e);
+            let d = b - a;
+            let axis = e / 4;
+            assert_eq!(d[axis], 2.0 * c.half_extents[axis], "edge {e}");
+            assert_eq!(d.norm(), 2.0 * c.half_extents[axis], "edge {e}");
+        }
+    }
+
+    #[test]
+    fn support_is_the_farthest_corner_along_the_direction() {
+        let c = cuboid();
+        assert_eq!(
+            c.local_support(&Vec3::new(1.0, -1.0, 0.5)),
+            Point3::new(1.0, -2.0, 3.0)
+        );
+        assert_eq!(
+            c.local_support(&Vec3::new(-0.1, 2.0, -9.0)),
+            Point3::new(-1.0, 2.0, -3.0)
+        );
+        // Zero components go to the positive side.
+        assert_eq!(c.local_support(&Vec3::zeros()), Point3::new(1.0, 2.0, 3.0));
+        // In the world: a quarter turn about z maps local +x to world +y.
+        let pose = Pose::from_parts(
+            nalgebra::Translation3::new(5.0, 0.0, 0.0),
+            Rot::from_axis_angle(&Vec3::z_axis(), std::f32::consts::FRAC_PI_2),
+        );
+        let s = c.support(&pose, &Vec3::new(0.0, 1.0, 0.0));
+        // Farthest along world +y is local +x at h.x = 1 from the centre.
+        assert!((s.y - 1.0).abs() < 1e-5, "{s}");
+        for v in c.vertices() {
+            assert!((pose * v).y <= s.y + 1e-5);
+        }
+    }
+
+    #[test]
+    fn best_face_is_the_most_aligned_outward_normal() {
+        let c = cuboid();
+        assert_eq!(c.best_face(&Vec3::new(1.0, 0.5, 0.5)), 0);
+        assert_eq!(c.best_face(&Vec3::new(-1.0, 0.5, 0.5)), 1);
+        assert_eq!(c.best_face(&Vec3::new(0.1, 0.9, -0.5)), 2);
+        assert_eq!(c.best_face(&Vec3::new(0.1, -0.9, -0.5)), 3);
+        assert_eq!(c.best_face(&Vec3::new(0.1, 0.2, 0.3)), 4);
+        assert_eq!(c.best_face(&Vec3::new(0.1, 0.2, -0.3)), 5);
+        // Ties go to the lower axis.
+        assert_eq!(c.best_face(&Vec3::new(1.0, 1.0, 1.0)), 0);
+        assert_eq!(c.best_face(&Vec3::new(0.0, -1.0, 1.0)), 3);
+    }
+
+    #[test]
+    fn closest_point_clamps_outside_points_and_keeps_inside_ones() {
+        let c = cuboid();
+        let inside = Point3::new(0.5, -1.0, 2.0);
+        assert_eq!(c.local_closest_point(&inside), inside);
+        assert_eq!(
+            c.local_closest_point(&Point3::new(3.0, -5.0, 0.0)),
+            Point3::new(1.0, -2.0, 0.0)
+        );
+        assert_eq!(
+            c.local_closest_point(&Point3::new(-3.0, 5.0, -7.0)),
+            Point3::new(-1.0, 2.0, -3.0)
+        );
+    }
+
+    #[test]
+    fn volume_and_aabb_follow_the_half_extents() {
+        let c = cuboid();
+        assert_eq!(c.volume(), 48.0);
+        let b = c.aabb(&Pose::translation(1.0, 1.0, 1.0), 0.5);
+        assert_eq!(b.min, Point3::new(-0.5, -1.5, -2.5));
+        assert_eq!(b.max, Point3::new(2.5, 3.5, 4.5));
+    }
+}

@@ -74,3 +74,47 @@ impl Manifold {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(depth: Real, id: u32) -> ContactPoint {
+        ContactPoint {
+            position: Point3::new(depth, 0.0, 0.0),
+            depth,
+            id,
+        }
+    }
+
+    #[test]
+    fn a_manifold_holds_four_points_and_refuses_a_fifth() {
+        let mut m = Manifold::default();
+        assert!(m.points().is_empty());
+        for k in 0..4 {
+            assert!(m.push(point(k as Real * 0.01, k)), "point {k} fits");
+            assert_eq!(m.len as u32, k + 1);
+        }
+        assert!(!m.push(point(1.0, 9)), "a fifth point is dropped");
+        assert_eq!(m.len, 4);
+        let ids: Vec<u32> = m.points().iter().map(|p| p.id).collect();
+        assert_eq!(ids, [0, 1, 2, 3]);
+    }
+
+    #[test]
+    fn max_depth_is_the_deepest_valid_point_only() {
+        let mut m = Manifold::default();
+        m.push(point(-0.01, 0));
+        m.push(point(0.03, 1));
+        m.push(point(0.02, 2));
+        assert_eq!(m.max_depth(), 0.03);
+        // Stale storage past `len` must not count.
+        m.contacts[3] = point(5.0, 3);
+        assert_eq!(m.max_depth(), 0.03);
+        // All speculative: the least negative.
+        let mut apart = Manifold::default();
+        apart.push(point(-0.02, 0));
+        apart.push(point(-0.005, 1));
+        assert_eq!(apart.max_depth(), -0.005);
+    }
+}

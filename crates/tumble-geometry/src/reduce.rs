@@ -225,4 +225,42 @@ mod tests {
             );
         }
     }
+
+    #[test]
+    fn ties_go_to_the_first_point_in_input_order() {
+        // A symmetric hexagon with integer corners (exact in f32), all points equally deep.
+        // By hand, first-wins: the deepest is point 0 at (2, 0); the farthest from it is
+        // point 3 at (-2, 0); points 1, 2, 4, 5 are all 2 off that line, so point 1 wins;
+        // outside triangle (0, 3, 1), points 4 and 5 add twice-area 8 and point 2 only 4, so
+        // point 4. Last-wins ties would start from point 5 and keep another set.
+        let corners = [
+            (2.0, 0.0),
+            (1.0, 2.0),
+            (-1.0, 2.0),
+            (-2.0, 0.0),
+            (-1.0, -2.0),
+            (1.0, -2.0),
+        ];
+        let hexagon: Vec<ContactPoint> = corners
+            .iter()
+            .enumerate()
+            .map(|(k, &(x, y))| point(x, y, 0.01, k as u32))
+            .collect();
+        let (chosen, len) = select_four(&hexagon, &Vec3::z());
+        assert_eq!(&chosen[..len], &[0, 1, 3, 4]);
+    }
+
+    #[test]
+    fn collinear_points_keep_only_the_two_ends_wherever_they_sit_in_the_input() {
+        // The ends (x = 0 and x = 1) sit in the middle of the list and the deepest point is an
+        // end: the zero-area third and fourth choices must not add a middle point.
+        let xs = [0.3, 0.5, 0.0, 1.0, 0.7, 0.2];
+        let points: Vec<ContactPoint> = xs
+            .iter()
+            .enumerate()
+            .map(|(i, &x)| point(x, 0.0, if i == 3 { 0.02 } else { 0.01 }, i as u32))
+            .collect();
+        let (chosen, len) = select_four(&points, &Vec3::z());
+        assert_eq!(&chosen[..len], &[2, 3]);
+    }
 }

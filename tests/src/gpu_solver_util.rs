@@ -25,10 +25,42 @@ pub fn gravity() -> Vec3 {
 
 /// `|a - b| <= abs + rel * scale`, per component, with a message.
 pub fn assert_close(what: &str, a: &[f32], b: &[f32], abs: f32, rel: f32, scale: f32) {
+    // `zip` stops at the shorter slice: without this, a missing tail would pass unchecked.
+    assert_eq!(
+        a.len(),
+        b.len(),
+        "{what}: gpu has {} values, cpu {}",
+        a.len(),
+        b.len()
+    );
     for (i, (x, y)) in a.iter().zip(b).enumerate() {
         assert!(
             (x - y).abs() <= abs + rel * scale,
             "{what}[{i}]: gpu {x} vs cpu {y} (tolerance {abs} + {rel} x {scale})"
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn assert_close_passes_within_the_tolerance() {
+        // 1e-3 apart, tolerance 1e-4 + 0.01 x 1.0.
+        assert_close("v", &[1.0, 2.0], &[1.001, 2.0], 1e-4, 0.01, 1.0);
+    }
+
+    #[test]
+    #[should_panic(expected = "v[1]: gpu 2.1 vs cpu 2")]
+    fn assert_close_fails_outside_the_tolerance() {
+        assert_close("v", &[1.0, 2.1], &[1.0, 2.0], 1e-4, 0.01, 1.0);
+    }
+
+    #[test]
+    #[should_panic(expected = "v: gpu has 2 values, cpu 3")]
+    fn assert_close_fails_on_a_missing_tail() {
+        // The first two values agree: only the length check can catch the missing third.
+        assert_close("v", &[1.0, 2.0], &[1.0, 2.0, 3.0], 1e-4, 0.0, 0.0);
     }
 }

@@ -7,9 +7,9 @@
 //! Left out for run time on a software rasterizer: the 30-cube column, the pyramids, the 10x
 //! wider box, the column at 10 km and the run of every canonical scene, which together take
 //! minutes on lavapipe; all pass on both backends and with both solvers with
-//! `tumble_tests::stability_suite!`
-//! (docs/gpu-solver.md; `tests/tests/gpu_solver.rs` stands a 20-cube column and a pyramid on
-//! the GPU step directly). About 80 s on lavapipe with two test threads; the Baumgarte column
+//! `tumble_tests::stability_suite!` (docs/gpu-solver.md;
+//! `tests/tests/gpu_solver_motion.rs` stands a 20-cube column and a pyramid on the GPU step
+//! directly). About 80 s on lavapipe with two test threads; the Baumgarte column
 //! of 20 takes 34 s of it on `Backend::Gpu` (60 passes), its mass ratio 17 s.
 //!
 //! Needs a GPU (or lavapipe): without one every test prints a loud "skipped" unless

@@ -10,7 +10,18 @@ pub const ADAPTER_ENV: &str = "TUMBLE_ADAPTER";
 
 /// Environment variable that turns "no GPU adapter" from a skipped test into a failed one.
 /// CI sets it to `1` (with lavapipe installed), so the GPU path can never silently not run.
+/// `1` and `true` (any case, surrounding spaces ignored) turn it on; see [`require_gpu_value`].
 pub const REQUIRE_GPU_ENV: &str = "TUMBLE_REQUIRE_GPU";
+
+/// Whether a value of [`REQUIRE_GPU_ENV`] asks for a GPU: `1` or `true` (any case, surrounding
+/// spaces ignored). Anything else (unset, empty, `0`, `false`, `yes`) leaves a missing adapter a
+/// skip, so a typo never fails a run that has no GPU to offer.
+pub fn require_gpu_value(value: Option<&str>) -> bool {
+    value.is_some_and(|v| {
+        let v = v.trim();
+        v == "1" || v.eq_ignore_ascii_case("true")
+    })
+}
 
 /// Storage buffers a single kernel may bind. The narrow phase binds the most (bodies, pairs,
 /// last step's pairs and manifolds, and its outputs); WebGPU's default of 8 is too few.
@@ -153,18 +164,19 @@ impl GpuContext {
     }
 
     /// The device for tests: `None` (after a loud "skipped" on stderr) when there is no
-    /// adapter, unless [`REQUIRE_GPU_ENV`]`=1`, where a missing adapter panics so CI fails.
-    /// One device is opened per test process and shared.
+    /// adapter, unless [`REQUIRE_GPU_ENV`] is `1` or `true` ([`require_gpu_value`]), where a
+    /// missing adapter panics so CI fails. One device is opened per test process and shared.
     pub fn for_tests() -> Option<GpuContext> {
         static SHARED: OnceLock<Result<GpuContext, String>> = OnceLock::new();
         let opened = SHARED.get_or_init(|| GpuContext::new().map_err(|e| e.to_string()));
         match opened {
             Ok(ctx) => Some(ctx.clone()),
             Err(message) => {
-                let required = std::env::var(REQUIRE_GPU_ENV).is_ok_and(|v| v == "1");
+                let value = std::env::var(REQUIRE_GPU_ENV).ok();
                 assert!(
-                    !required,
-                    "{REQUIRE_GPU_ENV}=1 but no usable GPU adapter: {message}"
+                    !require_gpu_value(value.as_deref()),
+                    "{REQUIRE_GPU_ENV}={} but no usable GPU adapter: {message}",
+                    value.as_deref().unwrap_or_default()
                 );
                 eprintln!(
                     "##### skipped: no GPU adapter ({message}); set {REQUIRE_GPU_ENV}=1 to fail instead #####"
@@ -202,5 +214,27 @@ impl GpuContext {
             .poll(wgpu::PollType::wait_indefinitely())
             .map(|_| ())
             .map_err(|e| GpuError::Device(e.to_string()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn require_gpu_accepts_one_and_true_in_any_case() {
+        for on in ["1", "true", "TRUE", "True", " true\n", " 1 "] {
+            assert!(require_gpu_value(Some(on)), "{on:?} must require a GPU");
+        }
+        // Unset, empty, off values and near misses keep a missing adapter a skip.
+        assert!(!require_gpu_value(None));
+        for off in [
+            "", "0", "false", "FALSE", "yes", "on", "2", "10", "truee", "t",
+        ] {
+            assert!(
+                !require_gpu_value(Some(off)),
+                "{off:?} must not require a GPU"
+            );
+        }
     }
 }

@@ -68,6 +68,22 @@ mod tests {
     }
 
     #[test]
+    fn unequal_frictions_combine_to_their_geometric_mean() {
+        // sqrt(0.2 * 0.8) = 0.4 and sqrt(0.1 * 0.9) = 0.3. The other common rules give values
+        // far outside one f32 epsilon of these: min 0.2 and 0.1, harmonic mean 2ab / (a + b)
+        // 0.32 and 0.18, arithmetic mean 0.5 and 0.5, max 0.8 and 0.9.
+        for (a, b, mixed) in [(0.2, 0.8, 0.4), (0.1, 0.9, 0.3)] {
+            for (x, y) in [(a, b), (b, a)] {
+                let mu = mix_friction(x, y);
+                assert!(
+                    (mu - mixed).abs() <= Real::EPSILON,
+                    "mix_friction({x}, {y}) = {mu}, expected sqrt({x} * {y}) = {mixed}"
+                );
+            }
+        }
+    }
+
+    #[test]
     fn out_of_range_materials_are_rejected_by_name() {
         let bad = Material {
             friction: -0.1,

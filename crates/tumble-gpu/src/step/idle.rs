@@ -11,8 +11,9 @@
 //! read, the solver leaves fixed bodies' poses and velocities untouched, and the sleep stage
 //! freezes sleeping bodies' rest times and starts no island search. Every buffer a later step
 //! reads is then what the step before left. The decision reads exact counts, never timing, so
-//! whether a step is skipped does not depend on how fast the device is; `tests/tests/gpu_idle.rs`
-//! compares skipping against recording every step, bit for bit.
+//! whether a step is skipped does not depend on how fast the device is;
+//! `idle_steps_are_skipped_and_step_bit_for_bit_like_recorded_ones` in
+//! `tests/tests/gpu_sleep.rs` compares skipping against recording every step, bit for bit.
 
 use super::stats_ring::StepStats;
 

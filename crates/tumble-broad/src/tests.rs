@@ -318,4 +318,13 @@ fn sweep_axis_uses_centres_and_their_variance_about_the_mean() {
         at([0.5, 103.0, 0.0]),
     ];
     assert_eq!(sweep_axis(&boxes), 1);
+    // The other way round: y has the large mean (100) but a tiny spread (variance 1/150), x
+    // the spread (variance 2/3) about 0. Both terms of the variance must be averaged over
+    // the boxes for the mean-zero axis to win.
+    let boxes = [
+        at([-1.0, 100.0, 0.0]),
+        at([0.0, 100.1, 0.0]),
+        at([1.0, 100.2, 0.0]),
+    ];
+    assert_eq!(sweep_axis(&boxes), 0);
 }

@@ -232,6 +232,8 @@ mod tests {
         // Ties go to the lower axis.
         assert_eq!(c.best_face(&Vec3::new(1.0, 1.0, 1.0)), 0);
         assert_eq!(c.best_face(&Vec3::new(0.0, -1.0, 1.0)), 3);
+        // No direction at all: the positive face, as `local_support` breaks zeros.
+        assert_eq!(c.best_face(&Vec3::zeros()), 0);
     }
 
     #[test]

@@ -41,7 +41,7 @@ pub(crate) struct SleepState {
     /// Bodies asleep.
     asleep: usize,
     /// The manifolds of sleeping islands, kept for contact reports and warm starting.
-    contacts: Vec<(Contact, PairKey, (BodyHandle, BodyHandle))>,
+    pub(crate) contacts: Vec<(Contact, PairKey, (BodyHandle, BodyHandle))>,
     /// The broad phase's buffers for the gathered step.
     sap: SweepAndPrune,
 }

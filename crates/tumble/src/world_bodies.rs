@@ -26,10 +26,29 @@ impl World {
         Ok(self.handles.insert())
     }
 
-    /// Removes a body; its handle is never valid again.
+    /// Removes a body; its handle is never valid again. Every body with a manifold against it
+    /// (last step's, or kept by a sleeping island) wakes: a box asleep on a removed floor must
+    /// fall, not hang where it slept (Box2D wakes the bodies touching a destroyed body too).
     pub fn remove_body(&mut self, h: BodyHandle) -> Result<(), Error> {
         let d = self.handles.dense(h)?;
         self.sync_all()?;
+        let touching: Vec<BodyHandle> = {
+            let (_, handles) = self.last_contacts();
+            handles
+                .iter()
+                .chain(self.sleep.contacts.iter().map(|(_, _, pair)| pair))
+                .filter_map(|&(a, b)| match (a == h, b == h) {
+                    (true, false) => Some(b),
+                    (false, true) => Some(a),
+                    _ => None,
+                })
+                .collect()
+        };
+        for other in touching {
+            if self.contains(other) {
+                self.wake_up(other)?;
+            }
+        }
         self.bodies.swap_remove(d);
         self.states.swap_remove(d);
         self.sleep.swap_remove(d);

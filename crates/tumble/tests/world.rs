@@ -462,16 +462,22 @@ fn wake_up_puts_a_sleeping_box_back_under_gravity() {
         n += 1;
         assert!(n <= 60, "the resting box never fell asleep");
     }
-    // Removing the floor wakes nothing: the floor is fixed, no body of the box's island. The
-    // sleeping box is out of the step, so it hangs where it slept, bit for bit.
-    w.remove_body(ground).unwrap();
-    let slept = w.pose(b).unwrap();
-    steps(&mut w, 10);
-    assert!(w.is_sleeping(b).unwrap());
-    assert_eq!(w.pose(b).unwrap(), slept);
-    assert_eq!(w.linear_velocity(b).unwrap(), Vec3::zeros());
+    // Woken by hand while resting on the floor, it is awake with a fresh rest timer: it stays
+    // awake for almost TIME_TO_SLEEP again before the island sleeps once more.
     w.wake_up(b).unwrap();
     assert!(!w.is_sleeping(b).unwrap());
+    assert_eq!(w.sleeping_count(), 0);
+    let mut again = 0;
+    while !w.is_sleeping(b).unwrap() {
+        w.step().unwrap();
+        again += 1;
+        assert!(again <= 60, "the woken box never slept again");
+    }
+    assert!(again >= 25, "slept again after {again} steps: the rest timer was not reset");
+    // Removing the floor under the sleeping box wakes it: it lost its support.
+    let slept = w.pose(b).unwrap();
+    w.remove_body(ground).unwrap();
+    assert!(!w.is_sleeping(b).unwrap(), "the floor went, the box must wake");
     assert_eq!(w.sleeping_count(), 0);
     // Awake, it falls freely. Semi-implicit Euler over K substeps of h: v = -g K h, and the
     // drop is g h^2 K (K + 1) / 2 (1.2331 m after 0.5 s, against 1/2 g t^2 = 1.2263 m): 1 mm

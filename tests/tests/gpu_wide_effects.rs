@@ -15,13 +15,26 @@
 //! scene also runs twice with the effect on: the wide path is deterministic
 //! (`gpu_determinism.rs`), so a difference can only come from the specializations.
 //!
+//! Equal bits alone would also come from pipelines that ignore the switches, and lavapipe
+//! cannot show the H100's rounding, so two more kinds of test make this file able to fail
+//! on lavapipe: each effect a scene uses, forced off on the wide path, changes the motion as
+//! leaving that physics out must (friction, restitution, gravity, rotation); and the wide
+//! path's contact kernels, specialized as it builds them, are one SPIR-V program with
+//! rotation (and gravity and restitution) compiled in and out, which is what keeps any
+//! compiler from rounding the two variants differently.
+//!
 //! Needs a GPU or lavapipe; without one it prints a loud "skipped" unless
 //! `TUMBLE_REQUIRE_GPU=1`.
 
 use tumble_geometry::{Cuboid, Pose, Real, Rot, Vec3};
-use tumble_gpu::GpuContext;
+use tumble_gpu::naga;
+use tumble_gpu::solver::prepare::PREPARE_CONTACTS;
+use tumble_gpu::solver::shaders::solver_overrides;
+use tumble_gpu::solver::solve_color::{PassKind, SOLVE_COLOR};
+use tumble_gpu::solver::store::STORE_IMPULSES;
 use tumble_gpu::solver::{Effects, SolvePath};
 use tumble_gpu::step::{GpuWorld, GpuWorldConfig, PathPolicy, ReadRequest};
+use tumble_gpu::{GpuContext, KernelSpec};
 use tumble_solver::{Body, BodyKind, BodyState, Material};
 
 /// Steps per run: 0.5 s at 60 Hz, in which the bottom layer lands and the thrown boxes
@@ -182,4 +195,329 @@ fn wide_gravity_skipped_in_zero_gravity() {
     same_bits_on_and_off("gravity", Vec3::zeros(), pile(0.6, 0.0, false), |e, on| {
         e.gravity = on
     });
+}
+
+// ---------------------------------------------------------------------------------------------
+// The switches reach the wide path's pipelines: an effect the scene uses, forced off there,
+// changes the motion as leaving that physics out must
+// ---------------------------------------------------------------------------------------------
+//
+// Without these, every test above would also pass if the wide path were built with every
+// effect compiled in whatever the switches say: on and off would then be one program, and
+// equal bits would prove nothing about skipping.
+
+/// A fixed 40 x 1 x 40 m floor whose top is y = 0, of `material`.
+fn floor(material: Material) -> Body {
+    Body::new(
+        BodyKind::Fixed,
+        Cuboid::new(Vec3::new(20.0, 0.5, 20.0)),
+        Pose::translation(0.0, -0.5, 0.0),
+        1.0,
+        material,
+    )
+    .unwrap()
+}
+
+/// A unit cube of `material` at `pose`.
+fn unit_cube(pose: Pose, material: Material) -> Body {
+    Body::new(
+        BodyKind::Dynamic,
+        Cuboid::new(Vec3::repeat(0.5)),
+        pose,
+        1.0,
+        material,
+    )
+    .unwrap()
+}
+
+const ROUGH: Material = Material {
+    friction: 0.6,
+    restitution: 0.0,
+};
+
+/// Steps `scene` `steps` times on the wide path with its derived effects, one of them (chosen
+/// by `set`) forced to `on`, calling `watch` with body 1's pose and velocities after every
+/// step. The scene must need that effect.
+fn watch_wide(
+    ctx: &GpuContext,
+    gravity: Vec3,
+    scene: &(Vec<Body>, Vec<BodyState>),
+    set: fn(&mut Effects, bool),
+    on: bool,
+    steps: usize,
+    mut watch: impl FnMut(&Pose, &BodyState),
+) {
+    let derived = Effects::of_scene(&scene.0, &gravity);
+    let mut without = derived;
+    set(&mut without, false);
+    assert_ne!(without, derived, "the scene should need the effect");
+    let mut effects = derived;
+    set(&mut effects, on);
+    let mut world = GpuWorld::new(
+        ctx,
+        GpuWorldConfig {
+            gravity,
+            path: PathPolicy::Always(SolvePath::Wide),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    world.set_bodies(&scene.0, &scene.1).unwrap();
+    world.set_effects(effects).unwrap();
+    for _ in 0..steps {
+        world.step().unwrap();
+        let snapshot = world.read_now(ReadRequest::MOTION).unwrap();
+        watch(&snapshot.pose(1), &snapshot.state(1));
+    }
+    assert_eq!(world.last_path(), Some(SolvePath::Wide));
+}
+
+#[test]
+fn wide_friction_forced_off_lets_a_thrown_cube_slide_on() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let cube = unit_cube(Pose::translation(0.0, 0.5, 0.0), ROUGH);
+    let scene = (
+        vec![floor(ROUGH), cube],
+        vec![
+            BodyState::default(),
+            BodyState::moving(Vec3::new(3.0, 0.0, 0.0), Vec3::zeros()),
+        ],
+    );
+    let speed = |on| {
+        let mut v = Vec3::zeros();
+        watch_wide(
+            &ctx,
+            G,
+            &scene,
+            |e, s| e.friction = s,
+            on,
+            36,
+            |_, s| v = s.linear_velocity,
+        );
+        v.x
+    };
+    // Friction mu g = 5.9 m/s^2 stops a 3 m/s cube in 0.51 s, before the 0.6 s run ends;
+    // without friction rows nothing acts along the floor, so it keeps its 3 m/s up to
+    // round-off.
+    let (on, off) = (speed(true), speed(false));
+    assert!(
+        on.abs() < 0.05,
+        "with friction the cube still slides at {on} m/s"
+    );
+    assert!(
+        (off - 3.0).abs() < 1e-3,
+        "without friction the cube slides at {off} m/s"
+    );
+}
+
+/// Drop height of the bouncing cube's bottom face, m, and its restitution.
+const DROP: Real = 1.0;
+const BOUNCE: Real = 0.5;
+
+#[test]
+fn wide_restitution_forced_off_stops_the_bounce() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let bouncy = Material {
+        restitution: BOUNCE,
+        ..ROUGH
+    };
+    let cube = unit_cube(Pose::translation(0.0, 0.5 + DROP, 0.0), bouncy);
+    let scene = (
+        vec![floor(ROUGH), cube],
+        vec![BodyState::default(), BodyState::default()],
+    );
+    let apex = |on| {
+        let (mut landed, mut apex) = (false, Real::NEG_INFINITY);
+        watch_wide(
+            &ctx,
+            G,
+            &scene,
+            |e, s| e.restitution = s,
+            on,
+            45,
+            |p, s| {
+                // The impact is the first step that ends low and no longer falling fast.
+                let height = p.translation.y - 0.5;
+                landed |= s.linear_velocity.y > -0.5 && height < 0.5 * DROP;
+                if landed {
+                    apex = apex.max(height);
+                }
+            },
+        );
+        apex
+    };
+    let (on, off) = (apex(true), apex(false));
+    // A restitution of e sends the cube back up at e times its impact speed, to e^2 times
+    // its drop height (0.25 m, within the 0.75 s run) at most; the soft contact absorbs part
+    // of the impact first (measured 0.21 m), hence the lower bound of 70%.
+    let ideal = BOUNCE * BOUNCE * DROP;
+    assert!(
+        on > 0.7 * ideal && on <= ideal,
+        "bounced {on} m, ideal {ideal} m"
+    );
+    // Without the restitution pass the contact only stops the fall: what rises is the soft
+    // contact pushing out its last overlap (measured 0.6 mm).
+    assert!(off < 0.01, "without restitution the cube bounced {off} m");
+}
+
+#[test]
+fn wide_gravity_forced_off_leaves_a_cube_in_the_air() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let start = Pose::translation(0.0, 5.0, 0.0);
+    let scene = (
+        vec![floor(ROUGH), unit_cube(start, ROUGH)],
+        vec![BodyState::default(), BodyState::default()],
+    );
+    let steps = 30;
+    let end = |on| {
+        let mut end = (start, BodyState::default());
+        watch_wide(
+            &ctx,
+            G,
+            &scene,
+            |e, s| e.gravity = s,
+            on,
+            steps,
+            |p, s| end = (*p, *s),
+        );
+        end
+    };
+    // With gravity, semi-implicit Euler over n substeps of h drops the cube by
+    // g h^2 n (n + 1) / 2 (1.23 m in 0.5 s, still in the air); f32 round-off is far below
+    // the 1 mm bound.
+    let (on, _) = end(true);
+    let config = GpuWorldConfig::default();
+    let substeps = config.solver.substeps as Real;
+    let (n, h) = (steps as Real * substeps, config.dt / substeps);
+    let expected = -G.y * h * h * n * (n + 1.0) / 2.0;
+    let dropped = 5.0 - on.translation.y;
+    assert!(
+        (dropped - expected).abs() < 1e-3,
+        "fell {dropped} m, expected {expected} m"
+    );
+    // Without it nothing acts on the cube: it stays exactly where it was, at rest.
+    let (off, state) = end(false);
+    assert_eq!(
+        off.translation, start.translation,
+        "the cube moved without gravity"
+    );
+    assert_eq!(state.linear_velocity, Vec3::zeros());
+}
+
+/// Tilt of the tipped cube about z, rad: under 45 degrees its centre lies beside the edge it
+/// stands on, over the face it was tipped from, so gravity turns it back onto that face.
+const TILT: Real = 0.6;
+
+#[test]
+fn wide_rotation_forced_off_keeps_a_tipped_cube_from_turning() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    // Stood on one edge, that edge 1 mm above the floor: the centre is 0.5 (cos + sin) up.
+    let y = 0.5 * (TILT.cos() + TILT.sin()) + 0.001;
+    let tilt = Rot::from_euler_angles(0.0, 0.0, TILT);
+    let start = Pose::from_parts(Vec3::new(0.0, y, 0.0).into(), tilt);
+    let scene = (
+        vec![floor(ROUGH), unit_cube(start, ROUGH)],
+        vec![BodyState::default(), BodyState::default()],
+    );
+    let turned = |on| {
+        let mut turned: Real = 0.0;
+        watch_wide(
+            &ctx,
+            G,
+            &scene,
+            |e, s| e.rotation = s,
+            on,
+            45,
+            |p, _| turned = turned.max(p.rotation.angle_to(&tilt)),
+        );
+        turned
+    };
+    let (on, off) = (turned(true), turned(false));
+    // With rotation the cube falls back flat, turning through its whole tilt (it lands,
+    // rocks a little past flat: measured 0.637 rad); 90% of it leaves room for the landing.
+    assert!(on > 0.9 * TILT, "turned {on} rad, tilt {TILT} rad");
+    // Without it the body passes zero its inverse inertia and spin: it cannot turn at all.
+    assert!(off < 1e-6, "turned {off} rad with rotation off");
+}
+
+// ---------------------------------------------------------------------------------------------
+// The contact rows are one program with rotation compiled in and out
+// ---------------------------------------------------------------------------------------------
+
+/// The SPIR-V of `spec` specialized as the wide path builds it with `effects` (and `pass`
+/// for the per-color pass kernel), through the same override processing wgpu applies.
+fn specialized_spirv(spec: &'static KernelSpec, effects: Effects, pass: Option<u32>) -> Vec<u32> {
+    let mut extra = effects.overrides().to_vec();
+    if let Some(pass) = pass {
+        extra.push(("PASS", f64::from(pass)));
+    }
+    let values = solver_overrides(spec, &extra).unwrap();
+    let (module, info) = spec
+        .check_specialized(&values)
+        .unwrap_or_else(|e| panic!("{e}"));
+    naga::back::spv::write_vec(
+        &module,
+        &info,
+        &naga::back::spv::Options::default(),
+        Some(&naga::back::spv::PipelineOptions {
+            shader_stage: naga::ShaderStage::Compute,
+            entry_point: "main".into(),
+        }),
+    )
+    .unwrap_or_else(|e| panic!("{}: SPIR-V: {e}", spec.name))
+}
+
+/// The wide path's per-contact kernels, each with its `PASS` values.
+fn contact_kernels() -> Vec<(&'static KernelSpec, Option<u32>)> {
+    let mut kernels = vec![(&PREPARE_CONTACTS, None), (&STORE_IMPULSES, None)];
+    kernels.extend(PassKind::ALL.iter().map(|p| (&SOLVE_COLOR, Some(p.code()))));
+    kernels
+}
+
+#[test]
+fn wide_contact_kernels_are_the_same_program_with_rotation_in_and_out() {
+    // The failure the bitwise rotation test guards needs a compiler that contracts or
+    // reorders float arithmetic differently in two programs (NVIDIA's did, on an H100);
+    // lavapipe's does not, so equal bits there cannot show the contact rows are safe. Equal
+    // SPIR-V can: one program cannot round two ways. The rotation switch may only act in
+    // the body passes (body_math.wgsl); a contact row that tests it again, to drop angular
+    // terms at compile time, makes the two variants different programs and fails here on
+    // any machine. Gravity and restitution do not reach the contact rows either.
+    let off = |set: fn(&mut Effects)| {
+        let mut e = Effects::ALL;
+        set(&mut e);
+        e
+    };
+    for (spec, pass) in contact_kernels() {
+        let all = specialized_spirv(spec, Effects::ALL, pass);
+        for (name, effects) in [
+            ("rotation", off(|e| e.rotation = false)),
+            ("gravity", off(|e| e.gravity = false)),
+            ("restitution", off(|e| e.restitution = false)),
+        ] {
+            let without = specialized_spirv(spec, effects, pass);
+            assert!(
+                all == without,
+                "{} (pass {pass:?}): {name} compiled out changes the program",
+                spec.name
+            );
+        }
+    }
+    // The comparison can tell programs apart: friction rows are compiled out of the solve
+    // passes (a frictionless contact skips them at run time as well, as a whole block).
+    let solve = Some(PassKind::Solve.code());
+    let rough = specialized_spirv(&SOLVE_COLOR, Effects::ALL, solve);
+    let smooth = specialized_spirv(&SOLVE_COLOR, off(|e| e.friction = false), solve);
+    assert!(
+        rough != smooth,
+        "friction compiled out left the solve pass unchanged"
+    );
 }

@@ -15,8 +15,10 @@ pub struct Effects {
     pub friction: bool,
     /// The restitution pass (unused when no material bounces).
     pub restitution: bool,
-    /// Angular motion: gyroscopic term, angular damping, the angular velocity update (unused
-    /// when every moving body is dynamic with all rotations locked).
+    /// Angular motion: gyroscopic term, angular damping, the angular velocity update, and
+    /// torque from contacts; off, no body turns (zero inverse inertia and spin for the step, on
+    /// the CPU as on the GPU). Unused when every moving body is dynamic with all rotations
+    /// locked.
     pub rotation: bool,
     /// Kinematic bodies (unused when there are none): their wake checks in the sleep stage.
     pub kinematic: bool,

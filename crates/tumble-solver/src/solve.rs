@@ -141,7 +141,18 @@ pub fn solve_with_effects(
     };
 
     begin_step(states);
-    let inverse_inertia: Vec<Mat3> = bodies.iter().map(Body::inverse_inertia_world).collect();
+    // Rotation off: no body turns, as on the GPU (whose body passes zero the inverse inertia
+    // and the spin): contacts then push without torque and the integrator adds no spin. For
+    // a scene that needs no rotation (every moving body dynamic with all rotations locked)
+    // both are zero already, so the result bits do not change.
+    let inverse_inertia: Vec<Mat3> = if effects.rotation {
+        bodies.iter().map(Body::inverse_inertia_world).collect()
+    } else {
+        for s in states.iter_mut() {
+            s.angular_velocity = Vec3::zeros();
+        }
+        vec![Mat3::zeros(); bodies.len()]
+    };
     let (order, batches) = plan(contacts, coloring, config);
     let prepare = |&i: &u32| {
         prepare_contact(

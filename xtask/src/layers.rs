@@ -1,5 +1,5 @@
-//! The layer rule of DESIGN.md: the engine's crates form a strict order and a crate never
-//! imports one to its right.
+//! The layer rule of docs/architecture.md: the engine's crates form a strict order and a crate
+//! never imports one to its right.
 //!
 //! ```text
 //! tumble-geometry <- tumble-broad  <- tumble-solver <- tumble-gpu <- tumble (facade)
@@ -67,7 +67,7 @@ pub fn violations(edges: &[Edge]) -> Vec<String> {
         .filter(|e| !may_import(&e.from, &e.to))
         .map(|e| {
             format!(
-                "{} {}depends on {}, which is not below it in the layer diagram of DESIGN.md",
+                "{} {}depends on {}, which is not below it in the layer diagram of docs/architecture.md",
                 e.from,
                 if e.dev { "dev-" } else { "" },
                 e.to

@@ -2,7 +2,7 @@
 //! - `validate`: every scene under every solver configuration and backend, beside rapier3d,
 //!   measured (docs/validation.md), tabled and plotted;
 //! - `bench`: the criterion benches;
-//! - `tidy`: formatting and the layer rule of DESIGN.md.
+//! - `tidy`: formatting and the layer rule of docs/architecture.md.
 #![warn(missing_docs)]
 
 mod backends;
@@ -61,7 +61,7 @@ enum Task {
         args: Vec<String>,
     },
     /// Checks formatting (`cargo fmt --check`) and that no crate imports one to its right in
-    /// the layer order of DESIGN.md.
+    /// the layer order of docs/architecture.md.
     Tidy,
 }
 

@@ -1,5 +1,5 @@
-//! The step's stages as CPU functions, named as in DESIGN.md: `update_aabbs`, `broad_phase`,
-//! `narrow_phase`, `color`, `solve`, `finish`.
+//! The step's stages as CPU functions, named as in docs/architecture.md: `update_aabbs`,
+//! `broad_phase`, `narrow_phase`, `color`, `solve`, `finish`.
 //!
 //! Each stage takes plain slices and returns plain data, so a backend can replace any one of
 //! them (the hybrid backend runs the first three on the GPU and hands their output to the CPU

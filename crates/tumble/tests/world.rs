@@ -473,11 +473,17 @@ fn wake_up_puts_a_sleeping_box_back_under_gravity() {
         again += 1;
         assert!(again <= 60, "the woken box never slept again");
     }
-    assert!(again >= 25, "slept again after {again} steps: the rest timer was not reset");
+    assert!(
+        again >= 25,
+        "slept again after {again} steps: the rest timer was not reset"
+    );
     // Removing the floor under the sleeping box wakes it: it lost its support.
     let slept = w.pose(b).unwrap();
     w.remove_body(ground).unwrap();
-    assert!(!w.is_sleeping(b).unwrap(), "the floor went, the box must wake");
+    assert!(
+        !w.is_sleeping(b).unwrap(),
+        "the floor went, the box must wake"
+    );
     assert_eq!(w.sleeping_count(), 0);
     // Awake, it falls freely. Semi-implicit Euler over K substeps of h: v = -g K h, and the
     // drop is g h^2 K (K + 1) / 2 (1.2331 m after 0.5 s, against 1/2 g t^2 = 1.2263 m): 1 mm

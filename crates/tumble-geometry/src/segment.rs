@@ -337,4 +337,33 @@ mod tests {
         );
         assert_eq!((reversed.s, reversed.t), (0.0, 0.0));
     }
+
+    #[test]
+    fn a_short_skew_segment_takes_the_interior_solve_whichever_side_it_is_on() {
+        // A 1 m segment along x and a 1 cm one at y = 1 along (1, 0, 1): skew lines 45 degrees
+        // apart, far outside the parallel band whatever the lengths. The closest pair is at
+        // s = 0.3 (where the short one crosses z = 0) and t = 0; the overlap middle of the
+        // parallel branch would give s = 0.3035.
+        let (a0, a1) = (p(0.0, 0.0, 0.0), p(1.0, 0.0, 0.0));
+        let (b0, b1) = (p(0.3, 1.0, 0.0), p(0.307, 1.0, 0.007));
+        let c = closest_points_segments(&a0, &a1, &b0, &b1);
+        assert!((c.s - 0.3).abs() < 1e-5 && c.t.abs() < 1e-5, "{c:?}");
+        let c = closest_points_segments(&b0, &b1, &a0, &a1);
+        assert!(c.s.abs() < 1e-5 && (c.t - 0.3).abs() < 1e-5, "{c:?}");
+    }
+
+    #[test]
+    fn parallel_overlap_is_measured_in_the_first_segments_parameter() {
+        // A 2 m segment and a parallel 1 m one over x in [0.5, 1.5]: the second projects to
+        // s in [0.25, 0.75] on the first, so the middle of the overlap is s = 0.5 (x = 1), and
+        // the second segment's point nearest to it is its middle.
+        let c = closest_points_segments(
+            &p(0.0, 0.0, 0.0),
+            &p(2.0, 0.0, 0.0),
+            &p(0.5, 1.0, 0.0),
+            &p(1.5, 1.0, 0.0),
+        );
+        assert_eq!((c.s, c.t), (0.5, 0.5));
+        assert_eq!(c.point_a, p(1.0, 0.0, 0.0));
+    }
 }

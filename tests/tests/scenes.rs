@@ -1,5 +1,12 @@
 //! The canonical scenes: valid data that survives JSON, sensible initial configurations, the
 //! same scene in rapier3d, and checks that pass and fail when they should.
+//!
+//! The checks here judge rapier3d's runs, which shows the criteria are achievable and that the
+//! tracker reads a run correctly. Tumble's runs face the same checks elsewhere: every canonical
+//! scene for its full length on the CPU in the stability suite
+//! (`canonical_scenes_pass_their_checks` in `tests/src/stability.rs`), the small scenes on the
+//! GPU backends and deliberately wrong Tumble runs that must fail in
+//! `tests/tests/scene_checks.rs`.
 
 use rapier3d::prelude::CoefficientCombineRule;
 use tumble_broad::sweep_and_prune_filtered;

@@ -51,6 +51,20 @@ pub struct GpuContext {
     pub has_timestamps: bool,
 }
 
+/// The instance settings: wgpu's defaults without indirect-call validation, then whatever the
+/// `WGPU_*` environment variables say.
+///
+/// wgpu validates every indirect dispatch in release builds by default: each one becomes a
+/// validation dispatch, a rebind and two more barriers. Every indirect argument buffer of the
+/// step is written by `plan_dispatch` (or `color_finish`), which clamps the count to the list's
+/// capacity and folds the workgroups past the per-dimension limit, so the check can never
+/// fire; it only costs time. `WGPU_VALIDATION_INDIRECT_CALL=1` turns it back on.
+fn instance_descriptor() -> wgpu::InstanceDescriptor {
+    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+    desc.flags.remove(wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL);
+    desc.with_env()
+}
+
 /// Lower is better: discrete GPUs first, software rasterizers last.
 fn device_rank(kind: wgpu::DeviceType) -> u8 {
     match kind {
@@ -78,8 +92,7 @@ impl GpuContext {
             .clone()
             .or_else(|| std::env::var(ADAPTER_ENV).ok())
             .filter(|s| !s.is_empty());
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let instance = wgpu::Instance::new(instance_descriptor());
         let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
         let adapter = adapters
             .into_iter()
@@ -220,6 +233,18 @@ impl GpuContext {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn indirect_call_validation_is_off_unless_the_environment_asks() {
+        let flags = instance_descriptor().flags;
+        match std::env::var("WGPU_VALIDATION_INDIRECT_CALL") {
+            Err(_) => assert!(!flags.contains(wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL)),
+            Ok(v) => assert_eq!(
+                flags.contains(wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL),
+                v != "0"
+            ),
+        }
+    }
 
     #[test]
     fn require_gpu_accepts_one_and_true_in_any_case() {

@@ -25,6 +25,9 @@ mod sat;
 pub mod tolerance;
 mod vertex_contact;
 
+#[cfg(test)]
+mod tests;
+
 pub use axis_choice::{AxisChoice, deepest_axis, preference_slack, preferred_axis};
 pub use box_pair::BoxPair;
 pub use collide::{

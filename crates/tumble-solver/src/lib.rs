@@ -27,6 +27,8 @@ mod softness;
 mod solve;
 mod sweep;
 mod tangent_basis;
+#[cfg(test)]
+mod tests;
 
 pub use body::{Body, BodyKind, BodyState, Locks};
 pub use coloring::{

@@ -1,0 +1,117 @@
+//! The solver's specification: closed-form cases (a box resting, sliding, bouncing, two boxes
+//! colliding), an f64 reference of the sequential-impulse kernels derived from their documented
+//! formulas, and the contracts of coloring, integration, mass properties, the contact cache,
+//! islands and sleep.
+
+mod cache;
+mod coloring;
+mod integration;
+mod islands;
+mod kernels;
+mod mass;
+mod misc;
+mod prepare;
+mod reference;
+mod scenes;
+
+use tumble_geometry::{ContactPoint, Cuboid, FeatureKind, Manifold, Point3, Pose, Real, Vec3};
+
+use crate::{Body, BodyKind, Material};
+
+/// Standard gravity, m/s^2.
+pub(crate) const G: Real = 9.81;
+
+/// The engine's default step, s.
+pub(crate) const DT: Real = 1.0 / 60.0;
+
+/// Downward gravity.
+pub(crate) fn gravity() -> Vec3 {
+    Vec3::new(0.0, -G, 0.0)
+}
+
+/// A body of `kind` with half extents `half` at `pose`, density `density`.
+pub(crate) fn body(
+    kind: BodyKind,
+    half: Vec3,
+    pose: Pose,
+    density: Real,
+    material: Material,
+) -> Body {
+    Body::new(kind, Cuboid::new(half), pose, density, material).unwrap()
+}
+
+/// A material of friction `friction` and restitution `restitution`.
+pub(crate) fn material(friction: Real, restitution: Real) -> Material {
+    Material {
+        friction,
+        restitution,
+    }
+}
+
+/// A fixed floor whose top face is the plane y = 0.
+pub(crate) fn floor(material: Material) -> Body {
+    body(
+        BodyKind::Fixed,
+        Vec3::new(5.0, 0.5, 5.0),
+        Pose::translation(0.0, -0.5, 0.0),
+        1.0,
+        material,
+    )
+}
+
+/// A dynamic unit cube of mass `mass` (density = mass, volume 1) at `pose`.
+pub(crate) fn unit_cube(mass: Real, pose: Pose, material: Material) -> Body {
+    body(BodyKind::Dynamic, Vec3::repeat(0.5), pose, mass, material)
+}
+
+/// A manifold of normal `normal` from `(position, depth, id)` triples.
+pub(crate) fn manifold(normal: Vec3, points: &[(Point3, Real, u32)]) -> Manifold {
+    let mut m = Manifold {
+        normal,
+        kind: FeatureKind::FaceA,
+        feature: 2,
+        ..Default::default()
+    };
+    for &(position, depth, id) in points {
+        assert!(m.push(ContactPoint {
+            position,
+            depth,
+            id,
+        }));
+    }
+    m
+}
+
+/// The floor contact of an upright box: its four bottom corners against the plane y = 0, each
+/// point midway between the corner and the plane (an exact narrow phase for an upright box).
+pub(crate) fn floor_corners(b: &Body) -> Manifold {
+    let points: Vec<(Point3, Real, u32)> = [0usize, 1, 4, 5]
+        .into_iter()
+        .enumerate()
+        .map(|(id, v)| {
+            let c = b.pose * b.shape.vertex(v);
+            (Point3::new(c.x, 0.5 * c.y, c.z), -c.y, id as u32)
+        })
+        .collect();
+    manifold(Vec3::y(), &points)
+}
+
+/// The floor contact of a box as one point straight below its centre: the arm is parallel to
+/// the normal, so the normal row has no angular part and the contact is one-dimensional.
+pub(crate) fn floor_center(b: &Body) -> Manifold {
+    let c = b.pose.translation.vector;
+    let bottom = c.y - b.shape.half_extents.y;
+    manifold(
+        Vec3::y(),
+        &[(Point3::new(c.x, 0.5 * bottom, c.z), -bottom, 0)],
+    )
+}
+
+/// `|a - b| <= tol`, with a message naming the quantity.
+#[track_caller]
+pub(crate) fn assert_close(what: &str, got: f64, expected: f64, tol: f64) {
+    assert!(
+        (got - expected).abs() <= tol,
+        "{what}: got {got}, expected {expected} (tolerance {tol})"
+    );
+}

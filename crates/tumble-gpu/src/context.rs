@@ -61,7 +61,8 @@ pub struct GpuContext {
 /// fire; it only costs time. `WGPU_VALIDATION_INDIRECT_CALL=1` turns it back on.
 fn instance_descriptor() -> wgpu::InstanceDescriptor {
     let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
-    desc.flags.remove(wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL);
+    desc.flags
+        .remove(wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL);
     desc.with_env()
 }
 

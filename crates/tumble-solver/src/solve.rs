@@ -381,7 +381,7 @@ mod tests {
                 };
                 let mut m = manifold(&cube);
                 for p in m.contacts.iter_mut() {
-                    p.depth -= level as Real;
+                    p.depth += level as Real;
                     p.position.y += 0.5 * level as Real;
                 }
                 contacts.push(Contact::new(below, bodies.len() as u32, m));

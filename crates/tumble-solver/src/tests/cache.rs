@@ -5,7 +5,7 @@
 use tumble_geometry::{FeatureKind, Manifold, Point3, Pose, Real, Rot, Vec3};
 
 use super::{manifold, material, unit_cube};
-use crate::{Body, Contact, ContactCache, PERSIST_DISTANCE, PERSIST_NORMAL_COS, PointImpulse};
+use crate::{Body, Contact, ContactCache, PERSIST_NORMAL_COS, PointImpulse};
 
 const KEY: (u64, u64) = (3, 8);
 
@@ -111,8 +111,9 @@ fn ids_of_another_reference_feature_are_not_comparable() {
 fn renamed_points_inherit_from_the_nearest_old_point_within_a_centimetre() {
     let a = body_a();
     let cache = cache_of(&a);
-    // New ids; the first point 9 mm from old point 10, the second 1.1 cm from old point 11,
-    // the third right on old point 12, all measured in A's frame.
+    // New ids; the first point 9 mm from old point 10, the second 1.1 cm from old point 11
+    // (either side of PERSIST_DISTANCE, 1 cm), the third right on old point 12, all measured
+    // in A's frame.
     let offsets = [
         Vec3::new(0.0, 0.0, 0.009),
         Vec3::new(0.1 + 0.011, 0.0, 0.0),
@@ -124,7 +125,6 @@ fn renamed_points_inherit_from_the_nearest_old_point_within_a_centimetre() {
         &warm[..3],
         &[impulse(0), PointImpulse::default(), impulse(2)]
     );
-    assert!(PERSIST_DISTANCE == 0.01);
     // After body A moved and turned, the same points in its frame still match: the cache
     // compares in A's frame, not in the world.
     let mut moved = a;

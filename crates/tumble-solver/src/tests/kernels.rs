@@ -194,6 +194,7 @@ fn random_case(rng: &mut ChaCha8Rng) -> Case {
 /// relative covers that and is still far below what a wrong sign, factor or row changes
 /// (order 1).
 #[track_caller]
+#[allow(clippy::too_many_arguments)]
 fn agree(
     step: &str,
     case: usize,

@@ -780,9 +780,8 @@ fn solve_stats_count_constraints_points_and_parallel_colors_only() {
         let dir = Vec3::new(angle.cos(), 0.0, angle.sin());
         bodies.push(unit_cube(1.0, Pose::translation(dir.x, 0.0, dir.z), m));
         let point = Point3::from(dir * 0.5);
-        let points: Vec<(Point3, Real, u32)> = (0..(k % 4 + 1) as u32)
-            .map(|id| (point, 0.01, id))
-            .collect();
+        let points: Vec<(Point3, Real, u32)> =
+            (0..(k % 4 + 1)).map(|id| (point, 0.01, id)).collect();
         contacts.push(Contact::new(0, k + 1, manifold(dir, &points)));
     }
     let states = vec![BodyState::moving(Vec3::new(0.0, 0.0, 0.0), Vec3::zeros()); 31];

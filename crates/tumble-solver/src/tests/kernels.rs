@@ -4,28 +4,15 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use tumble_geometry::{Point3, Pose, Real, Rot, Vec3};
+use tumble_geometry::{Manifold, Point3, Pose, Real, Rot, Vec3};
 
 use super::reference::{Branches, RefConstraint, RefState, V, m64, v64};
-use super::{body, manifold, material};
+use super::{body, manifold, material, unit};
 use crate::{
     Body, BodyKind, BodyState, Contact, ContactConstraint, Locks, Mat3, PassContext,
     PrepareContext, Softness, SolverKind, prepare_contact, restitution_contact, solve_contact,
     tangent_basis, warm_start_contact,
 };
-
-fn unit(rng: &mut ChaCha8Rng) -> Vec3 {
-    loop {
-        let v = Vec3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        );
-        if v.norm() > 0.1 {
-            return v.normalize();
-        }
-    }
-}
 
 fn vec_in(rng: &mut ChaCha8Rng, r: Real) -> Vec3 {
     Vec3::new(
@@ -388,20 +375,27 @@ fn contact_passes_conserve_linear_and_angular_momentum() {
     assert!(checked >= 200, "only {checked} free pairs");
 }
 
-/// A unit cube of 1 kg on the fixed floor, one point under its centre, prepared with
-/// `softness` and friction `mu`; the cube's state is returned with the constraint.
-fn cube_on_floor(mu: Real, softness: Softness) -> (ContactConstraint, BodyState, BodyState) {
+/// A unit cube of 1 kg on the fixed floor, at rest, touching it through `geometry`'s manifold,
+/// prepared for `kind` at substep `h` with `softness` and friction `mu`; the floor's and the
+/// cube's states are returned with the constraint.
+fn prepared_on_floor(
+    mu: Real,
+    geometry: fn(&Body) -> Manifold,
+    kind: SolverKind,
+    h: Real,
+    softness: Softness,
+) -> (ContactConstraint, BodyState, BodyState) {
     let m = material(mu, 0.0);
     let bodies = [
         super::floor(m),
         super::unit_cube(1.0, Pose::translation(0.0, 0.5, 0.0), m),
     ];
     let inertia: Vec<Mat3> = bodies.iter().map(Body::inverse_inertia_world).collect();
-    let contacts = [Contact::new(0, 1, super::floor_center(&bodies[1]))];
+    let contacts = [Contact::new(0, 1, geometry(&bodies[1]))];
     let states = [BodyState::default(); 2];
     let ctx = PrepareContext {
-        kind: SolverKind::SoftStep,
-        h: 1.0 / 240.0,
+        kind,
+        h,
         contact_softness: softness,
         static_softness: softness,
         slop: 0.0,
@@ -409,6 +403,18 @@ fn cube_on_floor(mu: Real, softness: Softness) -> (ContactConstraint, BodyState,
     };
     let c = prepare_contact(&bodies, &inertia, &states, &contacts, 0, &ctx);
     (c, states[0], states[1])
+}
+
+/// A unit cube of 1 kg on the fixed floor, one point under its centre, prepared with
+/// `softness` and friction `mu`; the cube's state is returned with the constraint.
+fn cube_on_floor(mu: Real, softness: Softness) -> (ContactConstraint, BodyState, BodyState) {
+    prepared_on_floor(
+        mu,
+        super::floor_center,
+        SolverKind::SoftStep,
+        1.0 / 240.0,
+        softness,
+    )
 }
 
 #[test]
@@ -498,29 +504,18 @@ fn a_sliding_point_is_held_at_the_coulomb_limit_against_its_motion() {
 fn a_patch_whose_far_side_has_lifted_gets_no_tilt_torque() {
     // A cube on four corners whose two +x corners carry nothing: n r min(lambda) = 0, so the
     // tilt rows may add no torque and the rocking about z stays as the normal rows leave it.
-    let m = material(0.0, 0.0);
-    let bodies = [
-        super::floor(m),
-        super::unit_cube(1.0, Pose::translation(0.0, 0.5, 0.0), m),
-    ];
-    let inertia: Vec<Mat3> = bodies.iter().map(Body::inverse_inertia_world).collect();
-    let contacts = [Contact::new(0, 1, super::floor_corners(&bodies[1]))];
-    let states = [BodyState::default(); 2];
-    let ctx = PrepareContext {
-        kind: SolverKind::Baumgarte,
-        h: 1.0 / 60.0,
-        contact_softness: Softness::RIGID,
-        static_softness: Softness::RIGID,
-        slop: 0.0,
-        warm_start_scale: 1.0,
-    };
-    let mut c = prepare_contact(&bodies, &inertia, &states, &contacts, 0, &ctx);
+    let (mut c, mut floor, mut cube) = prepared_on_floor(
+        0.0,
+        super::floor_corners,
+        SolverKind::Baumgarte,
+        1.0 / 60.0,
+        Softness::RIGID,
+    );
     assert!(
         c.patch_radius > 0.4,
         "a square patch of half size 0.5: {}",
         c.patch_radius
     );
-    let (mut floor, mut cube) = (states[0], states[1]);
     // Tipping about the -x edge (rotation about +z lifts the +x side).
     cube.angular_velocity = Vec3::new(0.0, 0.0, 1.0);
     cube.linear_velocity = Vec3::new(0.0, 0.5, 0.0);

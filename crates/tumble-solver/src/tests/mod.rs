@@ -16,6 +16,9 @@ mod scenes;
 
 use tumble_geometry::{ContactPoint, Cuboid, FeatureKind, Manifold, Point3, Pose, Real, Vec3};
 
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+
 use crate::{Body, BodyKind, Material};
 
 /// Standard gravity, m/s^2.
@@ -114,4 +117,18 @@ pub(crate) fn assert_close(what: &str, got: f64, expected: f64, tol: f64) {
         (got - expected).abs() <= tol,
         "{what}: got {got}, expected {expected} (tolerance {tol})"
     );
+}
+
+/// A uniformly random unit direction (a normalised point of the cube, away from its centre).
+pub(crate) fn unit(rng: &mut ChaCha8Rng) -> Vec3 {
+    loop {
+        let v = Vec3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        );
+        if v.norm() > 0.1 {
+            return v.normalize();
+        }
+    }
 }

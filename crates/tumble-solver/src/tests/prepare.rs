@@ -8,24 +8,11 @@ use rand_chacha::ChaCha8Rng;
 use tumble_geometry::{ContactPoint, Point3, Pose, Real, Rot, Vec3};
 
 use super::reference::{RefConstraint, m64, v64};
-use super::{assert_close, body, manifold, material};
+use super::{assert_close, body, manifold, material, unit};
 use crate::{
     Body, BodyKind, BodyState, Contact, Locks, Mat3, PrepareContext, Softness, SolverKind,
     mix_friction, mix_restitution, patch_radius, prepare_contact, tangent_basis,
 };
-
-fn unit(rng: &mut ChaCha8Rng) -> Vec3 {
-    loop {
-        let v = Vec3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        );
-        if v.norm() > 0.1 {
-            return v.normalize();
-        }
-    }
-}
 
 /// Distinct sentinel softnesses, so the test can tell which one a constraint got.
 const DYNAMIC_SOFTNESS: Softness = Softness {
@@ -288,14 +275,8 @@ fn a_row_no_body_can_move_along_has_zero_mass_not_infinite() {
     let inertia: Vec<Mat3> = bodies.iter().map(Body::inverse_inertia_world).collect();
     let contacts = [Contact::new(0, 1, super::floor_center(&cube))];
     let states = [BodyState::default(); 2];
-    let c = prepare_contact(
-        &bodies,
-        &inertia,
-        &states,
-        &contacts,
-        0,
-        &context(SolverKind::SoftStep, 1.0),
-    );
+    let ctx = context(SolverKind::SoftStep, 1.0);
+    let c = prepare_contact(&bodies, &inertia, &states, &contacts, 0, &ctx);
     assert_eq!(c.points[0].normal_mass, 0.0);
     assert_eq!(c.tilt_mass, [0.0; 2]);
     // Along x the box still slides: its friction row has the box's mass (1 kg).
@@ -430,24 +411,14 @@ fn the_softness_and_slop_follow_the_solver_and_the_body_kinds() {
         let bodies = [a, b];
         let inertia: Vec<Mat3> = bodies.iter().map(Body::inverse_inertia_world).collect();
         let contacts = [Contact::new(0, 1, super::floor_center(&b))];
-        let soft = prepare_contact(
-            &bodies,
-            &inertia,
-            &states,
-            &contacts,
-            0,
-            &context(SolverKind::SoftStep, 1.0),
-        );
+        let prepare = |kind| {
+            let ctx = context(kind, 1.0);
+            prepare_contact(&bodies, &inertia, &states, &contacts, 0, &ctx)
+        };
+        let soft = prepare(SolverKind::SoftStep);
         assert_eq!(soft.softness, soft_expected);
         assert_eq!(soft.slop, 0.0);
-        let pgs = prepare_contact(
-            &bodies,
-            &inertia,
-            &states,
-            &contacts,
-            0,
-            &context(SolverKind::Baumgarte, 1.0),
-        );
+        let pgs = prepare(SolverKind::Baumgarte);
         assert_eq!(pgs.softness, DYNAMIC_SOFTNESS);
         assert_eq!(pgs.slop, 0.004);
     }

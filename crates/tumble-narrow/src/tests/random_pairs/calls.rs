@@ -16,33 +16,20 @@ pub(super) fn check_call(
     let band = DECISION_ULPS * local_ulp;
     let spec = Spec::new(&a, &b, MARGIN as f64, band);
     let exact = signed_distance(&a, &b, &spec.sat);
-    let polygon = contact_polygon(
-        &case.a,
-        &case.pose_a,
-        &case.b,
-        &case.pose_b,
-        MARGIN,
-        previous,
-    );
-    let manifold = collide_cuboids_cached(
-        &case.a,
-        &case.pose_a,
-        &case.b,
-        &case.pose_b,
-        MARGIN,
-        previous,
-    );
+    let (box_a, pose_a, box_b, pose_b) = (&case.a, &case.pose_a, &case.b, &case.pose_b);
+    let polygon = contact_polygon(box_a, pose_a, box_b, pose_b, MARGIN, previous);
+    let manifold = collide_cuboids_cached(box_a, pose_a, box_b, pose_b, MARGIN, previous);
     let label = format!("{label} prev {previous:?} (exact signed distance {exact:.3e})");
     if manifold != polygon.map(|p| p.to_manifold()) {
         st.fail(format!("{label}: manifold is not the reduced polygon"));
     }
     if previous.is_none()
-        && collide_cuboids(&case.a, &case.pose_a, &case.b, &case.pose_b, MARGIN) != manifold
+        && collide_cuboids(box_a, pose_a, box_b, pose_b, MARGIN) != manifold
     {
         st.fail(format!("{label}: no history differs from collide_cuboids"));
     }
 
-    let pair = BoxPair::new(&case.a, &case.pose_a, &case.b, &case.pose_b);
+    let pair = BoxPair::new(box_a, pose_a, box_b, pose_b);
     let sat = SatQuery::new(&pair);
     if previous.is_none() {
         check_sat(st, &label, &pair, &sat, &spec, ulp, local_ulp);

@@ -4,10 +4,9 @@
 use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 use tumble_broad::{SweepAndPrune, brute_force_pairs, sweep_and_prune};
-use tumble_geometry::{Aabb, Point3, Vec3};
+use tumble_geometry::Aabb;
+use tumble_tests::scene_support::sparse_boxes;
 
 /// Boxes per cubic meter: about what a settled pile of 1 m boxes with gaps looks like, giving
 /// each box a handful of overlapping neighbours (about 1.5 pairs per box).
@@ -15,23 +14,7 @@ const DENSITY: f32 = 0.3;
 
 /// `n` boxes with half sizes in [0.05, 0.5] m, centres uniform in a cube holding `DENSITY`.
 fn random_boxes(n: usize, seed: u64) -> Vec<Aabb> {
-    let extent = (n as f32 / DENSITY).cbrt();
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    (0..n)
-        .map(|_| {
-            let c = Point3::new(
-                rng.random_range(0.0..extent),
-                rng.random_range(0.0..extent),
-                rng.random_range(0.0..extent),
-            );
-            let h = Vec3::new(
-                rng.random_range(0.05..0.5),
-                rng.random_range(0.05..0.5),
-                rng.random_range(0.05..0.5),
-            );
-            Aabb::new(c - h, c + h)
-        })
-        .collect()
+    sparse_boxes(n, (n as f32 / DENSITY).cbrt(), seed)
 }
 
 fn broad_phase(c: &mut Criterion) {

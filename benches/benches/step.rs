@@ -130,20 +130,25 @@ fn configure(group: &mut BenchmarkGroup<'_, WallTime>) {
         .sampling_mode(SamplingMode::Flat);
 }
 
+/// Both engines at `substeps`: tumble's soft step and rapier's default work.
+fn bench_defaults(group: &mut BenchmarkGroup<'_, WallTime>, scene: &Scene, substeps: u32) {
+    bench_tumble(
+        group,
+        scene,
+        "tumble_softstep",
+        substeps,
+        soft_step(substeps),
+    );
+    bench_rapier(group, scene, substeps, RapierWork::Default);
+}
+
 /// The 650-cube pyramid at every solver setting of the comparison table.
 fn pyramid12(c: &mut Criterion) {
     let scene = pyramid(12);
     let mut group = c.benchmark_group("step_pyramid12");
     configure(&mut group);
     for substeps in [1, 2, 4, 8] {
-        bench_tumble(
-            &mut group,
-            &scene,
-            "tumble_softstep",
-            substeps,
-            soft_step(substeps),
-        );
-        bench_rapier(&mut group, &scene, substeps, RapierWork::Default);
+        bench_defaults(&mut group, &scene, substeps);
     }
     let substeps = SolverConfig::default().substeps;
     bench_rapier(&mut group, &scene, substeps, RapierWork::LikeTumble);
@@ -165,14 +170,7 @@ fn pyramid24(c: &mut Criterion) {
     let mut group = c.benchmark_group("step_pyramid24");
     configure(&mut group);
     let substeps = SolverConfig::default().substeps;
-    bench_tumble(
-        &mut group,
-        &scene,
-        "tumble_softstep",
-        substeps,
-        soft_step(substeps),
-    );
-    bench_rapier(&mut group, &scene, substeps, RapierWork::Default);
+    bench_defaults(&mut group, &scene, substeps);
     bench_rapier(&mut group, &scene, substeps, RapierWork::LikeTumble);
     group.finish();
 }

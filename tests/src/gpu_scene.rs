@@ -6,7 +6,21 @@ use rand_chacha::ChaCha8Rng;
 use tumble_geometry::{Aabb, Point3, Pose, Rot, Vec3, nalgebra::Translation3};
 use tumble_gpu::collision::CollisionConfig;
 use tumble_gpu::layout::{GpuAabb, GpuPose, GpuShape, GpuVelocity};
-use tumble_gpu::{GpuCollision, GpuContext};
+use tumble_gpu::{CollisionSnapshot, GpuCollision, GpuContext, ReadbackRequest};
+
+/// One collision step that reads back the pairs and the AABBs: the readback, and its AABBs as
+/// the CPU broad phase takes them.
+pub fn step_pairs_and_aabbs(gpu: &mut GpuCollision) -> (CollisionSnapshot, Vec<Aabb>) {
+    let snap = gpu
+        .step_and_read(ReadbackRequest {
+            pairs: true,
+            aabbs: true,
+            ..Default::default()
+        })
+        .unwrap();
+    let aabbs = snap.aabbs.iter().map(to_aabb).collect();
+    (snap, aabbs)
+}
 
 /// A scene as the GPU takes it.
 pub struct Scene {

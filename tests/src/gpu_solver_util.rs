@@ -1,6 +1,8 @@
-//! Small helpers shared by the GPU solver tests (`gpu_solver.rs`, `gpu_solver_motion.rs`).
+//! Small helpers shared by the GPU tests (`gpu_solver.rs`, `gpu_solver_motion.rs`,
+//! `gpu_sleep`, `gpu_determinism.rs`, `gpu_wide_effects.rs`).
 
 use tumble_geometry::{Cuboid, Pose, Real, Vec3};
+use tumble_gpu::layout::{GpuPose, GpuVelocity};
 use tumble_solver::{Body, BodyKind, Material};
 
 /// The tests' step, s (60 Hz).
@@ -16,6 +18,36 @@ pub fn cube(kind: BodyKind, position: Vec3) -> Body {
         Material::default(),
     )
     .unwrap()
+}
+
+/// A fixed 40 x 1 x 40 m floor whose top is y = 0, of `material`.
+pub fn floor(material: Material) -> Body {
+    Body::new(
+        BodyKind::Fixed,
+        Cuboid::new(Vec3::new(20.0, 0.5, 20.0)),
+        Pose::translation(0.0, -0.5, 0.0),
+        1.0,
+        material,
+    )
+    .unwrap()
+}
+
+/// Every bit of a GPU pose (position, then rotation), for bitwise comparisons.
+pub fn pose_bits(p: &GpuPose) -> Vec<u32> {
+    p.position
+        .iter()
+        .chain(&p.rotation)
+        .map(|c| c.to_bits())
+        .collect()
+}
+
+/// Every bit of a GPU velocity (linear, then angular), for bitwise comparisons.
+pub fn velocity_bits(v: &GpuVelocity) -> Vec<u32> {
+    v.linear
+        .iter()
+        .chain(&v.angular)
+        .map(|c| c.to_bits())
+        .collect()
 }
 
 /// Earth gravity along -y, m/s^2.

@@ -9,26 +9,7 @@ use tumble_broad::{
 };
 use tumble_geometry::nalgebra::{Translation3, UnitQuaternion};
 use tumble_geometry::{Aabb, Cuboid, Point3, Pose, Vec3};
-
-/// Boxes with centres uniform in a cube of side `extent` and half sizes in `[0.05, 0.5]`.
-fn sparse_boxes(n: usize, extent: f32, seed: u64) -> Vec<Aabb> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    (0..n)
-        .map(|_| {
-            let c = Point3::new(
-                rng.random_range(0.0..extent),
-                rng.random_range(0.0..extent),
-                rng.random_range(0.0..extent),
-            );
-            let h = Vec3::new(
-                rng.random_range(0.05..0.5),
-                rng.random_range(0.05..0.5),
-                rng.random_range(0.05..0.5),
-            );
-            Aabb::new(c - h, c + h)
-        })
-        .collect()
-}
+use tumble_tests::scene_support::sparse_boxes;
 
 /// Rotated cuboids gathered around a few cluster centres, as piles in a game level are: many
 /// boxes share the sweep window, the case that makes a sweep degrade.

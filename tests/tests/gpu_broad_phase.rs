@@ -8,13 +8,13 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use tumble_geometry::{Aabb, Cuboid, Pose, Vec3};
+use tumble_geometry::{Cuboid, Pose, Vec3};
 use tumble_gpu::collision::CollisionConfig;
 use tumble_gpu::constants::MAX_LONG_BOXES;
 use tumble_gpu::kernels::sweep_pairs::long_extent;
 use tumble_gpu::layout::{GpuPose, GpuShape, GpuVelocity};
-use tumble_gpu::{GpuCollision, GpuContext, ReadbackRequest};
-use tumble_tests::gpu_scene::to_aabb;
+use tumble_gpu::{GpuCollision, GpuContext};
+use tumble_tests::gpu_scene::step_pairs_and_aabbs;
 
 /// Side of the square the cubes stand on, m.
 const SIDE: f32 = 30.0;
@@ -72,14 +72,7 @@ fn pairs_equal_cpu(ctx: &GpuContext, cubes: usize, planks: usize, seed: u64) {
     assert!(extent < 24.0 && extent > 1.04, "long extent {extent} m");
     let mut gpu = GpuCollision::new(ctx, CollisionConfig::default()).unwrap();
     gpu.set_bodies(&poses, &velocities, &shapes).unwrap();
-    let snap = gpu
-        .step_and_read(ReadbackRequest {
-            pairs: true,
-            aabbs: true,
-            ..Default::default()
-        })
-        .unwrap();
-    let aabbs: Vec<Aabb> = snap.aabbs.iter().map(to_aabb).collect();
+    let (snap, aabbs) = step_pairs_and_aabbs(&mut gpu);
     let statics: Vec<bool> = shapes.iter().map(GpuShape::is_static).collect();
     let cpu = tumble_broad::sweep_and_prune_filtered(&aabbs, &statics).unwrap();
     // Every cube of the bottom layer touches the floor, and each plank meets cubes and other

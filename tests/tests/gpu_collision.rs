@@ -26,7 +26,7 @@ use tumble_gpu::kernels::{
 use tumble_gpu::layout::{GpuContact, GpuPose, GpuShape, GpuVelocity, WorkList};
 use tumble_gpu::{GpuContext, GpuError, ReadbackRequest, StageTimer};
 use tumble_tests::gpu_scene::{
-    Scene, collision, contact_pairs, random_scene, static_flags, to_aabb,
+    Scene, collision, contact_pairs, random_scene, static_flags, step_pairs_and_aabbs, to_aabb,
 };
 
 #[test]
@@ -187,14 +187,7 @@ fn pairs_equal_cpu(n: usize, seed: u64) {
     };
     let scene = random_scene(n, seed);
     let mut gpu = collision(&ctx, &scene, CollisionConfig::default());
-    let snap = gpu
-        .step_and_read(ReadbackRequest {
-            pairs: true,
-            aabbs: true,
-            ..Default::default()
-        })
-        .unwrap();
-    let aabbs: Vec<Aabb> = snap.aabbs.iter().map(to_aabb).collect();
+    let (snap, aabbs) = step_pairs_and_aabbs(&mut gpu);
     let cpu = tumble_broad::sweep_and_prune_filtered(&aabbs, &static_flags(&scene)).unwrap();
     // A dense pile: the test is only meaningful with plenty of pairs.
     assert!(cpu.len() > n, "only {} pairs", cpu.len());

@@ -15,6 +15,7 @@ use tumble_gpu::layout::GpuPose;
 use tumble_gpu::solver::SolvePath;
 use tumble_gpu::step::{GpuWorld, GpuWorldConfig, PathPolicy, ReadRequest};
 use tumble_solver::{Body, BodyKind, BodyState, Material};
+use tumble_tests::gpu_solver_util::{floor, pose_bits};
 
 /// Steps per run: 5 s at 60 Hz, long enough for the dropped boxes to land, tumble and pile up.
 const STEPS: usize = 300;
@@ -23,16 +24,7 @@ const STEPS: usize = 300;
 /// random spins: contacts appear, change feature and vanish, so colors and warm starts churn.
 fn scene() -> (Vec<Body>, Vec<BodyState>) {
     let mut rng = ChaCha8Rng::seed_from_u64(2024);
-    let mut bodies = vec![
-        Body::new(
-            BodyKind::Fixed,
-            Cuboid::new(Vec3::new(20.0, 0.5, 20.0)),
-            Pose::translation(0.0, -0.5, 0.0),
-            1.0,
-            Material::default(),
-        )
-        .unwrap(),
-    ];
+    let mut bodies = vec![floor(Material::default())];
     for level in 0..4 {
         for i in 0..(4 - level) {
             let x = i as Real * 1.02 - (3 - level) as Real * 0.51;
@@ -133,14 +125,11 @@ fn run(ctx: &GpuContext, path: PathPolicy) -> Vec<GpuPose> {
 fn assert_bitwise_equal(a: &[GpuPose], b: &[GpuPose], what: &str) {
     assert_eq!(a.len(), b.len());
     for (i, (x, y)) in a.iter().zip(b).enumerate() {
-        let bits = |p: &GpuPose| -> Vec<u32> {
-            p.position
-                .iter()
-                .chain(&p.rotation)
-                .map(|c| c.to_bits())
-                .collect()
-        };
-        assert_eq!(bits(x), bits(y), "{what}: body {i} differs: {x:?} vs {y:?}");
+        assert_eq!(
+            pose_bits(x),
+            pose_bits(y),
+            "{what}: body {i} differs: {x:?} vs {y:?}"
+        );
     }
 }
 

@@ -4,10 +4,10 @@
 //! print a loud "skipped" without an adapter unless `TUMBLE_REQUIRE_GPU=1`, which makes it a
 //! failure.
 
-use tumble_geometry::{Cuboid, Pose, Real, Vec3};
+use tumble_geometry::{Real, Vec3};
 use tumble_gpu::GpuContext;
 use tumble_gpu::step::{GpuWorld, GpuWorldConfig, ReadRequest};
-use tumble_solver::{Body, BodyKind, BodyState, Coloring, Material, SolverConfig, finalize_bodies};
+use tumble_solver::{Body, BodyKind, BodyState, Coloring, SolverConfig, finalize_bodies};
 use tumble_tests::gpu_solver_util::{DT, assert_close, cube, gravity};
 
 /// The solver settings of every world here, GPU and CPU twin alike: the default (6 substeps
@@ -156,49 +156,11 @@ const ATTITUDE_SPLIT_PER_SECOND: Real = 1e-5;
 // Scenes that must stand, entirely on the GPU
 // ---------------------------------------------------------------------------------------------
 
-use tumble_scenes::{BodyKind as SceneKind, Scene};
+use tumble_scenes::Scene;
+use tumble_tests::scene_support::bodies_of;
 use tumble_tests::stability::{
     COLUMN_DRIFT, ENERGY_GROWTH, MOMENTUM_TOLERANCE, PYRAMID_DRIFT, REST_SPEED, TEN_SECONDS,
 };
-
-/// The solver's bodies and states of a scene.
-fn bodies_of(scene: &Scene) -> (Vec<Body>, Vec<BodyState>) {
-    scene
-        .bodies
-        .iter()
-        .map(|s| {
-            let kind = match s.kind {
-                SceneKind::Fixed => BodyKind::Fixed,
-                SceneKind::Dynamic => BodyKind::Dynamic,
-                SceneKind::Kinematic => BodyKind::Kinematic,
-            };
-            let [x, y, z, w] = s.rotation;
-            let rotation = tumble_geometry::nalgebra::UnitQuaternion::from_quaternion(
-                tumble_geometry::nalgebra::Quaternion::new(w, x, y, z),
-            );
-            let pose = Pose::from_parts(Vec3::from(s.position).into(), rotation);
-            let material = Material {
-                friction: s.friction,
-                restitution: s.restitution,
-            };
-            let body = Body::new(
-                kind,
-                Cuboid::new(Vec3::from(s.half_extents)),
-                pose,
-                s.density,
-                material,
-            )
-            .unwrap();
-            (
-                body,
-                BodyState::moving(
-                    Vec3::from(s.linear_velocity),
-                    Vec3::from(s.angular_velocity),
-                ),
-            )
-        })
-        .unzip()
-}
 
 /// Steps between drift checks: drift is a slow creep (a column that buckles takes seconds),
 /// so a check every sixth of a second sees it, at a tenth of the readbacks.

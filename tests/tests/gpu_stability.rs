@@ -24,58 +24,45 @@ fn have_gpu() -> bool {
     GpuContext::for_tests().is_some()
 }
 
-macro_rules! gpu_checks {
-    ($name:ident, $backend:expr) => {
+/// A test module `$name` running each `$test: $check` (a `fn(Backend, SolverConfig)`) on
+/// `$backend` with `$solver`, when a GPU is there.
+macro_rules! checks {
+    ($name:ident, $backend:expr, $solver:expr, $($test:ident: $check:expr),+ $(,)?) => {
         mod $name {
             use super::*;
 
-            fn run(check: fn(Backend, SolverConfig)) {
-                if have_gpu() {
-                    check($backend, SolverConfig::default());
+            $(
+                #[test]
+                fn $test() {
+                    let check: fn(Backend, SolverConfig) = $check;
+                    if have_gpu() {
+                        check($backend, $solver);
+                    }
                 }
-            }
-
-            #[test]
-            fn column_of_20_cubes_stands_10_s() {
-                run(|b, s| stability::column_stands(b, s, 20));
-            }
-            #[test]
-            fn cube_100x_denser_stands_on_three() {
-                run(stability::heavy_cube_stands);
-            }
-            #[test]
-            fn box_with_mu_half_sticks_on_a_20_degree_ramp() {
-                run(stability::ramp_box_sticks);
-            }
-            #[test]
-            fn box_with_mu_0_2_slides_at_coulombs_rate() {
-                run(stability::ramp_box_slides);
-            }
-            #[test]
-            fn overlapping_boxes_separate_within_the_push_out_cap() {
-                run(stability::overlapping_boxes_separate);
-            }
-            #[test]
-            fn fast_cube_does_not_pass_a_thin_floor() {
-                run(stability::fast_box_does_not_tunnel);
-            }
-            #[test]
-            fn spinning_box_keeps_its_angular_momentum() {
-                run(stability::spinning_box_keeps_momentum);
-            }
-            #[test]
-            fn bad_bodies_are_rejected() {
-                run(bad_input::bad_bodies_are_rejected);
-            }
-            #[test]
-            fn bad_updates_are_rejected() {
-                run(bad_input::bad_updates_are_rejected);
-            }
-            #[test]
-            fn stale_handles_are_rejected() {
-                run(bad_input::stale_handles_are_rejected);
-            }
+            )+
         }
+    };
+}
+
+/// The default soft-step solver on the checks that fit a software rasterizer's run time.
+macro_rules! gpu_checks {
+    ($name:ident, $backend:expr) => {
+        checks!(
+            $name,
+            $backend,
+            SolverConfig::default(),
+            column_of_20_cubes_stands_10_s: |b, s| stability::column_stands(b, s, 20),
+            cube_100x_denser_stands_on_three: stability::heavy_cube_stands,
+            box_with_mu_half_sticks_on_a_20_degree_ramp: stability::ramp_box_sticks,
+            box_with_mu_0_2_slides_at_coulombs_rate: stability::ramp_box_slides,
+            overlapping_boxes_separate_within_the_push_out_cap:
+                stability::overlapping_boxes_separate,
+            fast_cube_does_not_pass_a_thin_floor: stability::fast_box_does_not_tunnel,
+            spinning_box_keeps_its_angular_momentum: stability::spinning_box_keeps_momentum,
+            bad_bodies_are_rejected: bad_input::bad_bodies_are_rejected,
+            bad_updates_are_rejected: bad_input::bad_updates_are_rejected,
+            stale_handles_are_rejected: bad_input::stale_handles_are_rejected,
+        );
     };
 }
 
@@ -88,24 +75,13 @@ gpu_checks!(hybrid, Backend::Hybrid);
 /// edges, inherits last step's impulse (the GPU carry's position fallback).
 macro_rules! baumgarte_checks {
     ($name:ident, $backend:expr) => {
-        mod $name {
-            use super::*;
-
-            fn run(check: fn(Backend, SolverConfig)) {
-                if have_gpu() {
-                    check($backend, SolverConfig::baumgarte());
-                }
-            }
-
-            #[test]
-            fn column_of_20_cubes_stands_10_s() {
-                run(|b, s| stability::column_stands(b, s, 20));
-            }
-            #[test]
-            fn cube_100x_denser_stands_on_three() {
-                run(stability::heavy_cube_stands);
-            }
-        }
+        checks!(
+            $name,
+            $backend,
+            SolverConfig::baumgarte(),
+            column_of_20_cubes_stands_10_s: |b, s| stability::column_stands(b, s, 20),
+            cube_100x_denser_stands_on_three: stability::heavy_cube_stands,
+        );
     };
 }
 

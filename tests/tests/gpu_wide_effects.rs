@@ -36,6 +36,8 @@ use tumble_gpu::solver::{Effects, SolvePath};
 use tumble_gpu::step::{GpuWorld, GpuWorldConfig, PathPolicy, ReadRequest};
 use tumble_gpu::{GpuContext, KernelSpec};
 use tumble_solver::{Body, BodyKind, BodyState, Material};
+use tumble_tests::gpu_solver_util::floor;
+use tumble_tests::scene_support::thrown_pile_pose;
 
 /// Steps per run: 0.5 s at 60 Hz, in which the bottom layer lands and the thrown boxes
 /// collide, so every stage has work; short because lavapipe, the CI adapter, is slow.
@@ -51,28 +53,13 @@ fn pile(friction: Real, restitution: Real, lock_rotations: bool) -> (Vec<Body>, 
         friction,
         restitution,
     };
-    let mut bodies = vec![
-        Body::new(
-            BodyKind::Fixed,
-            Cuboid::new(Vec3::new(20.0, 0.5, 20.0)),
-            Pose::translation(0.0, -0.5, 0.0),
-            1.0,
-            material,
-        )
-        .unwrap(),
-    ];
+    let mut bodies = vec![floor(material)];
     let mut states = vec![BodyState::default()];
     for i in 0..12 {
-        let (x, y, z) = (
-            (i % 4) as Real * 0.9,
-            0.6 + (i / 4) as Real * 1.1,
-            0.3 * (i % 3) as Real,
-        );
-        let tilt = Rot::from_euler_angles(0.1 * i as Real, 0.2, -0.05 * i as Real);
         let mut body = Body::new(
             BodyKind::Dynamic,
             Cuboid::new(Vec3::repeat(0.5)),
-            Pose::from_parts(Vec3::new(x, y, z).into(), tilt),
+            thrown_pile_pose(i),
             1.0,
             material,
         )
@@ -91,15 +78,14 @@ fn pile(friction: Real, restitution: Real, lock_rotations: bool) -> (Vec<Body>, 
     (bodies, states)
 }
 
-/// Every bit of every body's pose and velocities after [`STEPS`] wide-path steps with
-/// exactly `effects` compiled in, after checking that the scene moved and that locked
-/// rotations stayed locked.
-fn run(
+/// A GPU world of `scene` under `gravity`, held on the wide solver path, with exactly
+/// `effects` compiled in.
+fn wide_world(
     ctx: &GpuContext,
     gravity: Vec3,
     scene: &(Vec<Body>, Vec<BodyState>),
     effects: Effects,
-) -> Vec<u32> {
+) -> GpuWorld {
     let mut world = GpuWorld::new(
         ctx,
         GpuWorldConfig {
@@ -111,6 +97,19 @@ fn run(
     .unwrap();
     world.set_bodies(&scene.0, &scene.1).unwrap();
     world.set_effects(effects).unwrap();
+    world
+}
+
+/// Every bit of every body's pose and velocities after [`STEPS`] wide-path steps with
+/// exactly `effects` compiled in, after checking that the scene moved and that locked
+/// rotations stayed locked.
+fn run(
+    ctx: &GpuContext,
+    gravity: Vec3,
+    scene: &(Vec<Body>, Vec<BodyState>),
+    effects: Effects,
+) -> Vec<u32> {
+    let mut world = wide_world(ctx, gravity, scene, effects);
     for _ in 0..STEPS {
         world.step().unwrap();
     }
@@ -206,18 +205,6 @@ fn wide_gravity_skipped_in_zero_gravity() {
 // effect compiled in whatever the switches say: on and off would then be one program, and
 // equal bits would prove nothing about skipping.
 
-/// A fixed 40 x 1 x 40 m floor whose top is y = 0, of `material`.
-fn floor(material: Material) -> Body {
-    Body::new(
-        BodyKind::Fixed,
-        Cuboid::new(Vec3::new(20.0, 0.5, 20.0)),
-        Pose::translation(0.0, -0.5, 0.0),
-        1.0,
-        material,
-    )
-    .unwrap()
-}
-
 /// A unit cube of `material` at `pose`.
 fn unit_cube(pose: Pose, material: Material) -> Body {
     Body::new(
@@ -253,17 +240,7 @@ fn watch_wide(
     assert_ne!(without, derived, "the scene should need the effect");
     let mut effects = derived;
     set(&mut effects, on);
-    let mut world = GpuWorld::new(
-        ctx,
-        GpuWorldConfig {
-            gravity,
-            path: PathPolicy::Always(SolvePath::Wide),
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    world.set_bodies(&scene.0, &scene.1).unwrap();
-    world.set_effects(effects).unwrap();
+    let mut world = wide_world(ctx, gravity, scene, effects);
     for _ in 0..steps {
         world.step().unwrap();
         let snapshot = world.read_now(ReadRequest::MOTION).unwrap();

@@ -27,6 +27,7 @@
 use tumble::prelude::*;
 use tumble_scenes::builders::common::{floor, unit_cube};
 use tumble_scenes::{RapierOptions, Scene, build_rapier_with, pyramid, stack, wall};
+use tumble_tests::scene_support::horizontal_drift;
 
 /// One engine's run of one scene.
 struct Outcome {
@@ -36,21 +37,6 @@ struct Outcome {
     drift: f32,
     /// Largest drop of any dynamic body's centre below its start at the end, m.
     sag: f32,
-}
-
-/// The largest horizontal (x-z) displacement of any dynamic body from its scene position.
-fn horizontal_drift(scene: &Scene, positions: &[[f32; 3]]) -> f32 {
-    scene
-        .bodies
-        .iter()
-        .zip(positions)
-        .filter(|(spec, _)| spec.is_dynamic())
-        .map(|(spec, p)| {
-            let dx = p[0] - spec.position[0];
-            let dz = p[2] - spec.position[2];
-            (dx * dx + dz * dz).sqrt()
-        })
-        .fold(0.0, f32::max)
 }
 
 /// The largest drop of any dynamic body's centre below its scene position.

@@ -21,6 +21,7 @@ use std::time::Instant;
 
 use tumble::prelude::*;
 use tumble_scenes::{RapierOptions, Scene, SceneCheck, build_rapier_with, pyramid, stack};
+use tumble_tests::scene_support::horizontal_drift;
 
 /// One solver setting: its label in the table and how to run it.
 #[derive(Clone, Copy)]
@@ -101,21 +102,6 @@ fn scene_named(name: &str) -> Scene {
         return pyramid(h.parse().expect("pyramidH"));
     }
     panic!("unknown scene {name}: stackN or pyramidH")
-}
-
-/// The largest horizontal (x-z) displacement of any dynamic body from its scene position.
-fn horizontal_drift(scene: &Scene, positions: &[[f32; 3]]) -> f32 {
-    scene
-        .bodies
-        .iter()
-        .zip(positions)
-        .filter(|(spec, _)| spec.is_dynamic())
-        .map(|(spec, p)| {
-            let dx = p[0] - spec.position[0];
-            let dz = p[2] - spec.position[2];
-            (dx * dx + dz * dz).sqrt()
-        })
-        .fold(0.0, f32::max)
 }
 
 /// What one row measured.

@@ -67,6 +67,29 @@ struct Case {
     threshold: Real,
 }
 
+impl Case {
+    /// The constraint, the two states, the pass and the restitution threshold.
+    fn parts(self) -> (ContactConstraint, BodyState, BodyState, PassContext, Real) {
+        (self.c, self.a, self.b, self.pass, self.threshold)
+    }
+}
+
+/// The reference's pass over `r` with the kernel pass's parameters.
+fn reference_pass(
+    r: &mut RefConstraint,
+    ra: &mut RefState,
+    rb: &mut RefState,
+    pass: &PassContext,
+) -> Branches {
+    r.solve(
+        ra,
+        rb,
+        pass.inv_h.into(),
+        pass.use_bias,
+        pass.max_push_out.into(),
+    )
+}
+
 fn random_case(rng: &mut ChaCha8Rng) -> Case {
     let kinds = match rng.random_range(0..10) {
         0..=4 => (BodyKind::Dynamic, BodyKind::Dynamic),
@@ -235,13 +258,7 @@ fn kernels_match_the_reference_on_random_constraints() {
     let mut rng = ChaCha8Rng::seed_from_u64(2024);
     let mut seen = Branches::default();
     for case in 0..1500 {
-        let Case {
-            mut c,
-            mut a,
-            mut b,
-            pass,
-            threshold,
-        } = random_case(&mut rng);
+        let (mut c, mut a, mut b, pass, threshold) = random_case(&mut rng).parts();
         let mut r = RefConstraint::from(&c);
         let (mut ra, mut rb) = (RefState::from(&a), RefState::from(&b));
 
@@ -250,25 +267,12 @@ fn kernels_match_the_reference_on_random_constraints() {
         agree("warm start", case, &c, &a, &b, &r, &ra, &rb);
 
         solve_contact(&mut c, &mut a, &mut b, &pass);
-        let br = r.solve(
-            &mut ra,
-            &mut rb,
-            pass.inv_h.into(),
-            pass.use_bias,
-            pass.max_push_out.into(),
-        );
-        seen.add(&br);
+        seen.add(&reference_pass(&mut r, &mut ra, &mut rb, &pass));
         agree("first pass", case, &c, &a, &b, &r, &ra, &rb);
 
         // A second pass starts from accumulated impulses (the clamps act on the sums).
         solve_contact(&mut c, &mut a, &mut b, &pass);
-        seen.add(&r.solve(
-            &mut ra,
-            &mut rb,
-            pass.inv_h.into(),
-            pass.use_bias,
-            pass.max_push_out.into(),
-        ));
+        seen.add(&reference_pass(&mut r, &mut ra, &mut rb, &pass));
         agree("second pass", case, &c, &a, &b, &r, &ra, &rb);
 
         let relax = PassContext {
@@ -276,13 +280,7 @@ fn kernels_match_the_reference_on_random_constraints() {
             ..pass
         };
         solve_contact(&mut c, &mut a, &mut b, &relax);
-        seen.add(&r.solve(
-            &mut ra,
-            &mut rb,
-            relax.inv_h.into(),
-            false,
-            relax.max_push_out.into(),
-        ));
+        seen.add(&reference_pass(&mut r, &mut ra, &mut rb, &relax));
         agree("relax pass", case, &c, &a, &b, &r, &ra, &rb);
 
         restitution_contact(&mut c, &mut a, &mut b, threshold);
@@ -318,13 +316,7 @@ fn contact_passes_conserve_linear_and_angular_momentum() {
     let mut rng = ChaCha8Rng::seed_from_u64(99);
     let mut checked = 0;
     for _ in 0..1000 {
-        let Case {
-            mut c,
-            mut a,
-            mut b,
-            pass,
-            threshold,
-        } = random_case(&mut rng);
+        let (mut c, mut a, mut b, pass, threshold) = random_case(&mut rng).parts();
         // Locked axes take up momentum (they are constraints to the world): skip them.
         let free = c.dynamic_a
             && c.dynamic_b

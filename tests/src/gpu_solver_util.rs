@@ -32,22 +32,22 @@ pub fn floor(material: Material) -> Body {
     .unwrap()
 }
 
+/// Every bit of `parts`, in order, for bitwise comparisons.
+fn bits(parts: &[&[f32]]) -> Vec<u32> {
+    parts
+        .iter()
+        .flat_map(|p| p.iter().map(|c| c.to_bits()))
+        .collect()
+}
+
 /// Every bit of a GPU pose (position, then rotation), for bitwise comparisons.
 pub fn pose_bits(p: &GpuPose) -> Vec<u32> {
-    p.position
-        .iter()
-        .chain(&p.rotation)
-        .map(|c| c.to_bits())
-        .collect()
+    bits(&[&p.position, &p.rotation])
 }
 
 /// Every bit of a GPU velocity (linear, then angular), for bitwise comparisons.
 pub fn velocity_bits(v: &GpuVelocity) -> Vec<u32> {
-    v.linear
-        .iter()
-        .chain(&v.angular)
-        .map(|c| c.to_bits())
-        .collect()
+    bits(&[&v.linear, &v.angular])
 }
 
 /// Earth gravity along -y, m/s^2.

@@ -24,23 +24,31 @@ fn have_gpu() -> bool {
     GpuContext::for_tests().is_some()
 }
 
-/// A test module `$name` running each `$test: $check` (a `fn(Backend, SolverConfig)`) on
-/// `$backend` with `$solver`, when a GPU is there.
+/// A test module `$name` running the column of 20 and the 100:1 mass ratio, then each
+/// `$test: $check` (a `fn(Backend, SolverConfig)`), on `$backend` with `$solver`, when a GPU is
+/// there.
 macro_rules! checks {
-    ($name:ident, $backend:expr, $solver:expr, $($test:ident: $check:expr),+ $(,)?) => {
+    ($name:ident, $backend:expr, $solver:expr $(, $test:ident: $check:expr)* $(,)?) => {
         mod $name {
             use super::*;
 
-            $(
-                #[test]
-                fn $test() {
-                    let check: fn(Backend, SolverConfig) = $check;
-                    if have_gpu() {
-                        check($backend, $solver);
-                    }
-                }
-            )+
+            checks!(@tests $backend, $solver,
+                column_of_20_cubes_stands_10_s: |b, s| stability::column_stands(b, s, 20),
+                cube_100x_denser_stands_on_three: stability::heavy_cube_stands,
+                $($test: $check,)*
+            );
         }
+    };
+    (@tests $backend:expr, $solver:expr, $($test:ident: $check:expr,)+) => {
+        $(
+            #[test]
+            fn $test() {
+                let check: fn(Backend, SolverConfig) = $check;
+                if have_gpu() {
+                    check($backend, $solver);
+                }
+            }
+        )+
     };
 }
 
@@ -51,8 +59,6 @@ macro_rules! gpu_checks {
             $name,
             $backend,
             SolverConfig::default(),
-            column_of_20_cubes_stands_10_s: |b, s| stability::column_stands(b, s, 20),
-            cube_100x_denser_stands_on_three: stability::heavy_cube_stands,
             box_with_mu_half_sticks_on_a_20_degree_ramp: stability::ramp_box_sticks,
             box_with_mu_0_2_slides_at_coulombs_rate: stability::ramp_box_slides,
             overlapping_boxes_separate_within_the_push_out_cap:
@@ -75,13 +81,7 @@ gpu_checks!(hybrid, Backend::Hybrid);
 /// edges, inherits last step's impulse (the GPU carry's position fallback).
 macro_rules! baumgarte_checks {
     ($name:ident, $backend:expr) => {
-        checks!(
-            $name,
-            $backend,
-            SolverConfig::baumgarte(),
-            column_of_20_cubes_stands_10_s: |b, s| stability::column_stands(b, s, 20),
-            cube_100x_denser_stands_on_three: stability::heavy_cube_stands,
-        );
+        checks!($name, $backend, SolverConfig::baumgarte());
     };
 }
 

@@ -150,24 +150,24 @@ pub fn check_sleep(base: WorldConfig) {
     );
 }
 
-#[test]
-fn friction_forced_off_lets_a_thrown_cube_slide_on() {
-    check_friction(WorldConfig::default());
+/// `#[test] fn $name` running `$check` on the default (CPU) world config.
+macro_rules! cpu_tests {
+    ($($name:ident => $check:ident;)+) => {
+        $(
+            #[test]
+            fn $name() {
+                $check(WorldConfig::default());
+            }
+        )+
+    };
 }
 
-#[test]
-fn restitution_forced_off_stops_the_bounce() {
-    check_restitution(WorldConfig::default());
-}
-
-#[test]
-fn gravity_forced_off_leaves_a_cube_in_the_air() {
-    check_gravity(WorldConfig::default());
-}
-
-#[test]
-fn sleep_forced_off_lets_a_creeping_cube_creep_on() {
-    check_sleep(WorldConfig::default());
+cpu_tests! {
+    friction_forced_off_lets_a_thrown_cube_slide_on => check_friction;
+    restitution_forced_off_stops_the_bounce => check_restitution;
+    gravity_forced_off_leaves_a_cube_in_the_air => check_gravity;
+    sleep_forced_off_lets_a_creeping_cube_creep_on => check_sleep;
+    rotation_forced_off_keeps_a_tipped_cube_from_turning => check_tipped_cube;
 }
 
 #[test]
@@ -207,11 +207,6 @@ fn rotation_forced_off_stops_every_spin() {
     let (off, turned_off) = spin(EffectSwitch::Off);
     assert_eq!(off, 0.0, "rotation off: spin {off} rad/s");
     assert_eq!(turned_off, 0.0, "rotation off: turned {turned_off} rad");
-}
-
-#[test]
-fn rotation_forced_off_keeps_a_tipped_cube_from_turning() {
-    check_tipped_cube(WorldConfig::default());
 }
 
 /// Tilt of the tipped cube about z, rad: under 45 degrees its centre lies beside the edge

@@ -22,69 +22,38 @@ fn gpu_config(gravity: Vec3) -> Option<WorldConfig> {
 
 const G: Vec3 = Vec3::new(0.0, -tumble::STANDARD_GRAVITY, 0.0);
 
-#[test]
-fn friction_skipped_in_a_frictionless_pool() {
-    if let Some(base) = gpu_config(G) {
-        FRICTION.same_bits_on_and_off(base);
-    }
+/// `#[test] fn $name` running `$check` on the GPU backend's config with `$gravity`; without
+/// an adapter it does nothing (after [`GpuContext::for_tests`]'s loud "skipped").
+macro_rules! gpu_tests {
+    ($($name:ident($gravity:expr) => $check:expr;)+) => {
+        $(
+            #[test]
+            fn $name() {
+                let check: fn(WorldConfig) = $check;
+                if let Some(base) = gpu_config($gravity) {
+                    check(base);
+                }
+            }
+        )+
+    };
 }
 
-#[test]
-fn restitution_skipped_when_nothing_bounces() {
-    if let Some(base) = gpu_config(G) {
-        RESTITUTION.same_bits_on_and_off(base);
-    }
-}
-
-#[test]
-fn gravity_skipped_in_zero_gravity() {
-    if let Some(base) = gpu_config(Vec3::zeros()) {
-        GRAVITY.same_bits_on_and_off(base);
-    }
-}
-
-#[test]
-fn rotation_skipped_when_every_rotation_is_locked() {
-    if let Some(base) = gpu_config(G) {
-        ROTATION.same_bits_on_and_off(base);
-    }
+gpu_tests! {
+    friction_skipped_in_a_frictionless_pool(G) => |base| FRICTION.same_bits_on_and_off(base);
+    restitution_skipped_when_nothing_bounces(G) => |base| RESTITUTION.same_bits_on_and_off(base);
+    gravity_skipped_in_zero_gravity(Vec3::zeros()) => |base| GRAVITY.same_bits_on_and_off(base);
+    rotation_skipped_when_every_rotation_is_locked(G) =>
+        |base| ROTATION.same_bits_on_and_off(base);
 }
 
 // The other side on the GPU step (the facade's path: the fused solver on a small scene;
 // gpu_wide_effects.rs checks the wide one): the same scenes and bounds as on the CPU.
 // Kinematic handling has no GPU switch (its sleep stage always checks kinematic bodies).
 
-#[test]
-fn friction_forced_off_lets_a_thrown_cube_slide_on() {
-    if let Some(base) = gpu_config(G) {
-        check_friction(base);
-    }
-}
-
-#[test]
-fn restitution_forced_off_stops_the_bounce() {
-    if let Some(base) = gpu_config(G) {
-        check_restitution(base);
-    }
-}
-
-#[test]
-fn gravity_forced_off_leaves_a_cube_in_the_air() {
-    if let Some(base) = gpu_config(G) {
-        check_gravity(base);
-    }
-}
-
-#[test]
-fn sleep_forced_off_lets_a_creeping_cube_creep_on() {
-    if let Some(base) = gpu_config(G) {
-        check_sleep(base);
-    }
-}
-
-#[test]
-fn rotation_forced_off_keeps_a_tipped_cube_from_turning() {
-    if let Some(base) = gpu_config(G) {
-        check_tipped_cube(base);
-    }
+gpu_tests! {
+    friction_forced_off_lets_a_thrown_cube_slide_on(G) => check_friction;
+    restitution_forced_off_stops_the_bounce(G) => check_restitution;
+    gravity_forced_off_leaves_a_cube_in_the_air(G) => check_gravity;
+    sleep_forced_off_lets_a_creeping_cube_creep_on(G) => check_sleep;
+    rotation_forced_off_keeps_a_tipped_cube_from_turning(G) => check_tipped_cube;
 }

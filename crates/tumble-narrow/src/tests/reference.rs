@@ -246,22 +246,16 @@ pub struct NearestVertex {
 pub fn nearest_vertex(a: &Box64, b: &Box64) -> NearestVertex {
     let mut all: Vec<NearestVertex> = Vec::with_capacity(16);
     for v in 0..8 {
-        let vb = b.vertex(v);
-        let on_a = a.closest_point(&vb);
-        all.push(NearestVertex {
-            on_a: false,
-            vertex: v,
-            distance: (vb - on_a).norm(),
-            runner_up: 0.0,
-        });
-        let va = a.vertex(v);
-        let on_b = b.closest_point(&va);
-        all.push(NearestVertex {
-            on_a: true,
-            vertex: v,
-            distance: (on_b - va).norm(),
-            runner_up: 0.0,
-        });
+        // B's vertex against A's box, then A's vertex against B's.
+        for (on_a, vertex_of, other) in [(false, b, a), (true, a, b)] {
+            let p = vertex_of.vertex(v);
+            all.push(NearestVertex {
+                on_a,
+                vertex: v,
+                distance: (p - other.closest_point(&p)).norm(),
+                runner_up: 0.0,
+            });
+        }
     }
     all.sort_by(|x, y| x.distance.total_cmp(&y.distance));
     NearestVertex {

@@ -23,9 +23,7 @@ pub(super) fn check_call(
     if manifold != polygon.map(|p| p.to_manifold()) {
         st.fail(format!("{label}: manifold is not the reduced polygon"));
     }
-    if previous.is_none()
-        && collide_cuboids(box_a, pose_a, box_b, pose_b, MARGIN) != manifold
-    {
+    if previous.is_none() && collide_cuboids(box_a, pose_a, box_b, pose_b, MARGIN) != manifold {
         st.fail(format!("{label}: no history differs from collide_cuboids"));
     }
 

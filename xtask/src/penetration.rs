@@ -74,6 +74,7 @@ mod tests {
     use crate::scene_info::BodyInfo;
     use tumble_geometry::{Pose, Rot, Vec3};
 
+    /// Unit cubes at `poses`, dynamic where `dynamic` says, at rest.
     fn scene_of(poses: &[Pose], dynamic: &[bool]) -> (SceneInfo, Vec<BodyState>) {
         let half = Vec3::new(0.5, 0.5, 0.5);
         let bodies = poses
@@ -81,6 +82,16 @@ mod tests {
             .zip(dynamic)
             .map(|(p, &d)| BodyInfo::cuboid(d, half, 1.0, *p))
             .collect();
+        scene_at_rest("t", bodies, poses)
+    }
+
+    /// A scene named `name` of `bodies` under Earth gravity at 60 Hz, each at rest at its pose
+    /// in `poses`.
+    fn scene_at_rest(
+        name: &str,
+        bodies: Vec<BodyInfo>,
+        poses: &[Pose],
+    ) -> (SceneInfo, Vec<BodyState>) {
         let states = poses
             .iter()
             .map(|p| BodyState {
@@ -90,7 +101,7 @@ mod tests {
             })
             .collect();
         let scene = SceneInfo {
-            name: "t".into(),
+            name: name.into(),
             bodies,
             gravity: Vec3::new(0.0, -9.81, 0.0),
             dt: 1.0 / 60.0,
@@ -146,20 +157,7 @@ mod tests {
             BodyInfo::cuboid(false, Vec3::new(50.0, 0.5, 50.0), 0.0, floor),
             BodyInfo::cuboid(true, Vec3::new(0.5, 0.5, 0.5), 1.0, cube),
         ];
-        let states: Vec<BodyState> = [floor, cube]
-            .iter()
-            .map(|p| BodyState {
-                pose: *p,
-                linear_velocity: Vec3::zeros(),
-                angular_velocity: Vec3::zeros(),
-            })
-            .collect();
-        let scene = SceneInfo {
-            name: "floor".into(),
-            bodies,
-            gravity: Vec3::new(0.0, -9.81, 0.0),
-            dt: 1.0 / 60.0,
-        };
+        let (scene, states) = scene_at_rest("floor", bodies, &[floor, cube]);
         let expected = scene.bodies[1].half_extent_along(&cube, &Vec3::y()) - cube.translation.y;
         assert!((expected - 1.15e-4).abs() < 1e-5, "{expected}");
         let s = measure_penetration(&scene, &states);

@@ -3,7 +3,7 @@
 //! body touching 100 others and long shuffled chains among them), a chain too long for the
 //! search's rounds is reported unfinished and puts no one to sleep, and the whole stage
 //! (wakes, rest times, kinematic wakes, falling asleep) equals `SleepCpu` step by step. The
-//! whole-step tests are in `gpu_sleep.rs`.
+//! whole-step tests are in `gpu_sleep/`.
 //!
 //! Needs a GPU (or lavapipe): without one it prints a loud "skipped" unless
 //! `TUMBLE_REQUIRE_GPU=1`, which makes a missing adapter a failure.

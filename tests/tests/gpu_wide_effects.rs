@@ -1,4 +1,4 @@
-//! The effects contract of `effects.rs` on the GPU solver's wide path (one dispatch per color
+//! The effects contract of `effects/` on the GPU solver's wide path (one dispatch per color
 //! and pass, separate pipelines for the body and constraint stages), which the facade only
 //! takes for large scenes: for a scene that does not use an effect, the step with the effect
 //! compiled in and the step with it compiled out end with the same bits.
@@ -45,7 +45,7 @@ const STEPS: usize = 30;
 
 const G: Vec3 = Vec3::new(0.0, -9.81, 0.0);
 
-/// The scene of `effects.rs`: a floor and a loose pile of twelve tilted boxes thrown
+/// The scene of `effects/`: a floor and a loose pile of twelve tilted boxes thrown
 /// sideways, spinning unless `lock_rotations` (then a locked body is given no spin, as the
 /// facade masks it).
 fn pile(friction: Real, restitution: Real, lock_rotations: bool) -> (Vec<Body>, Vec<BodyState>) {

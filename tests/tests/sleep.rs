@@ -10,10 +10,26 @@ const HEIGHT: usize = 4;
 /// Column spacing, m: 0.5 m gaps keep the columns apart, so each column is its own island.
 const SPACING: Real = 1.5;
 
-fn sleepy_world() -> World {
+/// The backends whose sleep stage is the CPU's (`Backend::Gpu` sleeps on the GPU:
+/// gpu_sleep.rs).
+const BACKENDS: [Backend; 2] = [Backend::Cpu, Backend::Hybrid];
+
+/// A world on `backend` with sleep on and a floor, or `None` when the backend needs a GPU and
+/// there is none (a failure under `TUMBLE_REQUIRE_GPU=1`).
+fn sleepy_world(backend: Backend) -> Option<World> {
     let mut config = WorldConfig::default();
     config.effects.sleep = EffectSwitch::On;
-    let mut world = World::new(config).unwrap();
+    config.backend = backend;
+    let mut world = match World::new(config) {
+        Ok(world) => world,
+        Err(e @ tumble::Error::BackendUnavailable { .. })
+            if std::env::var("TUMBLE_REQUIRE_GPU").as_deref() != Ok("1") =>
+        {
+            eprintln!("skipped {backend:?}: {e}");
+            return None;
+        }
+        Err(e) => panic!("{backend:?}: {e}"),
+    };
     world
         .add_body(
             BodyDesc::fixed()
@@ -21,7 +37,7 @@ fn sleepy_world() -> World {
                 .translation(0.0, -0.5, 0.0),
         )
         .unwrap();
-    world
+    Some(world)
 }
 
 /// `SIDE x SIDE` columns of `HEIGHT` unit cubes, each cube 1 cm above the one below; the
@@ -57,12 +73,21 @@ fn steps_until_asleep(world: &mut World, hs: &[BodyHandle], limit: usize) -> Opt
 
 #[test]
 fn a_resting_pool_falls_asleep_and_stays_put() {
-    let mut world = sleepy_world();
+    for backend in BACKENDS {
+        a_resting_pool_falls_asleep_and_stays_put_on(backend);
+    }
+}
+
+fn a_resting_pool_falls_asleep_and_stays_put_on(backend: Backend) {
+    let Some(mut world) = sleepy_world(backend) else {
+        return;
+    };
     let cols = columns(&mut world);
     let all: Vec<BodyHandle> = cols.concat();
     // Settling from 1 cm gaps takes a fraction of a second; then TIME_TO_SLEEP at rest.
     // Three seconds leaves room for both and fails if the pool never comes to rest.
-    let n = steps_until_asleep(&mut world, &all, 180).expect("the pool never slept");
+    let n = steps_until_asleep(&mut world, &all, 180)
+        .unwrap_or_else(|| panic!("{backend:?}: the pool never slept"));
     assert!(n as Real * world.config().dt >= TIME_TO_SLEEP);
     assert_eq!(world.sleeping_count(), all.len());
     // Asleep, the boxes do not move by a single bit.
@@ -86,9 +111,18 @@ fn a_resting_pool_falls_asleep_and_stays_put() {
 
 #[test]
 fn a_box_dropped_on_the_pile_wakes_only_the_island_it_touches() {
-    let mut world = sleepy_world();
+    for backend in BACKENDS {
+        a_box_dropped_on_the_pile_wakes_only_the_island_it_touches_on(backend);
+    }
+}
+
+fn a_box_dropped_on_the_pile_wakes_only_the_island_it_touches_on(backend: Backend) {
+    let Some(mut world) = sleepy_world(backend) else {
+        return;
+    };
     let cols = columns(&mut world);
-    steps_until_asleep(&mut world, &cols.concat(), 180).expect("the pool never slept");
+    steps_until_asleep(&mut world, &cols.concat(), 180)
+        .unwrap_or_else(|| panic!("{backend:?}: the pool never slept"));
     let top = world.pose(cols[0][HEIGHT - 1]).unwrap().translation.vector;
     let dropped = world
         .add_body(BodyDesc::dynamic().translation(top.x, top.y + 2.0, top.z))
@@ -114,14 +148,24 @@ fn a_box_dropped_on_the_pile_wakes_only_the_island_it_touches() {
     // And the woken island falls asleep again.
     let mut island = cols[0].clone();
     island.push(dropped);
-    steps_until_asleep(&mut world, &island, 120).expect("the woken column never slept again");
+    steps_until_asleep(&mut world, &island, 120)
+        .unwrap_or_else(|| panic!("{backend:?}: the woken column never slept again"));
 }
 
 #[test]
 fn user_changes_wake_the_island() {
-    let mut world = sleepy_world();
+    for backend in BACKENDS {
+        user_changes_wake_the_island_on(backend);
+    }
+}
+
+fn user_changes_wake_the_island_on(backend: Backend) {
+    let Some(mut world) = sleepy_world(backend) else {
+        return;
+    };
     let cols = columns(&mut world);
-    steps_until_asleep(&mut world, &cols.concat(), 180).expect("the pool never slept");
+    steps_until_asleep(&mut world, &cols.concat(), 180)
+        .unwrap_or_else(|| panic!("{backend:?}: the pool never slept"));
     // Each change is made to the top cube of its own column; the whole column wakes (its
     // base too), and the columns not touched yet stay asleep.
     let top = |c: usize| cols[c][HEIGHT - 1];
@@ -165,9 +209,18 @@ fn user_changes_wake_the_island() {
 
 #[test]
 fn a_moving_kinematic_body_wakes_what_it_reaches() {
-    let mut world = sleepy_world();
+    for backend in BACKENDS {
+        a_moving_kinematic_body_wakes_what_it_reaches_on(backend);
+    }
+}
+
+fn a_moving_kinematic_body_wakes_what_it_reaches_on(backend: Backend) {
+    let Some(mut world) = sleepy_world(backend) else {
+        return;
+    };
     let cols = columns(&mut world);
-    steps_until_asleep(&mut world, &cols.concat(), 180).expect("the pool never slept");
+    steps_until_asleep(&mut world, &cols.concat(), 180)
+        .unwrap_or_else(|| panic!("{backend:?}: the pool never slept"));
     // A kinematic pusher sliding along +x at floor level toward the first row of columns.
     let pusher = world
         .add_body(
@@ -191,18 +244,27 @@ fn a_moving_kinematic_body_wakes_what_it_reaches() {
 
 #[test]
 fn neighbours_a_few_millimetres_apart_sleep_together() {
+    for backend in BACKENDS {
+        neighbours_a_few_millimetres_apart_sleep_together_on(backend);
+    }
+}
+
+fn neighbours_a_few_millimetres_apart_sleep_together_on(backend: Backend) {
     // Two cubes 5 mm apart, the second dropped from 0.5 m so the first falls asleep before it
     // lands: inside the 2 cm speculative margin, so they share a manifold
     // without touching. Were that manifold to wake a sleeping neighbour without linking the
     // two into one island, each would wake the other in turn and neither would stay asleep.
-    let mut world = sleepy_world();
+    let Some(mut world) = sleepy_world(backend) else {
+        return;
+    };
     let a = world
         .add_body(BodyDesc::dynamic().translation(0.0, 0.5, 0.0))
         .unwrap();
     let b = world
         .add_body(BodyDesc::dynamic().translation(1.005, 1.0, 0.0))
         .unwrap();
-    steps_until_asleep(&mut world, &[a, b], 120).expect("the pair never slept");
+    steps_until_asleep(&mut world, &[a, b], 120)
+        .unwrap_or_else(|| panic!("{backend:?}: the pair never slept"));
     for _ in 0..120 {
         world.step().unwrap();
         assert!(world.is_sleeping(a).unwrap() && world.is_sleeping(b).unwrap());

@@ -1,5 +1,5 @@
-//! Tumble's broad phase: sweep-and-prune over axis-aligned boxes, and the brute-force
-//! reference it must equal.
+//! Tumble's broad phase: each box's AABB for the step ([`update_aabbs`]), sweep-and-prune
+//! over them, and the brute-force reference it must equal.
 //!
 //! Contract shared by every function here (and by the GPU kernels that mirror them): the
 //! result lists each overlapping pair once as `(i, j)` with `i < j` (indices into the input
@@ -10,6 +10,7 @@
 mod brute_force;
 mod error;
 mod filter;
+mod motion;
 mod sweep_and_prune;
 mod sweep_axis;
 #[cfg(test)]
@@ -17,5 +18,7 @@ mod tests;
 
 pub use brute_force::{brute_force_pairs, brute_force_pairs_filtered};
 pub use error::BroadPhaseError;
+pub use filter::wanted as is_wanted_pair;
+pub use motion::{motion_aabb, update_aabbs};
 pub use sweep_and_prune::{SweepAndPrune, sweep_and_prune, sweep_and_prune_filtered};
 pub use sweep_axis::sweep_axis;

@@ -21,6 +21,7 @@ mod collide;
 mod edge_contact;
 mod face_contact;
 pub mod feature_id;
+mod margin;
 mod sat;
 pub mod tolerance;
 mod vertex_contact;
@@ -36,6 +37,7 @@ pub use collide::{
 };
 pub use edge_contact::{EdgeContact, edge_contact, support_edge};
 pub use face_contact::{FaceContact, face_contact};
+pub use margin::{BoxMotion, pair_margin};
 pub use sat::{
     SatAxis, SatQuery, axis_separation, edge_axis, face_a_separation, face_b_separation,
 };

@@ -6,6 +6,10 @@
 //! mirror them one to one: [`prepare_contact`], [`integrate_velocities`],
 //! [`warm_start_contact`], [`solve_contact`], [`integrate_positions`],
 //! [`restitution_contact`], [`ContactConstraint::store_impulses`], [`finalize_bodies`].
+//!
+//! The step's stages are named once, in order, by [`Stage`]; [`stages`] holds the CPU stages
+//! on the body arrays (narrow phase through the [`ContactCache`], top-down coloring, finish)
+//! and [`SleepState`] the islands, rest timers and wake rules of the sleep stage.
 #![warn(missing_docs)]
 
 mod body;
@@ -25,6 +29,8 @@ mod material;
 mod sleep;
 mod softness;
 mod solve;
+mod stage;
+pub mod stages;
 mod sweep;
 mod tangent_basis;
 #[cfg(test)]
@@ -58,9 +64,13 @@ pub use integrate::{
 pub use islands::Islands;
 pub use mass::MassProperties;
 pub use material::{DEFAULT_FRICTION, Material, mix_friction, mix_restitution};
-pub use sleep::{ANGULAR_SLEEP_TOLERANCE, LINEAR_SLEEP_TOLERANCE, TIME_TO_SLEEP, is_resting};
+pub use sleep::{
+    ANGULAR_SLEEP_TOLERANCE, AWAKE, Gathered, LINEAR_SLEEP_TOLERANCE, SleepState, TIME_TO_SLEEP,
+    is_resting,
+};
 pub use softness::Softness;
 pub use solve::{SolveStats, solve, solve_with_effects};
+pub use stage::Stage;
 pub use sweep::{Batch, sweep};
 pub use tangent_basis::tangent_basis;
 

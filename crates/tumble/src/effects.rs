@@ -115,7 +115,7 @@ impl EffectOverrides {
 impl World {
     /// The effects the next step runs: what the bodies need, with the config's overrides.
     pub fn effects(&self) -> Effects {
-        let derived = Effects::of_bodies(&self.bodies, &self.config.gravity);
+        let derived = Effects::of_bodies(&self.host.bodies, &self.config.gravity);
         self.config.effects.resolve(derived)
     }
 }

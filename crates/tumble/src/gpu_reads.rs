@@ -15,11 +15,12 @@ use std::sync::atomic::{AtomicU8, Ordering};
 use std::sync::{Mutex, OnceLock};
 use std::time::Duration;
 
-use tumble_geometry::{Pose, Real};
+use tumble_geometry::Pose;
 use tumble_gpu::GpuError;
 use tumble_gpu::step::{GpuWorld, ReadRequest, Snapshot};
-use tumble_solver::{BodyState, Contact};
+use tumble_solver::{BodyState, Contact, Stage};
 
+use crate::backend::pipeline::max_penetration;
 use crate::{BodyHandle, StageTimings, StepStats};
 
 /// Which parts of a step's results are read (or to be copied).
@@ -295,28 +296,18 @@ impl Unread {
     }
 }
 
-/// GPU stage times (timestamps) folded into the facade's stages.
+/// GPU stage times (timestamps) folded into the facade's stages: a timestamp named after a
+/// [`Stage`] (or `"stage: part"`, as the sleep stage's kernels are) counts for that stage; the
+/// rest (prepare, the substeps, the fused kernel, queued impulses) for the solve.
 pub(crate) fn stage_timings(stages: &[(&'static str, f64)]) -> StageTimings {
     let mut t = StageTimings::default();
     for &(name, seconds) in stages {
-        let d = Duration::from_secs_f64(seconds);
-        match name {
-            "update_aabbs" => t.update_aabbs += d,
-            "broad_phase" => t.broad_phase += d,
-            "narrow_phase" => t.narrow_phase += d,
-            "color" => t.color += d,
-            "finish" => t.finish += d,
-            // prepare, the substeps, the fused kernel, queued impulses.
-            _ => t.solve += d,
-        }
+        let stage = name
+            .split(':')
+            .next()
+            .and_then(|n| Stage::from_name(n.trim()))
+            .unwrap_or(Stage::Solve);
+        t[stage] += Duration::from_secs_f64(seconds);
     }
     t
-}
-
-/// The deepest overlap among `contacts`, m.
-pub(crate) fn max_penetration(contacts: &[Contact]) -> Real {
-    contacts
-        .iter()
-        .map(|c| c.manifold.max_depth())
-        .fold(0.0, Real::max)
 }

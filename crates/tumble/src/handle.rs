@@ -25,6 +25,14 @@ impl BodyHandle {
     pub fn to_bits(&self) -> u64 {
         (u64::from(self.generation) << 32) | u64::from(self.index)
     }
+
+    /// The handle whose [`BodyHandle::to_bits`] is `bits`.
+    pub fn from_bits(bits: u64) -> Self {
+        Self {
+            index: bits as u32,
+            generation: (bits >> 32) as u32,
+        }
+    }
 }
 
 /// One slot: its current generation and, while alive, the body's index in the dense arrays.
@@ -83,6 +91,12 @@ impl HandleMap {
             Some(d) if slot.generation == h.generation => Ok(d as usize),
             _ => Err(Error::RemovedHandle(h)),
         }
+    }
+
+    /// The dense index of the live body whose handle has `bits` as its
+    /// [`BodyHandle::to_bits`]; `None` for a removed or unknown body.
+    pub(crate) fn dense_of_bits(&self, bits: u64) -> Option<usize> {
+        self.dense(BodyHandle::from_bits(bits)).ok()
     }
 
     /// Removes a live handle whose body sits at dense index `d`, mirroring a `swap_remove` of

@@ -16,12 +16,12 @@
 //! ```
 #![warn(missing_docs)]
 
+mod backend;
 mod body_desc;
 mod config;
 mod contact_report;
 mod effects;
 mod error;
-mod gpu_backend;
 mod gpu_reads;
 mod handle;
 mod scene;

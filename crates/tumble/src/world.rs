@@ -1,58 +1,39 @@
-//! The world: bodies, configuration, and the step as a sequence of stages.
+//! The world: bodies, configuration, and the step, run by the world's backend.
 
-use std::time::Instant;
-
-use tumble_broad::SweepAndPrune;
 use tumble_geometry::Real;
-use tumble_solver::{Body, BodyState, Contact, ContactCache};
 
+use crate::backend::{Host, StepBackend, new_backend};
 use crate::{
-    BodyHandle, ContactPointReport, ContactReport, Error, StageTimings, StepStats, WorldConfig,
-    handle::HandleMap, stages,
+    BodyHandle, ContactPointReport, ContactReport, Error, StepStats, WorldConfig, handle::HandleMap,
 };
 
 /// A simulated world of boxes.
 ///
-/// Bodies live in dense arrays (cold [`Body`] data and hot [`BodyState`]) addressed through
-/// [`BodyHandle`]s; the step runs the stages of [`crate::stages`] in order.
+/// Bodies live in dense arrays (cold [`tumble_solver::Body`] data and hot
+/// [`tumble_solver::BodyState`]) addressed through [`BodyHandle`]s; the step runs the stages
+/// of [`crate::stages::Stage::ALL`] on the backend of [`WorldConfig::backend`].
 #[derive(Debug)]
 pub struct World {
     pub(crate) config: WorldConfig,
     pub(crate) handles: HandleMap,
-    pub(crate) bodies: Vec<Body>,
-    pub(crate) states: Vec<BodyState>,
-    /// Last step's manifolds (dense body indices at the time of the step).
-    pub(crate) contacts: Vec<Contact>,
-    /// The body handles of each of last step's manifolds.
-    pub(crate) contact_handles: Vec<(BodyHandle, BodyHandle)>,
-    pub(crate) cache: ContactCache,
-    /// Rest timers, sleeping islands and their contacts.
-    pub(crate) sleep: crate::sleep::SleepState,
-    sap: SweepAndPrune,
-    pub(crate) stats: StepStats,
+    /// The host copy of the bodies and of the last step's results.
+    pub(crate) host: Host,
+    /// Where the step runs, and how the state is read and written there.
+    pub(crate) backend: Box<dyn StepBackend>,
     steps: u64,
-    /// The GPU side of `Backend::Gpu` and `Backend::Hybrid`.
-    pub(crate) gpu: Option<crate::gpu_backend::GpuBackend>,
 }
 
 impl World {
     /// An empty world. Errs on a bad config (naming the field) or an unavailable backend.
     pub fn new(config: WorldConfig) -> Result<Self, Error> {
         config.validate()?;
-        let gpu = crate::gpu_backend::GpuBackend::new(&config)?;
+        let backend = new_backend(&config)?;
         Ok(Self {
             config,
             handles: HandleMap::default(),
-            bodies: Vec::new(),
-            states: Vec::new(),
-            contacts: Vec::new(),
-            contact_handles: Vec::new(),
-            cache: ContactCache::new(),
-            sleep: Default::default(),
-            sap: SweepAndPrune::new(),
-            stats: StepStats::default(),
+            host: Host::default(),
+            backend,
             steps: 0,
-            gpu,
         })
     }
 
@@ -73,119 +54,22 @@ impl World {
 
     /// Advances the world by `config.dt`.
     pub fn step(&mut self) -> Result<(), Error> {
-        if let Some(stats) = self.step_on_gpu()? {
-            self.stats = stats;
-            self.steps += 1;
-            return Ok(());
-        }
         let effects = self.effects();
-        if let Some(stats) = self.step_with_sleepers(&effects) {
-            self.stats = stats;
-            self.steps += 1;
-            return Ok(());
-        }
-        let dt = self.config.dt;
-        let mut timings = StageTimings::default();
-        let mut clock = Instant::now();
-        let mut lap = |slot: &mut std::time::Duration| {
-            let now = Instant::now();
-            *slot = now - clock;
-            clock = now;
-        };
-
-        let aabbs = stages::update_aabbs(&self.bodies, &self.states, self.config.margin, dt);
-        lap(&mut timings.update_aabbs);
-
-        let pairs = stages::broad_phase(&mut self.sap, &aabbs, &self.bodies);
-        lap(&mut timings.broad_phase);
-
-        let ids: Vec<u64> = self
-            .handles
-            .handles()
-            .iter()
-            .map(BodyHandle::to_bits)
-            .collect();
-        let narrow = stages::narrow_phase(
-            &self.bodies,
-            &self.states,
-            &pairs,
-            &ids,
-            &self.cache,
-            self.config.margin,
-            dt,
-        );
-        let (mut contacts, keys) = (narrow.contacts, narrow.keys);
-        lap(&mut timings.narrow_phase);
-
-        let coloring = stages::color(
-            &contacts,
-            &self.bodies,
-            self.config.solver.order,
-            &self.config.gravity,
-        );
-        lap(&mut timings.color);
-
-        let solved = stages::solve_with_effects(
-            &self.bodies,
-            &mut self.states,
-            &mut contacts,
-            &coloring,
-            &self.config.solver,
-            dt,
-            &self.config.gravity,
-            &effects,
-        );
-        lap(&mut timings.solve);
-
-        stages::finish(
-            &mut self.bodies,
-            &mut self.states,
-            &mut self.cache,
-            &keys,
-            &contacts,
-        );
-        lap(&mut timings.finish);
-
-        self.stats = StepStats {
-            bodies: self.bodies.len(),
-            pairs: pairs.len(),
-            manifolds: contacts.len(),
-            contact_points: solved.points,
-            colors: coloring.used_colors(),
-            overflow: if coloring.colors.is_empty() {
-                0
-            } else {
-                coloring.overflow_count()
-            },
-            parallel_colors: solved.parallel_batches,
-            max_penetration: contacts
-                .iter()
-                .map(|c| c.manifold.max_depth())
-                .fold(0.0, Real::max),
-            timings,
-        };
-        let handles = self.handles.handles();
-        self.contact_handles = contacts
-            .iter()
-            .map(|c| (handles[c.body_a as usize], handles[c.body_b as usize]))
-            .collect();
-        self.contacts = contacts;
-        if effects.sleep {
-            self.update_sleep(&effects);
-        }
+        self.backend
+            .step(&mut self.host, &self.handles, &self.config, &effects)?;
         self.steps += 1;
         Ok(())
     }
 
     /// Counts and per-stage timings of the last step.
     pub fn stats(&self) -> &StepStats {
-        self.last_stats()
+        self.backend.stats(&self.host)
     }
 
     /// Pairs of bodies touching in the last step: some point overlapped at the start of the
     /// step, or pushed (a speculative point that caught an approaching body).
     pub fn contact_pairs(&self) -> Vec<(BodyHandle, BodyHandle)> {
-        let (contacts, handles) = self.last_contacts();
+        let (contacts, handles) = self.backend.contacts(&self.host);
         contacts
             .iter()
             .zip(handles)
@@ -196,7 +80,7 @@ impl World {
 
     /// Every manifold of the last step, touching or speculative, by handle.
     pub fn contacts(&self) -> Vec<ContactReport> {
-        let (contacts, handles) = self.last_contacts();
+        let (contacts, handles) = self.backend.contacts(&self.host);
         contacts
             .iter()
             .zip(handles)
@@ -224,21 +108,29 @@ impl World {
 
     /// The deepest overlap among last step's manifolds, m (0 when nothing overlaps).
     pub fn max_penetration(&self) -> Real {
-        self.last_stats().max_penetration
+        self.stats().max_penetration
+    }
+
+    /// Bytes of results `Backend::Gpu` copied from the GPU to the host so far: only what the
+    /// caller read (see [`crate::ReadbackOverrides`]). 0 on the other backends, which hold
+    /// their results on the host (`Backend::Hybrid` reads every manifold for its CPU solver).
+    pub fn readback_bytes(&self) -> u64 {
+        self.backend.readback_bytes()
     }
 
     /// Drops last step's contacts that involve `removed`, keeping the rest by handle (the host
-    /// arrays must be up to date: see `sync_all`).
+    /// arrays must be up to date: see `StepBackend::sync_all`).
     pub(crate) fn forget_contacts_of(&mut self, removed: BodyHandle) {
-        let keep: Vec<bool> = self
+        let host = &mut self.host;
+        let keep: Vec<bool> = host
             .contact_handles
             .iter()
             .map(|&(a, b)| a != removed && b != removed)
             .collect();
         let mut k = keep.iter();
-        self.contacts.retain(|_| *k.next().unwrap_or(&false));
+        host.contacts.retain(|_| *k.next().unwrap_or(&false));
         let mut k = keep.iter();
-        self.contact_handles.retain(|_| *k.next().unwrap_or(&false));
-        self.cache.forget_body(removed.to_bits());
+        host.contact_handles.retain(|_| *k.next().unwrap_or(&false));
+        self.backend.forget_body(removed.to_bits());
     }
 }

@@ -19,10 +19,10 @@ impl World {
     /// Adds a body. Errs, leaving the world unchanged, on any bad field of `desc`.
     pub fn add_body(&mut self, desc: BodyDesc) -> Result<BodyHandle, Error> {
         let (body, state) = desc.build()?;
-        self.sync_all()?;
-        self.bodies.push(body);
-        self.states.push(state);
-        self.sleep.push();
+        self.backend.sync_all(&mut self.host)?;
+        self.host.bodies.push(body);
+        self.host.states.push(state);
+        self.host.sleep.push();
         Ok(self.handles.insert())
     }
 
@@ -31,13 +31,19 @@ impl World {
     /// fall, not hang where it slept (Box2D wakes the bodies touching a destroyed body too).
     pub fn remove_body(&mut self, h: BodyHandle) -> Result<(), Error> {
         let d = self.handles.dense(h)?;
-        self.sync_all()?;
+        self.backend.sync_all(&mut self.host)?;
         let touching: Vec<BodyHandle> = {
-            let (_, handles) = self.last_contacts();
+            let (_, handles) = self.backend.contacts(&self.host);
+            let kept = self
+                .host
+                .sleep
+                .sleeping_keys()
+                .map(|(a, b)| (BodyHandle::from_bits(a), BodyHandle::from_bits(b)));
             handles
                 .iter()
-                .chain(self.sleep.contacts.iter().map(|(_, _, pair)| pair))
-                .filter_map(|&(a, b)| match (a == h, b == h) {
+                .copied()
+                .chain(kept)
+                .filter_map(|(a, b)| match (a == h, b == h) {
                     (true, false) => Some(b),
                     (false, true) => Some(a),
                     _ => None,
@@ -49,9 +55,9 @@ impl World {
                 self.wake_up(other)?;
             }
         }
-        self.bodies.swap_remove(d);
-        self.states.swap_remove(d);
-        self.sleep.swap_remove(d);
+        self.host.bodies.swap_remove(d);
+        self.host.states.swap_remove(d);
+        self.host.sleep.swap_remove(d);
         self.handles.remove(h, d);
         self.forget_contacts_of(h);
         Ok(())
@@ -59,7 +65,7 @@ impl World {
 
     /// Number of bodies.
     pub fn body_count(&self) -> usize {
-        self.bodies.len()
+        self.host.bodies.len()
     }
 
     /// True when `h` names a live body of this world.
@@ -74,32 +80,38 @@ impl World {
 
     /// The body's pose (centre and rotation).
     pub fn pose(&self, h: BodyHandle) -> Result<Pose, Error> {
-        self.pose_at(self.handles.dense(h)?)
+        self.backend.pose(&self.host, self.handles.dense(h)?)
     }
 
     /// The body's linear velocity, m/s.
     pub fn linear_velocity(&self, h: BodyHandle) -> Result<Vec3, Error> {
-        Ok(self.state_at(self.handles.dense(h)?)?.linear_velocity)
+        Ok(self
+            .backend
+            .state(&self.host, self.handles.dense(h)?)?
+            .linear_velocity)
     }
 
     /// The body's angular velocity in world axes, rad/s.
     pub fn angular_velocity(&self, h: BodyHandle) -> Result<Vec3, Error> {
-        Ok(self.state_at(self.handles.dense(h)?)?.angular_velocity)
+        Ok(self
+            .backend
+            .state(&self.host, self.handles.dense(h)?)?
+            .angular_velocity)
     }
 
     /// Fixed, dynamic or kinematic.
     pub fn kind(&self, h: BodyHandle) -> Result<BodyKind, Error> {
-        Ok(self.bodies[self.handles.dense(h)?].kind)
+        Ok(self.host.bodies[self.handles.dense(h)?].kind)
     }
 
     /// The box's half extents, m.
     pub fn half_extents(&self, h: BodyHandle) -> Result<Vec3, Error> {
-        Ok(self.bodies[self.handles.dense(h)?].shape.half_extents)
+        Ok(self.host.bodies[self.handles.dense(h)?].shape.half_extents)
     }
 
     /// The body's mass, kg (infinite for fixed and kinematic bodies).
     pub fn mass(&self, h: BodyHandle) -> Result<Real, Error> {
-        let b = &self.bodies[self.handles.dense(h)?];
+        let b = &self.host.bodies[self.handles.dense(h)?];
         Ok(if b.inverse_mass > 0.0 {
             1.0 / b.inverse_mass
         } else {
@@ -111,7 +123,11 @@ impl World {
     /// fixed and kinematic bodies).
     pub fn angular_momentum(&self, h: BodyHandle) -> Result<Vec3, Error> {
         let d = self.handles.dense(h)?;
-        let (b, pose, s) = (&self.bodies[d], self.pose_at(d)?, self.state_at(d)?);
+        let (b, pose, s) = (
+            &self.host.bodies[d],
+            self.backend.pose(&self.host, d)?,
+            self.backend.state(&self.host, d)?,
+        );
         let local = pose.rotation.inverse_transform_vector(&s.angular_velocity);
         Ok(pose.rotation * b.inertia_local().component_mul(&local))
     }
@@ -119,11 +135,14 @@ impl World {
     /// The body's kinetic energy, J (zero for fixed and kinematic bodies).
     pub fn kinetic_energy(&self, h: BodyHandle) -> Result<Real, Error> {
         let d = self.handles.dense(h)?;
-        let b = &self.bodies[d];
+        let b = &self.host.bodies[d];
         if b.inverse_mass == 0.0 {
             return Ok(0.0);
         }
-        let (pose, s) = (self.pose_at(d)?, self.state_at(d)?);
+        let (pose, s) = (
+            self.backend.pose(&self.host, d)?,
+            self.backend.state(&self.host, d)?,
+        );
         let local = pose.rotation.inverse_transform_vector(&s.angular_velocity);
         let rotational = 0.5 * local.dot(&b.inertia_local().component_mul(&local));
         Ok(0.5 * s.linear_velocity.norm_squared() / b.inverse_mass + rotational)
@@ -133,11 +152,11 @@ impl World {
     pub fn set_pose(&mut self, h: BodyHandle, pose: Pose) -> Result<(), Error> {
         let d = self.handles.dense(h)?;
         require_finite_pose(&pose)?;
-        self.sync_motion()?;
+        self.backend.sync_motion(&mut self.host)?;
         let mut pose = pose;
         pose.rotation.renormalize();
-        self.bodies[d].pose = pose;
-        self.sleep.wake(d);
+        self.host.bodies[d].pose = pose;
+        self.host.sleep.wake(d);
         Ok(())
     }
 
@@ -145,7 +164,7 @@ impl World {
     pub fn set_linear_velocity(&mut self, h: BodyHandle, v: Vec3) -> Result<(), Error> {
         let d = self.handles.dense(h)?;
         require_finite3("linear_velocity", &v)?;
-        let body = &self.bodies[d];
+        let body = &self.host.bodies[d];
         if body.kind == BodyKind::Fixed && v != Vec3::zeros() {
             return Err(InvalidParameter::new(
                 "linear_velocity",
@@ -155,9 +174,9 @@ impl World {
             .into());
         }
         let mask = body.locks.translation_mask();
-        self.sync_motion()?;
-        self.states[d].linear_velocity = v.component_mul(&mask);
-        self.sleep.wake(d);
+        self.backend.sync_motion(&mut self.host)?;
+        self.host.states[d].linear_velocity = v.component_mul(&mask);
+        self.host.sleep.wake(d);
         Ok(())
     }
 
@@ -165,7 +184,7 @@ impl World {
     pub fn set_angular_velocity(&mut self, h: BodyHandle, w: Vec3) -> Result<(), Error> {
         let d = self.handles.dense(h)?;
         require_finite3("angular_velocity", &w)?;
-        let body = &self.bodies[d];
+        let body = &self.host.bodies[d];
         if body.kind == BodyKind::Fixed && w != Vec3::zeros() {
             return Err(InvalidParameter::new(
                 "angular_velocity",
@@ -175,9 +194,9 @@ impl World {
             .into());
         }
         let mask = body.locks.rotation_mask();
-        self.sync_motion()?;
-        self.states[d].angular_velocity = w.component_mul(&mask);
-        self.sleep.wake(d);
+        self.backend.sync_motion(&mut self.host)?;
+        self.host.states[d].angular_velocity = w.component_mul(&mask);
+        self.host.sleep.wake(d);
         Ok(())
     }
 
@@ -186,18 +205,18 @@ impl World {
     pub fn set_kinematic_target(&mut self, h: BodyHandle, target: Pose) -> Result<(), Error> {
         let d = self.handles.dense(h)?;
         require_finite_pose(&target)?;
-        let body = &self.bodies[d];
+        let body = &self.host.bodies[d];
         if body.kind != BodyKind::Kinematic {
             return Err(InvalidParameter::new("kind", body.kind, "a kinematic body").into());
         }
-        self.sync_motion()?;
-        let body = &self.bodies[d];
+        self.backend.sync_motion(&mut self.host)?;
+        let body = &self.host.bodies[d];
         let inv_dt = 1.0 / self.config.dt;
         let v = (target.translation.vector - body.pose.translation.vector) * inv_dt;
         let turn = target.rotation * body.pose.rotation.inverse();
         let w = turn.scaled_axis() * inv_dt;
-        self.states[d].linear_velocity = v;
-        self.states[d].angular_velocity = w;
+        self.host.states[d].linear_velocity = v;
+        self.host.states[d].angular_velocity = w;
         Ok(())
     }
 
@@ -212,19 +231,19 @@ impl World {
         let d = self.handles.dense(h)?;
         require_finite3("impulse", &impulse)?;
         require_finite3("point", &point.coords)?;
-        let body = &self.bodies[d];
+        let body = &self.host.bodies[d];
         if !body.is_dynamic() {
             return Ok(());
         }
-        self.sync_motion()?;
-        let body = &self.bodies[d];
+        self.backend.sync_motion(&mut self.host)?;
+        let body = &self.host.bodies[d];
         let r = point.coords - body.pose.translation.vector;
         let dv = body.inverse_mass_axes().component_mul(&impulse);
         let dw = body.inverse_inertia_world() * r.cross(&impulse);
-        let state = &mut self.states[d];
+        let state = &mut self.host.states[d];
         state.linear_velocity += dv;
         state.angular_velocity += dw;
-        self.sleep.wake(d);
+        self.host.sleep.wake(d);
         Ok(())
     }
 }

@@ -1,0 +1,81 @@
+//! `Backend::Cpu`: every stage on the CPU, the reference.
+
+use tumble_broad::SweepAndPrune;
+use tumble_solver::{Body, Contact, ContactCache, Effects, PairKey, Stage, stages};
+
+use super::pipeline::{self, Collided, Collision, StepBodies};
+use super::{Host, StepBackend};
+use crate::handle::HandleMap;
+use crate::stats::StageClock;
+use crate::{Error, WorldConfig};
+
+/// The CPU collision stages: sweep-and-prune, the box-box test, the contact cache.
+#[derive(Debug, Default)]
+pub(crate) struct CpuCollision {
+    /// The broad phase's buffers, kept between steps.
+    sap: SweepAndPrune,
+    /// Last step's impulses by body pair, for warm starting.
+    cache: ContactCache,
+}
+
+impl Collision for CpuCollision {
+    fn collide(
+        &mut self,
+        step: &StepBodies<'_>,
+        clock: &mut StageClock,
+    ) -> Result<Collided, Error> {
+        let (margin, dt) = (step.margin, step.dt);
+        let aabbs = stages::update_aabbs(step.bodies, step.states, margin, dt);
+        clock.lap(Stage::UpdateAabbs);
+        let pairs = stages::broad_phase(&mut self.sap, &aabbs, step.bodies);
+        clock.lap(Stage::BroadPhase);
+        let found = stages::narrow_phase(
+            step.bodies,
+            step.states,
+            &pairs,
+            step.ids,
+            &self.cache,
+            margin,
+            dt,
+        );
+        clock.lap(Stage::NarrowPhase);
+        Ok(Collided {
+            contacts: found.contacts,
+            keys: found.keys,
+            pairs: pairs.len(),
+        })
+    }
+
+    fn keep_impulses(
+        &mut self,
+        keys: &[PairKey],
+        contacts: &[Contact],
+        _solved: usize,
+        bodies: &[Body],
+    ) -> Result<(), Error> {
+        self.cache.store(keys, contacts, bodies);
+        Ok(())
+    }
+}
+
+/// `Backend::Cpu`: [`pipeline::step`] with [`CpuCollision`]; every result lives on the host.
+#[derive(Debug, Default)]
+pub(crate) struct CpuBackend {
+    collision: CpuCollision,
+}
+
+impl StepBackend for CpuBackend {
+    fn step(
+        &mut self,
+        host: &mut Host,
+        handles: &HandleMap,
+        config: &WorldConfig,
+        effects: &Effects,
+    ) -> Result<(), Error> {
+        pipeline::step(host, handles, config, effects, &mut self.collision)
+    }
+
+    fn forget_body(&mut self, id: u64) {
+        self.collision.cache.forget_body(id);
+    }
+}

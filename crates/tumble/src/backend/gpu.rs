@@ -1,0 +1,239 @@
+//! `Backend::Gpu`: the whole step on the GPU ([`GpuWorld`]), not waited for.
+//!
+//! The GPU holds the state, and the host arrays (bodies, states, contacts) are a copy that
+//! may be behind. Reads take the step's results lazily ([`crate::gpu_reads`]): only what is
+//! asked for crosses the bus, from a staging copy recorded with the step when the caller read
+//! that part after the previous step. A call that changes the world first brings the host
+//! arrays up to date ([`StepBackend::sync_motion`], [`StepBackend::sync_all`]); the next step
+//! then writes to the GPU only what the caller changed, or everything when bodies were added
+//! or removed. Islands are found and put to sleep on the GPU (`tumble_gpu::sleep`, label
+//! propagation with the CPU's thresholds).
+
+use std::sync::Mutex;
+
+use tumble_geometry::Pose;
+use tumble_gpu::solver::Effects as GpuEffects;
+use tumble_gpu::step::{GpuWorld, GpuWorldConfig};
+use tumble_solver::{BodyState, Effects};
+
+use super::{ContactsView, Host, StepBackend, shared_context, unavailable};
+use crate::gpu_reads::{ContactView, Reads, Unread};
+use crate::handle::HandleMap;
+use crate::{Backend, BodyHandle, Error, StepStats, WorldConfig};
+
+fn failed(e: impl std::fmt::Display) -> Error {
+    unavailable(Backend::Gpu, e)
+}
+
+fn poisoned() -> Error {
+    failed("the GPU world's lock was poisoned by a panic")
+}
+
+/// State of `Backend::Gpu`.
+#[derive(Debug)]
+pub(crate) struct GpuBackend {
+    /// Locked only by reads; a step has `&mut` access.
+    gpu: Mutex<GpuWorld>,
+    /// The handles of the bodies on the GPU, in dense order: a different list means bodies
+    /// were added or removed since, and everything is uploaded again.
+    uploaded: Vec<BodyHandle>,
+    /// Pose and velocities of each body as the GPU had them when the host arrays were last
+    /// brought up to date; a host value that differs was set by the user and is written to
+    /// the GPU before the next step.
+    synced: Vec<(Pose, BodyState)>,
+    /// The last step's results, until the host has them all.
+    unread: Option<Unread>,
+    /// What the caller read after the step before the one in `unread` (or after the last
+    /// step, once `unread` is gone).
+    last_asked: Reads,
+}
+
+impl GpuBackend {
+    /// The GPU world for `config`. Errs when no GPU is available.
+    pub(crate) fn new(config: &WorldConfig) -> Result<Self, Error> {
+        let ctx = shared_context().map_err(failed)?;
+        let gpu = GpuWorld::new(
+            &ctx,
+            GpuWorldConfig {
+                gravity: config.gravity,
+                dt: config.dt,
+                margin: config.margin,
+                solver: config.solver,
+                timestamps: ctx.has_timestamps,
+                ..Default::default()
+            },
+        )
+        .map_err(failed)?;
+        Ok(Self {
+            gpu: Mutex::new(gpu),
+            uploaded: Vec::new(),
+            synced: Vec::new(),
+            unread: None,
+            last_asked: Reads::default(),
+        })
+    }
+
+    /// What the caller read after the last step: the `Auto` readbacks of the next one.
+    fn asked(&self) -> Reads {
+        self.unread.as_ref().map_or(self.last_asked, Unread::asked)
+    }
+
+    /// The last step's results, when the host arrays do not hold its poses and velocities.
+    fn unread_motion(&self) -> Option<&Unread> {
+        self.unread.as_ref().filter(|u| !u.motion_in_host)
+    }
+}
+
+impl StepBackend for GpuBackend {
+    fn step(
+        &mut self,
+        host: &mut Host,
+        handles: &HandleMap,
+        config: &WorldConfig,
+        effects: &Effects,
+    ) -> Result<(), Error> {
+        if let Some(e) = self.unread.as_ref().and_then(Unread::error) {
+            return Err(failed(e));
+        }
+        let handles = handles.handles();
+        let asked = self.asked();
+        let host_current = self.unread.as_ref().is_none_or(|u| u.motion_in_host);
+        let gpu = self.gpu.get_mut().map_err(|_| poisoned())?;
+        if self.uploaded != handles {
+            // Adding or removing a body brought the host arrays up to date first.
+            debug_assert!(host_current, "bodies changed while the host was behind");
+            gpu.set_bodies(&host.bodies, &host.states).map_err(failed)?;
+            self.uploaded = handles.to_vec();
+        } else if host_current {
+            for (i, (body, s)) in host.bodies.iter().zip(&host.states).enumerate() {
+                let (pose, synced) = &self.synced[i];
+                if body.pose != *pose {
+                    gpu.set_pose(i, &body.pose).map_err(failed)?;
+                }
+                if s.linear_velocity != synced.linear_velocity
+                    || s.angular_velocity != synced.angular_velocity
+                {
+                    gpu.set_velocity(i, &s.linear_velocity, &s.angular_velocity)
+                        .map_err(failed)?;
+                }
+            }
+        }
+        // Otherwise the caller changed nothing since the last step: every change brings the
+        // host arrays up to date first.
+        gpu.set_effects(GpuEffects::from(effects)).map_err(failed)?;
+        let mut reads = config.effects.readback.resolve(asked);
+        reads.sleeping &= effects.sleep;
+        gpu.request_reads(reads.request());
+        gpu.step().map_err(failed)?;
+        self.last_asked = asked;
+        self.unread = Some(Unread::new(gpu.steps(), handles.to_vec(), reads));
+        // The counts and times come from the step's results, read when asked for.
+        host.stats = StepStats {
+            bodies: host.bodies.len(),
+            ..Default::default()
+        };
+        Ok(())
+    }
+
+    fn pose(&self, host: &Host, d: usize) -> Result<Pose, Error> {
+        match self.unread_motion() {
+            Some(u) => u.poses(&self.gpu).map(|p| p[d]).map_err(failed),
+            None => Ok(host.bodies[d].pose),
+        }
+    }
+
+    fn state(&self, host: &Host, d: usize) -> Result<BodyState, Error> {
+        match self.unread_motion() {
+            Some(u) => u.velocities(&self.gpu).map(|v| v[d]).map_err(failed),
+            None => Ok(host.states[d]),
+        }
+    }
+
+    fn contacts<'a>(&'a self, host: &'a Host) -> ContactsView<'a> {
+        match self.unread.as_ref().map(|u| u.contacts(&self.gpu)) {
+            Some(Ok(ContactView {
+                contacts, handles, ..
+            })) => (contacts, handles),
+            Some(Err(_)) => (&[], &[]),
+            None => (&host.contacts, &host.contact_handles),
+        }
+    }
+
+    fn stats<'a>(&'a self, host: &'a Host) -> &'a StepStats {
+        match self.unread.as_ref() {
+            Some(u) => u.stats(&self.gpu),
+            None => &host.stats,
+        }
+    }
+
+    fn is_sleeping(&self, host: &Host, d: usize, sleep: bool) -> Result<bool, Error> {
+        match self.unread.as_ref() {
+            Some(u) if sleep => u.sleeping(&self.gpu).map(|f| f[d]).map_err(failed),
+            // Before any step, with sleep off, or once bodies were added or removed (which
+            // wakes every body on the GPU), nothing sleeps: the host's awake state says so.
+            _ => Ok(host.sleep.is_asleep(d)),
+        }
+    }
+
+    fn sleeping_count(&self, host: &Host, sleep: bool) -> usize {
+        match self.unread.as_ref() {
+            Some(u) if sleep => u
+                .sleeping(&self.gpu)
+                .map_or(0, |f| f.iter().filter(|&&s| s).count()),
+            _ => host.sleep.asleep_count(),
+        }
+    }
+
+    fn wake(&mut self, host: &mut Host, d: usize) -> Result<(), Error> {
+        let gpu = self.gpu.get_mut().map_err(|_| poisoned())?;
+        gpu.wake_up(d).map_err(failed)?;
+        host.sleep.wake(d);
+        Ok(())
+    }
+
+    fn sync_motion(&mut self, host: &mut Host) -> Result<(), Error> {
+        let Some(u) = self.unread.as_mut().filter(|u| !u.motion_in_host) else {
+            return Ok(());
+        };
+        let poses = u.poses(&self.gpu).map_err(failed)?;
+        let velocities = u.velocities(&self.gpu).map_err(failed)?;
+        for ((body, s), (pose, v)) in host
+            .bodies
+            .iter_mut()
+            .zip(&mut host.states)
+            .zip(poses.iter().zip(velocities))
+        {
+            body.pose = *pose;
+            *s = *v;
+        }
+        self.synced = poses
+            .iter()
+            .copied()
+            .zip(velocities.iter().copied())
+            .collect();
+        u.motion_in_host = true;
+        Ok(())
+    }
+
+    fn sync_all(&mut self, host: &mut Host) -> Result<(), Error> {
+        self.sync_motion(host)?;
+        let Some(u) = self.unread.take() else {
+            return Ok(());
+        };
+        let result = u.contacts(&self.gpu).map(|view| {
+            host.contacts = view.contacts.clone();
+            host.contact_handles = view.handles.clone();
+            host.stats = *u.stats(&self.gpu);
+        });
+        self.last_asked = u.asked();
+        if let Err(e) = result {
+            self.unread = Some(u);
+            return Err(failed(e));
+        }
+        Ok(())
+    }
+
+    fn readback_bytes(&self) -> u64 {
+        self.gpu.lock().map_or(0, |g| g.bytes_read())
+    }
+}

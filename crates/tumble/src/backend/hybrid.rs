@@ -1,0 +1,132 @@
+//! `Backend::Hybrid`: the collision stages on the GPU ([`HybridCollision`]), then the CPU's
+//! color, solve, finish and sleep stages ([`pipeline::step`]) on the manifolds it reads back;
+//! the solved impulses go back to the GPU, whose matching warm starts the next step by
+//! feature id.
+
+use tumble_broad::is_wanted_pair;
+use tumble_gpu::collision::CollisionConfig;
+use tumble_gpu::step::HybridCollision;
+use tumble_solver::{Body, Contact, Effects, PairKey, Stage, stages};
+
+use super::pipeline::{self, Collided, Collision, StepBodies};
+use super::{Host, StepBackend, shared_context, unavailable};
+use crate::handle::HandleMap;
+use crate::stats::StageClock;
+use crate::{Backend, BodyHandle, Error, WorldConfig};
+
+/// The GPU collision stages for the CPU pipeline.
+#[derive(Debug)]
+pub(crate) struct GpuCollision {
+    collision: HybridCollision,
+    /// The handles of the bodies on the GPU, in dense order: a different list means bodies
+    /// were added or removed since, and everything is uploaded again.
+    uploaded: Vec<BodyHandle>,
+    /// The GPU pair slot of each manifold of the last [`Collision::collide`].
+    slots: Vec<u32>,
+}
+
+fn failed(e: tumble_gpu::GpuError) -> Error {
+    unavailable(Backend::Hybrid, e)
+}
+
+impl Collision for GpuCollision {
+    fn collide(
+        &mut self,
+        step: &StepBodies<'_>,
+        clock: &mut StageClock,
+    ) -> Result<Collided, Error> {
+        if self.uploaded != step.handles {
+            self.collision.invalidate();
+            self.uploaded = step.handles.to_vec();
+        }
+        // The GPU holds every body in dense order, sleepers included (at rest, as the
+        // gathered copy has them); their pairs are filtered here as the CPU broad phase
+        // filters the gathered bodies, sleepers counting as immovable.
+        let found = self
+            .collision
+            .collide(step.dense_bodies, step.dense_states)
+            .map_err(failed)?;
+        let pairs = found.len();
+        let immovable = step.gathered.map(|g| stages::immovable(&g.bodies));
+        let mut out = Collided {
+            pairs,
+            ..Default::default()
+        };
+        self.slots.clear();
+        for (slot, mut c) in found {
+            let (a, b) = (c.body_a as usize, c.body_b as usize);
+            if let (Some(g), Some(immovable)) = (step.gathered, &immovable) {
+                let (ga, gb) = (g.position(a), g.position(b));
+                if !is_wanted_pair(immovable, ga, gb) {
+                    continue;
+                }
+                (c.body_a, c.body_b) = (ga, gb);
+            }
+            out.keys
+                .push((step.handles[a].to_bits(), step.handles[b].to_bits()));
+            out.contacts.push(c);
+            self.slots.push(slot);
+        }
+        // The GPU's three collision stages are timed as one.
+        clock.lap(Stage::NarrowPhase);
+        Ok(out)
+    }
+
+    fn keep_impulses(
+        &mut self,
+        _keys: &[PairKey],
+        contacts: &[Contact],
+        solved: usize,
+        _bodies: &[Body],
+    ) -> Result<(), Error> {
+        let back: Vec<(u32, Contact)> = self
+            .slots
+            .iter()
+            .copied()
+            .zip(contacts[..solved].iter().copied())
+            .collect();
+        self.collision.store_impulses(&back).map_err(failed)
+    }
+}
+
+/// `Backend::Hybrid`: [`pipeline::step`] with [`GpuCollision`]; every result lives on the
+/// host, so the reads and writes are the host's.
+#[derive(Debug)]
+pub(crate) struct HybridBackend {
+    collision: GpuCollision,
+}
+
+impl HybridBackend {
+    /// The GPU collision stages for `config`. Errs when no GPU is available.
+    pub(crate) fn new(config: &WorldConfig) -> Result<Self, Error> {
+        let ctx = shared_context().map_err(|e| unavailable(Backend::Hybrid, e))?;
+        let collision = HybridCollision::new(
+            &ctx,
+            CollisionConfig {
+                margin: config.margin,
+                dt: config.dt,
+                ..Default::default()
+            },
+        )
+        .map_err(failed)?;
+        Ok(Self {
+            collision: GpuCollision {
+                collision,
+                uploaded: Vec::new(),
+                slots: Vec::new(),
+            },
+        })
+    }
+}
+
+impl StepBackend for HybridBackend {
+    fn step(
+        &mut self,
+        host: &mut Host,
+        handles: &HandleMap,
+        config: &WorldConfig,
+        effects: &Effects,
+    ) -> Result<(), Error> {
+        pipeline::step(host, handles, config, effects, &mut self.collision)
+    }
+}

@@ -1,0 +1,151 @@
+//! Where the step runs: one [`StepBackend`] per world, chosen by [`Backend`].
+//!
+//! A backend owns the step and every read and write of the bodies' state that may depend on
+//! where the state lives. The world keeps the host copy of the bodies ([`Host`]) and calls
+//! its backend without asking which one it is:
+//!
+//! - [`cpu::CpuBackend`] runs [`pipeline::step`] with the CPU collision stages;
+//! - [`hybrid::HybridBackend`] runs the same [`pipeline::step`] with the collision stages on
+//!   the GPU, so color, solve, finish and sleep are the CPU's, written once;
+//! - [`gpu::GpuBackend`] runs the whole step on the GPU and reads its results lazily
+//!   ([`crate::gpu_reads`]); its reads and writes bring the host copy up to date first.
+
+pub(crate) mod cpu;
+pub(crate) mod gpu;
+pub(crate) mod hybrid;
+pub(crate) mod pipeline;
+
+use std::fmt;
+use std::sync::OnceLock;
+
+use tumble_geometry::Pose;
+use tumble_gpu::GpuContext;
+use tumble_solver::{Body, BodyState, Contact, Effects, SleepState};
+
+use crate::handle::HandleMap;
+use crate::{Backend, BodyHandle, Error, StepStats, WorldConfig};
+
+/// The world's host copy of its bodies and of the last step's results, in dense order.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Host {
+    /// Cold body data.
+    pub bodies: Vec<Body>,
+    /// Hot body state.
+    pub states: Vec<BodyState>,
+    /// Last step's manifolds (dense body indices at the time of the step).
+    pub contacts: Vec<Contact>,
+    /// The body handles of each of last step's manifolds.
+    pub contact_handles: Vec<(BodyHandle, BodyHandle)>,
+    /// Rest timers, sleeping islands and their contacts (the CPU sleep stage's state).
+    pub sleep: SleepState,
+    /// Last step's counts and times.
+    pub stats: StepStats,
+}
+
+/// Last step's manifolds and the handles of their bodies.
+pub(crate) type ContactsView<'a> = (&'a [Contact], &'a [(BodyHandle, BodyHandle)]);
+
+/// One of the three ways to run a step, with the reads and writes that depend on it. Every
+/// method but [`StepBackend::step`] has the host-side default: a backend whose state lives on
+/// the host ([`cpu::CpuBackend`], [`hybrid::HybridBackend`]) overrides nothing else.
+pub(crate) trait StepBackend: fmt::Debug + Send + Sync {
+    /// Advances `host` by one step of `config.dt` running `effects`.
+    fn step(
+        &mut self,
+        host: &mut Host,
+        handles: &HandleMap,
+        config: &WorldConfig,
+        effects: &Effects,
+    ) -> Result<(), Error>;
+
+    /// The pose of the body at dense index `d` now.
+    fn pose(&self, host: &Host, d: usize) -> Result<Pose, Error> {
+        Ok(host.bodies[d].pose)
+    }
+
+    /// The velocities of the body at dense index `d` now.
+    fn state(&self, host: &Host, d: usize) -> Result<BodyState, Error> {
+        Ok(host.states[d])
+    }
+
+    /// Last step's manifolds and their handles. A failed read reports no contacts here and
+    /// its error from the next step.
+    fn contacts<'a>(&'a self, host: &'a Host) -> ContactsView<'a> {
+        (&host.contacts, &host.contact_handles)
+    }
+
+    /// Last step's statistics.
+    fn stats<'a>(&'a self, host: &'a Host) -> &'a StepStats {
+        &host.stats
+    }
+
+    /// True when the body at dense index `d` sleeps; `sleep` is whether the sleep effect
+    /// runs.
+    fn is_sleeping(&self, host: &Host, d: usize, sleep: bool) -> Result<bool, Error> {
+        let _ = sleep;
+        Ok(host.sleep.is_asleep(d))
+    }
+
+    /// Bodies asleep (a failed read counts none and reports its error from the next step).
+    fn sleeping_count(&self, host: &Host, sleep: bool) -> usize {
+        let _ = sleep;
+        host.sleep.asleep_count()
+    }
+
+    /// Wakes the island of the body at dense index `d` before the next step.
+    fn wake(&mut self, host: &mut Host, d: usize) -> Result<(), Error> {
+        host.sleep.wake(d);
+        Ok(())
+    }
+
+    /// Brings the host's poses and velocities up to date before a call changes them, so that
+    /// the change is made to the current state and the next step sees it.
+    fn sync_motion(&mut self, host: &mut Host) -> Result<(), Error> {
+        let _ = host;
+        Ok(())
+    }
+
+    /// Brings every host array up to date (before bodies are added or removed, which
+    /// renumbers them).
+    fn sync_all(&mut self, host: &mut Host) -> Result<(), Error> {
+        self.sync_motion(host)
+    }
+
+    /// Forgets whatever the backend keeps of the removed body with id `id` (its cached
+    /// contacts).
+    fn forget_body(&mut self, id: u64) {
+        let _ = id;
+    }
+
+    /// Bytes of results copied from the GPU to the host so far (0 when results live on the
+    /// host).
+    fn readback_bytes(&self) -> u64 {
+        0
+    }
+}
+
+/// The backend `config.backend` asks for. Errs when the GPU it needs is unavailable.
+pub(crate) fn new_backend(config: &WorldConfig) -> Result<Box<dyn StepBackend>, Error> {
+    Ok(match config.backend {
+        Backend::Cpu => Box::new(cpu::CpuBackend::default()),
+        Backend::Gpu => Box::new(gpu::GpuBackend::new(config)?),
+        Backend::Hybrid => Box::new(hybrid::HybridBackend::new(config)?),
+    })
+}
+
+/// One device for every GPU world of the process: opening a device and compiling pipelines
+/// is the slow part of starting a world, and pipelines are shared per device.
+pub(crate) fn shared_context() -> Result<GpuContext, String> {
+    static SHARED: OnceLock<Result<GpuContext, String>> = OnceLock::new();
+    SHARED
+        .get_or_init(|| GpuContext::new().map_err(|e| e.to_string()))
+        .clone()
+}
+
+/// The error of a backend that cannot run, or whose device failed.
+pub(crate) fn unavailable(backend: Backend, e: impl fmt::Display) -> Error {
+    Error::BackendUnavailable {
+        backend,
+        reason: e.to_string(),
+    }
+}

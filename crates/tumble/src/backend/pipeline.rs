@@ -1,0 +1,223 @@
+//! The step on the host, written once for `Backend::Cpu` and `Backend::Hybrid`: the stages of
+//! [`Stage::ALL`] in order, with the collision stages (update_aabbs, broad and narrow phase)
+//! supplied by a [`Collision`] (the CPU's, or the GPU's for Hybrid), and color, solve,
+//! finish and sleep run on the CPU.
+//!
+//! While some bodies sleep, the step runs on the [`Gathered`] copy of the bodies (the awake
+//! ones, then the sleepers as fixed obstacles; see [`tumble_solver::SleepState`]): the
+//! collision stages report manifolds in gathered indices, the solver moves only the awake
+//! bodies, and the sleeping islands' kept manifolds join the step's for reports and warm
+//! starting.
+
+use tumble_geometry::Real;
+use tumble_solver::{Body, BodyState, Contact, Effects, Gathered, PairKey, Stage, stages};
+
+use super::Host;
+use crate::handle::HandleMap;
+use crate::stats::StageClock;
+use crate::{BodyHandle, Error, StepStats, WorldConfig};
+
+/// The bodies the collision stages run on.
+pub(crate) struct StepBodies<'a> {
+    /// The step's bodies: the host's, or their gathered copy while some sleep.
+    pub bodies: &'a [Body],
+    /// The step's states, parallel to `bodies`.
+    pub states: &'a [BodyState],
+    /// The stable id (handle bits) of each of the step's bodies.
+    pub ids: &'a [u64],
+    /// The gathered copy, when the step runs on one.
+    pub gathered: Option<&'a Gathered>,
+    /// The host's bodies, dense order.
+    pub dense_bodies: &'a [Body],
+    /// The host's states, dense order.
+    pub dense_states: &'a [BodyState],
+    /// The handle of each dense body.
+    pub handles: &'a [BodyHandle],
+    /// The base speculative margin, m.
+    pub margin: Real,
+    /// The step, s.
+    pub dt: Real,
+}
+
+/// What the collision stages found.
+#[derive(Debug, Default)]
+pub(crate) struct Collided {
+    /// The manifolds, indices into [`StepBodies::bodies`].
+    pub contacts: Vec<Contact>,
+    /// The stable pair key of each manifold.
+    pub keys: Vec<PairKey>,
+    /// Candidate pairs examined.
+    pub pairs: usize,
+}
+
+/// Stages 1-3 and the persistence half of stage 7: where the manifolds come from and where
+/// their impulses go for the next step's warm start.
+pub(crate) trait Collision {
+    /// Runs the collision stages on `step`, ending each stage on `clock`.
+    fn collide(&mut self, step: &StepBodies<'_>, clock: &mut StageClock)
+    -> Result<Collided, Error>;
+
+    /// Keeps the step's impulses for the next step: `contacts` (dense indices) and their
+    /// `keys`, of which the first `solved` were solved this step (the rest are the sleeping
+    /// islands' kept manifolds); `bodies` hold the poses the manifolds came from.
+    fn keep_impulses(
+        &mut self,
+        keys: &[PairKey],
+        contacts: &[Contact],
+        solved: usize,
+        bodies: &[Body],
+    ) -> Result<(), Error>;
+}
+
+/// One step of `host` on the CPU stages, collision by `collision`.
+pub(crate) fn step(
+    host: &mut Host,
+    handles: &HandleMap,
+    config: &WorldConfig,
+    effects: &Effects,
+    collision: &mut dyn Collision,
+) -> Result<(), Error> {
+    let dense = |id: u64| handles.dense_of_bits(id);
+    let all_handles = handles.handles();
+    let dt = config.dt;
+    let mut clock = StageClock::start();
+    let mut gathered = None;
+    if effects.sleep && host.sleep.asleep_count() > 0 {
+        // Sleeping contacts whose islands woke rejoin the narrow phase through the cache.
+        host.sleep.drop_woken_contacts(dense);
+        let g = host.sleep.gather(&host.bodies, &host.states);
+        if !g.any_moving() {
+            // Nothing can move or touch: the step is empty, the sleepers' manifolds stay.
+            let (contacts, _): (Vec<Contact>, Vec<PairKey>) =
+                host.sleep.sleeping_contacts(dense).unzip();
+            set_contacts(host, contacts, all_handles);
+            host.stats = StepStats {
+                bodies: host.bodies.len(),
+                ..Default::default()
+            };
+            return Ok(());
+        }
+        gathered = Some(g);
+    }
+    let ids: Vec<u64> = match &gathered {
+        Some(g) => g.order.iter().map(|&d| all_handles[d].to_bits()).collect(),
+        None => all_handles.iter().map(BodyHandle::to_bits).collect(),
+    };
+    let (bodies, states) = match &gathered {
+        Some(g) => (&g.bodies[..], &g.states[..]),
+        None => (&host.bodies[..], &host.states[..]),
+    };
+    let collided = collision.collide(
+        &StepBodies {
+            bodies,
+            states,
+            ids: &ids,
+            gathered: gathered.as_ref(),
+            dense_bodies: &host.bodies,
+            dense_states: &host.states,
+            handles: all_handles,
+            margin: config.margin,
+            dt,
+        },
+        &mut clock,
+    )?;
+    let pairs = collided.pairs;
+    let (mut contacts, mut keys) = (collided.contacts, collided.keys);
+    // The sleepers this step reaches wake for the next one.
+    let mut to_wake = Vec::new();
+    if let Some(g) = &gathered {
+        if effects.kinematic {
+            to_wake.extend(g.kinematic_reach(config.margin, dt));
+        }
+        to_wake.extend(g.touched_sleepers(&contacts));
+    }
+    clock.lap(Stage::Sleep);
+
+    let (bodies, states) = match gathered.as_mut() {
+        Some(g) => (&g.bodies[..], &mut g.states[..]),
+        None => (&host.bodies[..], &mut host.states[..]),
+    };
+    let coloring = stages::color(&contacts, bodies, config.solver.order, &config.gravity);
+    clock.lap(Stage::Color);
+    let solved = tumble_solver::solve_with_effects(
+        bodies,
+        states,
+        &mut contacts,
+        &coloring,
+        &config.solver,
+        dt,
+        &config.gravity,
+        effects,
+    );
+    clock.lap(Stage::Solve);
+
+    // Back to dense indices, then the sleeping islands' manifolds, which stay in the cache
+    // for when they wake.
+    let solved_contacts = contacts.len();
+    if let Some(g) = &gathered {
+        g.to_dense(&mut contacts);
+        for (c, key) in host.sleep.sleeping_contacts(dense) {
+            contacts.push(c);
+            keys.push(key);
+        }
+    }
+    // The impulses are kept in body A's frame at the poses the manifolds came from, so
+    // before the poses move.
+    collision.keep_impulses(&keys, &contacts, solved_contacts, &host.bodies)?;
+    match gathered.as_mut() {
+        Some(g) => g.finish_into(&mut host.bodies, &mut host.states),
+        None => tumble_solver::finalize_bodies(&mut host.bodies, &mut host.states),
+    }
+    clock.lap(Stage::Finish);
+
+    let max_penetration = max_penetration(&contacts);
+    set_contacts(host, contacts, all_handles);
+    for d in to_wake {
+        host.sleep.wake(d);
+    }
+    if effects.sleep {
+        host.sleep.update(
+            &host.bodies,
+            &mut host.states,
+            &host.contacts,
+            &keys,
+            dt,
+            effects.kinematic,
+        );
+    }
+    clock.lap(Stage::Sleep);
+
+    host.stats = StepStats {
+        bodies: host.bodies.len(),
+        pairs,
+        manifolds: host.contacts.len(),
+        contact_points: solved.points,
+        colors: coloring.used_colors(),
+        overflow: if coloring.colors.is_empty() {
+            0
+        } else {
+            coloring.overflow_count()
+        },
+        parallel_colors: solved.parallel_batches,
+        max_penetration,
+        timings: clock.timings(),
+    };
+    Ok(())
+}
+
+/// Last step's manifolds become `contacts` (dense indices), with their bodies' handles.
+fn set_contacts(host: &mut Host, contacts: Vec<Contact>, handles: &[BodyHandle]) {
+    host.contact_handles = contacts
+        .iter()
+        .map(|c| (handles[c.body_a as usize], handles[c.body_b as usize]))
+        .collect();
+    host.contacts = contacts;
+}
+
+/// The deepest overlap among `contacts`, m (0 when none overlaps).
+pub(crate) fn max_penetration(contacts: &[Contact]) -> Real {
+    contacts
+        .iter()
+        .map(|c| c.manifold.max_depth())
+        .fold(0.0, Real::max)
+}

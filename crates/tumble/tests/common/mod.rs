@@ -1,0 +1,57 @@
+//! Helpers shared by the facade's test files.
+#![allow(dead_code)]
+
+use tumble::prelude::*;
+
+pub const G: Real = 9.81;
+pub const DT: Real = 1.0 / 60.0;
+
+pub fn world() -> World {
+    World::new(WorldConfig::default()).unwrap()
+}
+
+/// A fixed floor whose top face is at y = 0.
+pub fn floor(world: &mut World) -> BodyHandle {
+    world
+        .add_body(
+            BodyDesc::fixed()
+                .cuboid(Vec3::new(20.0, 0.5, 20.0))
+                .translation(0.0, -0.5, 0.0),
+        )
+        .unwrap()
+}
+
+pub fn steps(world: &mut World, n: usize) {
+    for _ in 0..n {
+        world.step().unwrap();
+    }
+}
+
+/// A world without gravity, for tests of free motion.
+pub fn weightless() -> World {
+    World::new(WorldConfig {
+        gravity: Vec3::zeros(),
+        ..Default::default()
+    })
+    .unwrap()
+}
+
+/// Substeps of the default soft step: damping and integration act once per substep.
+pub fn substeps(world: &World) -> i32 {
+    world.config().solver.substeps as i32
+}
+
+/// A world on `backend` from `config`, or `None` (with a note) when the backend needs a GPU
+/// and none is available, unless `TUMBLE_REQUIRE_GPU=1` makes that a failure.
+pub fn world_on(backend: Backend, config: WorldConfig) -> Option<World> {
+    match World::new(WorldConfig { backend, ..config }) {
+        Ok(w) => Some(w),
+        Err(e @ Error::BackendUnavailable { .. })
+            if std::env::var("TUMBLE_REQUIRE_GPU").as_deref() != Ok("1") =>
+        {
+            eprintln!("skipped {backend:?}: {e}");
+            None
+        }
+        Err(e) => panic!("{backend:?}: {e}"),
+    }
+}

@@ -4,7 +4,6 @@ use std::collections::HashMap;
 
 use crate::{GpuContext, GpuError};
 
-
 /// Bytes of `count` values of `T`.
 pub fn bytes_of<T>(count: u64) -> u64 {
     count * std::mem::size_of::<T>() as u64

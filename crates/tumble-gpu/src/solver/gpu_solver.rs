@@ -190,7 +190,10 @@ impl GpuSolver {
             (COLOR_STATE[0], bytes_of::<ColorSlot>(cap)),
             (COLOR_STATE[1], bytes_of::<ColorSlot>(cap)),
             // Per body its used-color mask, then one claim per (body, color).
-            (COLOR_MARKS, bytes_of::<u32>(n * u64::from(1 + GRAPH_COLOR_COUNT))),
+            (
+                COLOR_MARKS,
+                bytes_of::<u32>(n * u64::from(1 + GRAPH_COLOR_COUNT)),
+            ),
             (COLOR_SCRATCH, bytes_of::<u32>(2 * cap)),
             (COLOR_OFFSETS, bytes_of::<u32>(u64::from(COLOR_OFFSETS_LEN))),
             (COLOR_ARGS, bytes_of::<DispatchArgs>(u64::from(COLOR_SLOTS))),

@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl common/quat.wgsl common/persistence.wgsl
 // carry_impulses: one thread per manifold. It keeps the manifold in body A's frame for the
 // next step, then gives each point last step's accumulated impulses by the rule of the CPU
 // contact cache (tumble-solver's ContactCache::warm_start), claims in the same order:

@@ -1,3 +1,4 @@
+// requires: common/layout.wgsl
 // choose_axis: a single workgroup picks the sweep axis, the axis along which AABB centres
 // spread most (largest variance), so the sorted sweep meets the fewest false overlaps.
 // The reduction order is fixed (strided partial sums, then a tree), so the result is

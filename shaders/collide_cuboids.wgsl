@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl common/sat.wgsl common/face_contact.wgsl common/edge_contact.wgsl common/vertex_contact.wgsl common/reduce.wgsl
 // collide_cuboids: one thread per candidate pair builds the pair's contact manifold (port of
 // tumble-narrow's collide.rs): SAT over 15 axes, the preferred axis with last step's
 // reference face as hysteresis, a face contact (clipping) or an edge contact on it, the

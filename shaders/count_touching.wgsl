@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl common/layout.wgsl common/tile_scan.wgsl
 // count_touching: one workgroup per tile of WORKGROUP_SIZE manifolds counts the manifolds in
 // contact (len > 0) and their points, for the compaction of the contacts into a dense list
 // in pair order (a deterministic compaction: tile totals, their scan, then the writes).

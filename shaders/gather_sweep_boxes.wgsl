@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl common/layout.wgsl common/sweep.wgsl
 // gather_sweep_boxes: one thread per sorted position copies that body's AABB into sweep
 // order, sweep axis first, with its index and flags, so that sweep_pairs reads contiguous
 // records instead of gathering from the per-body arrays at every step of its scan. A box

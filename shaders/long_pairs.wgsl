@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl common/layout.wgsl common/sweep.wgsl
 // long_pairs: one thread per sorted position tests its box against every long box that
 // gather_sweep_boxes listed (common/sweep.wgsl) and appends each overlapping pair, as
 // sweep_pairs does, through the same counter. A pair of two long boxes is appended by the

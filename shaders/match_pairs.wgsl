@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl common/layout.wgsl
 // match_pairs: one thread per pair finds the same pair in last step's sorted pair list by
 // binary search (the lists are in canonical (a, b) order), so its manifold and impulses can be
 // carried over. NO_PREVIOUS when the pair is new.

@@ -1,3 +1,4 @@
+// requires: common/layout.wgsl
 // plan_dispatch: one thread turns an append counter into a WorkList: the count clamped to
 // the buffer's capacity (set by the host), the raw count (so overflow is visible), and the
 // workgroup counts of the indirect dispatches that process the list. This keeps a

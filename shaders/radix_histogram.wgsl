@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl common/layout.wgsl
 // radix_histogram: one workgroup per tile of WORKGROUP_SIZE keys counts the keys per digit
 // of this pass and stores the counts digit-major (counts[digit * tiles + tile]), so that one
 // exclusive scan over the array yields each tile's first output slot for each digit.

@@ -1,3 +1,4 @@
+// requires: common/layout.wgsl
 // radix_scan: a single workgroup turns the digit-major tile counts into exclusive prefix
 // sums, in place: entry (digit, tile) becomes the output slot of that tile's first key with
 // that digit. Each thread sums a contiguous chunk, the chunk sums are scanned across the

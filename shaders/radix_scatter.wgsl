@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl common/layout.wgsl
 // radix_scatter: one workgroup per tile moves each (key, value) to its sorted slot for this
 // pass's digit: the tile's first slot for that digit (from radix_scan) plus the number of
 // keys before it in the tile with the same digit. Counting only earlier keys keeps equal

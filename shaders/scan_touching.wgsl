@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl common/layout.wgsl common/tile_scan.wgsl
 // scan_touching: a single workgroup turns the per-tile (manifolds, points) totals into
 // exclusive prefix sums in place (each tile's first dense manifold and first dense point)
 // and writes the grand totals. Each thread sums a contiguous chunk, the chunk sums are

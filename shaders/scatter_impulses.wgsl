@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl common/layout.wgsl
 // scatter_impulses: one thread per dense manifold writes impulses given in dense order (as
 // a readback of the touching contacts returned them, solved by a CPU solver) back into the
 // pair-slot contact array, where the next step's carry_impulses finds them.

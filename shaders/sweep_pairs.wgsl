@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl common/layout.wgsl common/sweep.wgsl
 // sweep_pairs: each body, in sorted order, scans forward while the next box's lower bound
 // on the sweep axis is not past its upper bound, tests the other two axes (closed
 // intervals: touching boxes pair, as on the CPU), and appends each overlapping pair as

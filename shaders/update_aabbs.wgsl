@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl common/quat.wgsl
 // update_aabbs: one thread per body; pose, velocity and cuboid -> world AABB grown by the
 // speculative margin and swept by the motion expected over the next step.
 

@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl common/layout.wgsl
 // write_sort_keys: one thread per body; the AABB's lower bound on the sweep axis becomes an
 // unsigned key whose integer order is the float order, paired with the body index.
 

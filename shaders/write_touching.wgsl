@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl common/layout.wgsl common/tile_scan.wgsl
 // write_touching: one workgroup per tile of manifolds writes each manifold in contact to its
 // slot in the dense list (pair order kept), with its pair slot, its first dense point and
 // its points, so a readback or a later stage touches only contacts that exist.

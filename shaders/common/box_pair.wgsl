@@ -1,3 +1,4 @@
+// requires: common/quat.wgsl common/narrow_constants.wgsl
 // Two boxes seen from the first one's frame (port of tumble-narrow's box_pair.rs): every SAT
 // quantity is computed there, from the delta of the positions, so that digits two boxes far
 // from the origin share cancel before rotating.

@@ -1,3 +1,4 @@
+// requires: common/box_pair.wgsl
 // Contact polygons: Sutherland-Hodgman clipping with feature labels (port of tumble-geometry's
 // clip.rs) and the point list a contact is built in, before reduction to four points.
 

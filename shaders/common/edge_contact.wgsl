@@ -1,3 +1,4 @@
+// requires: common/contact_polygon.wgsl
 // Edge-edge contacts (port of tumble-narrow's edge_contact.rs and tumble-geometry's segment
 // closest points): one point midway between the closest points of the two support edges.
 

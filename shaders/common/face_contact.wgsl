@@ -1,3 +1,4 @@
+// requires: common/contact_polygon.wgsl
 // Face contacts (port of tumble-narrow's face_contact.rs): the incident face of box B clipped
 // against the four side planes of A's reference face, all in A's frame, keeping the points
 // deeper than -margin. Pass a swapped pair for a reference face on B.

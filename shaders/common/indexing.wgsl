@@ -1,3 +1,4 @@
+// requires: common/constants.wgsl
 // Thread indexing for dispatches that fold past the per-dimension workgroup limit:
 // the host launches (x, y) workgroups and a thread's linear index is rebuilt here.
 

@@ -1,3 +1,4 @@
+// requires: common/constants.wgsl
 // Structs shared with the host. Each has a #[repr(C)] twin of the same name in
 // crates/tumble-gpu/src/layout.rs; the layout test compares sizes and field offsets with
 // naga's layouter. No vec3 in these structs: a vec3 is 16-byte aligned but 12 bytes long,

@@ -1,3 +1,4 @@
+// requires: common/layout.wgsl
 // Quaternion helpers. A quaternion is a vec4 (x, y, z, w) with w the scalar part, the same
 // order nalgebra stores it in, so host data uploads without reshuffling.
 

@@ -1,3 +1,4 @@
+// requires: common/contact_polygon.wgsl
 // Reduction of a contact polygon to at most four points (port of tumble-geometry's
 // reduce.rs, the thesis's Algorithm 8): the deepest point, the point farthest from it, the
 // point making the largest triangle with those, and the point adding the most area outside

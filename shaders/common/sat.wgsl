@@ -1,3 +1,4 @@
+// requires: common/box_pair.wgsl
 // The separating axis test over the 15 axes of two boxes and the choice of the contact axis
 // (port of tumble-narrow's sat.rs and axis_choice.rs). The separation along a unit axis n
 // from A to B is offset . n - r_A(n) - r_B(n), with r(n) = sum_k h_k |n . axis_k|.

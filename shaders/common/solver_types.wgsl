@@ -1,3 +1,4 @@
+// requires: common/layout.wgsl
 // Structs of the solver stages shared with the host. Each has a #[repr(C)] twin of the same
 // name in crates/tumble-gpu/src/solver/layout.rs, compared field by field with naga's layouter
 // in tests/tests/gpu_solver.rs. As in layout.wgsl: no vec3, padding spelled out. The solver

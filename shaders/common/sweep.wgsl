@@ -1,3 +1,4 @@
+// requires: common/layout.wgsl
 // The sweep's pair test and its long boxes, shared by gather_sweep_boxes, sweep_pairs and
 // long_pairs.
 //

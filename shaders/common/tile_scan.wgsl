@@ -1,3 +1,4 @@
+// requires: common/constants.wgsl
 // A workgroup-wide inclusive prefix sum of one vec2<u32> per thread (Hillis-Steele), for
 // kernels that give a workgroup a tile of WORKGROUP_SIZE items. Every thread must call it.
 

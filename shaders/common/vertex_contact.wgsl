@@ -1,3 +1,4 @@
+// requires: common/box_pair.wgsl
 // The closest vertex pair of two separated boxes (port of tumble-narrow's
 // vertex_contact.rs): every vertex of each box against the other box, 16 clamps.
 

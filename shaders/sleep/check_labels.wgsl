@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl sleep/common/sleep_constants.wgsl
 // check_labels: one thread per manifold, after the last round of the island search. A link
 // between two linkable bodies whose labels still differ means the search did not finish in
 // its fixed number of rounds; the flag it raises keeps every island awake this step. When no

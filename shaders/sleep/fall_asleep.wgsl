@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl sleep/common/sleep_constants.wgsl
 // fall_asleep: one thread per body. A linkable body whose island's shortest rest time has
 // reached TIME_TO_SLEEP falls asleep with its island: it takes the island's label, its
 // velocity becomes zero, and it turns into a fixed body for the solver and a static shape

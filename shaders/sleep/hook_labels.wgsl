@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl sleep/common/sleep_constants.wgsl
 // hook_labels: one thread per manifold, one round of the island search. A manifold with
 // points between two linkable bodies whose labels differ points the larger label at the
 // smaller one. Labels are read from `labels` and lowered in `next_labels` (a copy of them

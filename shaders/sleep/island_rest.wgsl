@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl sleep/common/sleep_constants.wgsl
 // island_rest: one thread per body. Each linkable body reports its rest time to its island
 // (named by its label) with atomicMin on the f32 bits: rest times are never negative, and
 // non-negative floats order like their bit patterns, so the minimum of the bits is the bits

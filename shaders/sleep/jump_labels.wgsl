@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl sleep/common/sleep_constants.wgsl
 // jump_labels: one thread per body, the second half of a round of the island search. Each
 // body's label becomes its label's label (pointer jumping: a chain of hooks halves in length
 // each round). It reads `next_labels` only and writes the result twice, into `labels` (read

@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl sleep/common/sleep_constants.wgsl
 // kinematic_wake: one thread per body. A sleeping body whose AABB overlaps that of a moving
 // kinematic body flags its island to wake at the start of the next step. The broad phase
 // never pairs the two (a kinematic body and a sleeping one are both static to it, as a

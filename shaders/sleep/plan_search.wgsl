@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl sleep/common/sleep_constants.wgsl
 // plan_search: one thread writes the dispatch sizes of the island search and of the kernels
 // after it: the step's manifold groups and the every-body groups when some body's rest time
 // reached TIME_TO_SLEEP, and zero workgroups otherwise (no island can fall asleep then, so

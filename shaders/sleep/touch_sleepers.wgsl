@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl sleep/common/sleep_constants.wgsl
 // touch_sleepers: one thread per manifold of the step. A manifold with points (speculative
 // ones included, the same condition that links islands) between an awake body and a
 // sleeping one flags the sleeping body's island to wake at the start of the next step; this

@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl sleep/common/sleep_constants.wgsl
 // update_rest: one thread per body, after the solver. An awake dynamic body's rest time
 // grows by dt while it is below both sleep tolerances and starts over otherwise; other
 // bodies rest for no time (a sleeping body's is frozen until it wakes). Every body also

@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl sleep/common/sleep_constants.wgsl
 // wake_bodies: one thread goes through the bodies the host touched since the last step (a
 // pose, a velocity or an impulse set, or an explicit wake), in queue order: each body's rest
 // time starts over, and a sleeping body's island is flagged to wake in wake_islands.

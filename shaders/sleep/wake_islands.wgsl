@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl sleep/common/sleep_constants.wgsl
 // wake_islands: one thread per body. A sleeping body whose island was flagged (touched by an
 // awake body last step, or by the host) wakes: its label turns AWAKE, its rest time starts
 // over, and its solver data and shape flags are restored from the awake copy, so the step

@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl solver/common/body_math.wgsl
 // apply_impulses: one thread applies the impulses the host queued since the last step, in
 // the order they were queued (several may hit one body), to dynamic bodies: v += M^-1 j,
 // w += I^-1 (r x j) with the world inverse inertia of the body's current pose.

@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl solver/common/color_workgroup.wgsl
 // color_finish: a single workgroup withdraws the first round's claims, runs the remaining
 // coloring rounds over the constraints still undecided (few, after the seeded first round),
 // sends what is left to the overflow set, counts each color, writes the per-color offsets and

@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl solver/common/coloring.wgsl
 // color_propose: the first coloring round's proposals, one thread per constraint. Round 0
 // proposes last step's color where the pair had a manifold, so a scene that changed little
 // is colored by this round alone; color_resolve keeps the proposals whose claims held and

@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl solver/common/coloring.wgsl
 // color_resolve: the first coloring round's decisions, one thread per constraint: a
 // constraint whose (body, color) claims all hold keeps its color and marks it used at its
 // dynamic bodies; the others stay undecided for color_finish.

@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl solver/common/body_math.wgsl
 // finalize_bodies: one thread per body writes the step's deltas into its pose.
 
 @group(0) @binding(0) var<uniform> params: SolverParams;

@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl solver/common/body_math.wgsl
 // integrate_positions: one thread per body advances its in-step deltas by one substep
 // (dynamic bodies' speeds clamped first, the second half of their gyroscopic update after;
 // fixed bodies stay).

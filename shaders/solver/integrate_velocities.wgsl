@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl solver/common/body_math.wgsl
 // integrate_velocities: one thread per body advances a dynamic body's velocity by one
 // substep (gravity, gyroscopic term, damping, locks).
 

@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl solver/common/body_math.wgsl
 // prepare_bodies: one thread per body resets its in-step deltas and puts its inverse mass and
 // inverse inertia in world axes for the step.
 

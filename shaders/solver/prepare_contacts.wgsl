@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl solver/common/contact_math.wgsl
 // prepare_contacts: one thread per manifold (a manifold without points gives an empty
 // constraint) builds its constraint: normal and two friction rows per point, effective
 // masses, anchors, softness, and the warm-start impulses the collision stage carried over.

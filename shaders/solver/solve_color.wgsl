@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl solver/common/constraint_access.wgsl
 // solve_color: one thread per constraint of one graph color (ColorPass.color) applies the
 // pass chosen by the PASS override (warm start, biased solve, relax or restitution).
 // Constraints of one color share no dynamic body, so they run at the same time and the result

@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl solver/common/constraint_access.wgsl solver/common/color_workgroup.wgsl
 // solve_fused: the whole color-and-solve stage in ONE workgroup and one dispatch, for small
 // scenes. Per-dispatch overhead, not arithmetic, made the thesis's GPU solver slow: a step of
 // the wide path issues about 80 dispatches per substep (one per color and pass), while here

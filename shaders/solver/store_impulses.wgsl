@@ -1,3 +1,4 @@
+// requires: common/indexing.wgsl solver/common/contact_math.wgsl
 // store_impulses: one thread per manifold writes its constraint's final impulses into its
 // contact points, where the next step's carry_impulses finds them for warm starting, and its
 // tilt impulse (with the normal in body A's frame) where the next step's prepare_contacts

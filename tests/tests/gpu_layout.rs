@@ -1,14 +1,18 @@
-//! Shader checks that need no GPU: every WGSL file in `shaders/` is used, parses, validates
-//! (before and after specialization with the host's override values) and translates to
-//! SPIR-V; every kernel's declared bindings match its shader; and every struct shared with
-//! the host has the same size and field offsets in Rust and in WGSL (naga's layouter).
+//! Shader checks that need no GPU: every WGSL file in `shaders/` is embedded and used, parses,
+//! validates (before and after specialization with the host's override values) and translates
+//! to SPIR-V; every kernel's argument struct names its shader's bindings in binding order; and
+//! every struct shared with the host has the same size and field offsets in Rust and in WGSL
+//! (naga's layouter).
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
+use tumble_gpu::kernel::KernelSpec;
 use tumble_gpu::naga;
-use tumble_gpu::registry::{all_common_files, all_kernels, all_struct_layouts, host_shared_files};
-use tumble_gpu::shader::ShaderSource;
+use tumble_gpu::registry::{
+    KERNELS, all_common_files, all_kernels, all_struct_layouts, host_shared_files,
+};
+use tumble_gpu::shader::{FILES, ShaderSource, reflect_bindings};
 
 fn shaders_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../shaders")
@@ -40,18 +44,14 @@ fn every_shader_file_is_registered_and_every_registration_is_a_file() {
     let registered: BTreeSet<String> = all_common_files()
         .iter()
         .map(|f| f.path.to_string())
-        .chain(
-            all_kernels()
-                .iter()
-                .map(|k| k.spec.source.kernel.path.to_string()),
-        )
+        .chain(all_kernels().iter().map(|k| k.spec.file.path.to_string()))
         .collect();
     // A file nobody registers would escape validation; a registered file that is not on disk
     // could not have been embedded.
     let unregistered: Vec<&String> = on_disk.difference(&registered).collect();
     assert!(
         unregistered.is_empty(),
-        "WGSL files not listed in tumble_gpu::registry (all_kernels or all_common_files): {unregistered:?}"
+        "WGSL files neither a kernel in tumble_gpu::registry::KERNELS nor required by one: {unregistered:?}"
     );
     assert_eq!(on_disk, registered);
     // Guards against an empty or misplaced folder making the other tests vacuous: the
@@ -61,10 +61,12 @@ fn every_shader_file_is_registered_and_every_registration_is_a_file() {
         "found {} kernels",
         all_kernels().len()
     );
-    // The embedded text is the file on disk (no stale copy).
-    for k in all_kernels() {
-        let disk = std::fs::read_to_string(root.join(k.spec.source.kernel.path)).unwrap();
-        assert_eq!(disk, k.spec.source.kernel.source, "{}", k.spec.name);
+    // Every file is embedded, and the embedded text is the file on disk (no stale copy).
+    let embedded: BTreeSet<String> = FILES.iter().map(|f| f.path.to_string()).collect();
+    assert_eq!(on_disk, embedded);
+    for file in FILES {
+        let disk = std::fs::read_to_string(root.join(file.path)).unwrap();
+        assert_eq!(disk, file.source, "{}", file.path);
     }
 }
 
@@ -122,6 +124,55 @@ fn workgroup_size_comes_from_the_host_constant() {
 }
 
 #[test]
+fn every_argument_struct_names_its_shaders_bindings_in_order() {
+    for &spec in KERNELS {
+        let module = spec.check().unwrap_or_else(|e| panic!("{e}"));
+        let bindings = reflect_bindings(&module);
+        let names: Vec<&str> = bindings.iter().map(|b| b.name.as_str()).collect();
+        assert_eq!(names, spec.buffers, "{}", spec.name);
+        for (i, b) in bindings.iter().enumerate() {
+            assert_eq!(
+                (b.group, b.binding),
+                (0, i as u32),
+                "{}: {}",
+                spec.name,
+                b.name
+            );
+        }
+        // A kernel names only its own file; the rest comes from its directives.
+        let source = spec.source().unwrap();
+        assert_eq!(source.files.last(), Some(&spec.file), "{}", spec.name);
+        assert_eq!(
+            spec.file.path.rsplit('/').next(),
+            Some(format!("{}.wgsl", spec.name).as_str())
+        );
+    }
+    // Every kernel is listed once.
+    let names: BTreeSet<&str> = KERNELS.iter().map(|k| k.name).collect();
+    assert_eq!(names.len(), KERNELS.len());
+}
+
+#[test]
+fn argument_fields_that_differ_from_the_bindings_are_an_error_naming_both() {
+    static SWAPPED: KernelSpec = KernelSpec::new(
+        tumble_gpu::shader::file("radix_scan.wgsl"),
+        &["tile_counts", "work"],
+    );
+    let err = SWAPPED.check().unwrap_err().to_string();
+    for part in [
+        "radix_scan",
+        "[\"tile_counts\", \"work\"]",
+        "@binding(0) work",
+        "@binding(1) tile_counts",
+    ] {
+        assert!(err.contains(part), "{part} missing from: {err}");
+    }
+    static SHORT: KernelSpec =
+        KernelSpec::new(tumble_gpu::shader::file("radix_scan.wgsl"), &["work"]);
+    assert!(SHORT.check().is_err());
+}
+
+#[test]
 fn unknown_specialization_is_an_error_not_ignored() {
     let spec = all_kernels()[0].spec;
     let err = spec
@@ -134,12 +185,8 @@ fn unknown_specialization_is_an_error_not_ignored() {
 fn shared_modules() -> Vec<(&'static str, naga::Module)> {
     host_shared_files()
         .into_iter()
-        .map(|(file, needs)| {
-            let needs: &'static [_] = Vec::leak(needs);
-            let source = ShaderSource {
-                common: needs,
-                kernel: file,
-            };
+        .map(|file| {
+            let source = ShaderSource::of(file).unwrap_or_else(|e| panic!("{e}"));
             (
                 file.path,
                 source.parse("layout").unwrap_or_else(|e| panic!("{e}")),

@@ -4,12 +4,27 @@
 
 use std::collections::BTreeSet;
 
+use tumble_gpu::kernel::KernelSpec;
 use tumble_gpu::naga;
+use tumble_gpu::registry::KERNELS;
 use tumble_gpu::shader::ShaderSource;
 use tumble_gpu::solver::constants::solver_constants;
 use tumble_gpu::solver::layout::solver_struct_layouts;
-use tumble_gpu::solver::shaders::{SOLVER_TYPES, solver_overrides};
-use tumble_gpu::solver::{Effects, kernels};
+use tumble_gpu::solver::{Effects, effect_overrides};
+
+/// The solver's kernels: those of the registry under `shaders/solver/`.
+fn kernels() -> Vec<&'static KernelSpec> {
+    KERNELS
+        .iter()
+        .copied()
+        .filter(|k| k.file.path.starts_with("solver/"))
+        .collect()
+}
+
+/// The effect switches and `PASS` value `spec` declares.
+fn solver_overrides(spec: &KernelSpec, extra: &[(&'static str, f64)]) -> Vec<(&'static str, f64)> {
+    spec.declared(extra).unwrap_or_else(|e| panic!("{e}"))
+}
 
 // ---------------------------------------------------------------------------------------------
 // Shaders and layouts (no GPU)
@@ -24,9 +39,9 @@ fn every_solver_kernel_parses_validates_specializes_and_translates() {
         specs.len()
     );
     for spec in specs {
-        let mut extra: Vec<(&'static str, f64)> = Effects::ALL.overrides().to_vec();
+        let mut extra: Vec<(&'static str, f64)> = effect_overrides(&Effects::ALL).to_vec();
         extra.push(("PASS", 1.0));
-        let values = solver_overrides(spec, &extra).unwrap_or_else(|e| panic!("{e}"));
+        let values = solver_overrides(spec, &extra);
         let (module, info) = spec
             .check_specialized(&values)
             .unwrap_or_else(|e| panic!("{e}"));
@@ -79,6 +94,7 @@ fn every_effect_combination_specializes() {
             restitution: false,
             gravity: false,
             rotation: false,
+            kinematic: false,
             sleep: false,
         },
     ];
@@ -87,9 +103,9 @@ fn every_effect_combination_specializes() {
             &tumble_gpu::solver::fused::SOLVE_FUSED,
             &tumble_gpu::solver::solve_color::SOLVE_COLOR,
         ] {
-            let mut extra = effects.overrides().to_vec();
+            let mut extra = effect_overrides(&effects).to_vec();
             extra.push(("PASS", 0.0));
-            let values = solver_overrides(spec, &extra).unwrap();
+            let values = solver_overrides(spec, &extra);
             spec.check_specialized(&values)
                 .unwrap_or_else(|e| panic!("{effects:?} {}: {e}", spec.name));
         }
@@ -116,10 +132,8 @@ fn solver_constants_are_each_declared_by_some_shader() {
 
 #[test]
 fn solver_structs_have_the_same_layout_in_rust_and_wgsl() {
-    let source = ShaderSource {
-        common: &[tumble_gpu::shader::common::LAYOUT],
-        kernel: SOLVER_TYPES,
-    };
+    let source =
+        ShaderSource::of_path("common/solver_types.wgsl").unwrap_or_else(|e| panic!("{e}"));
     let module = source
         .parse("solver_types")
         .unwrap_or_else(|e| panic!("{e}"));

@@ -29,10 +29,9 @@
 use tumble_geometry::{Cuboid, Pose, Real, Rot, Vec3};
 use tumble_gpu::naga;
 use tumble_gpu::solver::prepare::PREPARE_CONTACTS;
-use tumble_gpu::solver::shaders::solver_overrides;
 use tumble_gpu::solver::solve_color::{PassKind, SOLVE_COLOR};
 use tumble_gpu::solver::store::STORE_IMPULSES;
-use tumble_gpu::solver::{Effects, SolvePath};
+use tumble_gpu::solver::{Effects, SolvePath, effect_overrides};
 use tumble_gpu::step::{GpuWorld, GpuWorldConfig, PathPolicy, ReadRequest};
 use tumble_gpu::{GpuContext, KernelSpec};
 use tumble_solver::{Body, BodyKind, BodyState, Material};
@@ -158,7 +157,7 @@ fn same_bits_on_and_off(
     let Some(ctx) = GpuContext::for_tests() else {
         return;
     };
-    let derived = Effects::of_scene(&scene.0, &gravity);
+    let derived = Effects::of_bodies(&scene.0, &gravity);
     let (mut on, mut off) = (derived, derived);
     set(&mut on, true);
     set(&mut off, false);
@@ -234,7 +233,7 @@ fn watch_wide(
     steps: usize,
     mut watch: impl FnMut(&Pose, &BodyState),
 ) {
-    let derived = Effects::of_scene(&scene.0, &gravity);
+    let derived = Effects::of_bodies(&scene.0, &gravity);
     let mut without = derived;
     set(&mut without, false);
     assert_ne!(without, derived, "the scene should need the effect");
@@ -432,11 +431,11 @@ fn wide_rotation_forced_off_keeps_a_tipped_cube_from_turning() {
 /// The SPIR-V of `spec` specialized as the wide path builds it with `effects` (and `pass`
 /// for the per-color pass kernel), through the same override processing wgpu applies.
 fn specialized_spirv(spec: &'static KernelSpec, effects: Effects, pass: Option<u32>) -> Vec<u32> {
-    let mut extra = effects.overrides().to_vec();
+    let mut extra = effect_overrides(&effects).to_vec();
     if let Some(pass) = pass {
         extra.push(("PASS", f64::from(pass)));
     }
-    let values = solver_overrides(spec, &extra).unwrap();
+    let values = spec.declared(&extra).unwrap();
     let (module, info) = spec
         .check_specialized(&values)
         .unwrap_or_else(|e| panic!("{e}"));

@@ -19,7 +19,10 @@ pub use manifold::{ContactPoint, FeatureKind, MAX_MANIFOLD_POINTS, Manifold};
 pub use math::{Mat3, Point3, Pose, Real, Rot, Vec3};
 pub use plane::{Plane, signed_distance_to_plane};
 pub use reduce::{reduce_into, select_four};
-pub use segment::{SegmentClosestPoints, closest_points_segments};
+pub use segment::{
+    DEGENERATE_LENGTH_RATIO as SEGMENT_DEGENERATE_RATIO,
+    PARALLEL_SIN_SQ as SEGMENT_PARALLEL_SIN_SQ, SegmentClosestPoints, closest_points_segments,
+};
 
 /// Re-export of the math crate, so users need one import.
 pub use nalgebra;

@@ -8,12 +8,12 @@ use crate::{Point3, Real};
 
 /// Below this ratio of squared lengths a segment is treated as a point: its direction carries no
 /// digit that survives `f32` rounding of the other segment's coordinates.
-const DEGENERATE_LENGTH_RATIO: Real = Real::EPSILON;
+pub const DEGENERATE_LENGTH_RATIO: Real = Real::EPSILON;
 
 /// Below this squared sine of the angle between them (1e-3 rad), two segments are treated as
 /// parallel: the closest pair is then a whole interval and we return the middle of the overlap,
 /// which moves continuously as the segments slide.
-const PARALLEL_SIN_SQ: Real = 1e-6;
+pub const PARALLEL_SIN_SQ: Real = 1e-6;
 
 /// The closest points of two segments and their parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]

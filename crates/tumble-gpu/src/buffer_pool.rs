@@ -4,6 +4,11 @@ use std::collections::HashMap;
 
 use crate::{GpuContext, GpuError};
 
+/// Bytes of `count` values of `T`.
+pub fn bytes_of<T>(count: u64) -> u64 {
+    count * std::mem::size_of::<T>() as u64
+}
+
 /// Smallest allocation: also keeps every binding non-empty, which WebGPU requires.
 const MIN_BUFFER_BYTES: u64 = 256;
 

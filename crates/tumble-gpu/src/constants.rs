@@ -56,13 +56,6 @@ fn id_shifts() -> [u32; 4] {
     ]
 }
 
-/// Segment closest points treat a segment as a point below this ratio of squared lengths;
-/// the value of `tumble_geometry`'s segment routine (`f32::EPSILON`), which keeps it private.
-pub const SEGMENT_DEGENERATE_RATIO: f32 = f32::EPSILON;
-/// Segment closest points treat segments as parallel below this squared sine (1 mrad); the
-/// value of `tumble_geometry`'s segment routine, which keeps it private.
-pub const SEGMENT_PARALLEL_SIN_SQ: f32 = 1e-6;
-
 /// Long boxes the broad phase pairs apart from its sweep (see `shaders/common/sweep.wgsl`):
 /// floors, walls and terrain slabs, a handful in a scene. With more, the sweep pairs them all
 /// as before.
@@ -110,11 +103,11 @@ pub fn shader_constants() -> Vec<(&'static str, f64)> {
         ("WITNESS_TOL", f64::from(tol::WITNESS_TOL)),
         (
             "SEGMENT_DEGENERATE_RATIO",
-            f64::from(SEGMENT_DEGENERATE_RATIO),
+            f64::from(tumble_geometry::SEGMENT_DEGENERATE_RATIO),
         ),
         (
             "SEGMENT_PARALLEL_SIN_SQ",
-            f64::from(SEGMENT_PARALLEL_SIN_SQ),
+            f64::from(tumble_geometry::SEGMENT_PARALLEL_SIN_SQ),
         ),
         ("ID_KIND_FACE_A", f64::from(id::KIND_FACE_A)),
         ("ID_KIND_FACE_B", f64::from(id::KIND_FACE_B)),

@@ -1,53 +1,312 @@
-//! One compute kernel: its WGSL source, its declared buffer bindings, the pipeline built from
-//! them, and dispatch helpers (direct, folded past the per-dimension limit, and indirect).
+//! One compute kernel: its WGSL file, its typed buffer arguments, the pipeline built from
+//! them (once per device and override values, in one cache), and dispatch helpers (direct,
+//! folded past the per-dimension limit, and indirect).
 //!
-//! Adding a kernel takes three pieces: a file in `shaders/` with one entry point `main`, a
-//! [`KernelSpec`] listing the common files and bindings, and a typed argument struct of named
-//! buffers implementing [`KernelArgs`] (in binding order). The spec is checked against the
-//! shader's own declarations when the pipeline is built and in the layout test.
+//! # Adding a kernel
+//!
+//! A kernel is a file in `shaders/` with one entry point `main`, whose first lines name the
+//! shared files it needs (see [`crate::shader`]), plus one [`kernel!`] block naming its
+//! buffers in binding order:
+//!
+//! ```ignore
+//! // shaders/match_pairs.wgsl
+//! // requires: common/indexing.wgsl common/layout.wgsl
+//! @group(0) @binding(0) var<storage, read> work: WorkList;
+//! @group(0) @binding(1) var<storage, read_write> previous_index: array<u32>;
+//! ```
+//!
+//! ```ignore
+//! kernel! {
+//!     /// Buffers of [`MATCH_PAIRS`].
+//!     pub struct MatchPairsArgs {
+//!         /// This step's pair `WorkList`.
+//!         work,
+//!         /// Output: last step's index of each pair.
+//!         previous_index,
+//!     }
+//!     /// The kernel: one thread per pair.
+//!     pub static MATCH_PAIRS = "match_pairs.wgsl";
+//! }
+//! ```
+//!
+//! The block declares `MatchPairsArgs<'a>` (one `&'a wgpu::Buffer` per field, its
+//! [`KernelArgs`] in field order) and the [`KernelSpec`] `MATCH_PAIRS`, named after its file.
+//! Nothing else lists the bindings: their kinds (uniform, storage read, storage read-write)
+//! come from naga's reflection of the composed module when the pipeline is built, and
+//! [`KernelSpec::check`] fails unless the struct's field names, in order, are the names of the
+//! shader's group-0 bindings in binding order. One block may declare several kernels taking
+//! the same buffers. A kernel is then built with [`Kernel::new`] (or [`Kernel::specialized`]
+//! for extra `override` values) and listed in [`crate::registry::KERNELS`] for the checks.
 
-use crate::shader::{Binding, ShaderSource, override_names, reflect_bindings};
+use std::collections::HashMap;
+use std::sync::{Mutex, OnceLock};
+
+use crate::layout::WORK_LIST_GROUPS_OFFSET;
+use crate::shader::{Binding, ShaderSource, WgslFile, override_names, reflect_bindings};
 use crate::{GpuContext, GpuError, constants};
 
-/// Everything needed to build a kernel's pipeline.
-#[derive(Clone, Copy, Debug)]
+/// Declares a kernel's typed buffer arguments and the kernel specs that take them (see the
+/// [module docs](crate::kernel)).
+macro_rules! kernel {
+    (
+        $(#[$args_meta:meta])*
+        $args_vis:vis struct $args:ident {
+            $(
+                $(#[$field_meta:meta])*
+                $field:ident
+            ),* $(,)?
+        }
+        $(
+            $(#[$spec_meta:meta])*
+            $spec_vis:vis static $spec:ident = $path:literal;
+        )+
+    ) => {
+        $(#[$args_meta])*
+        $args_vis struct $args<'a> {
+            $(
+                $(#[$field_meta])*
+                pub $field: &'a wgpu::Buffer,
+            )*
+        }
+
+        impl $args<'_> {
+            /// The fields' names, in order: the names of the kernel's bindings.
+            pub const NAMES: &'static [&'static str] = &[$(stringify!($field)),*];
+        }
+
+        impl $crate::kernel::KernelArgs for $args<'_> {
+            fn buffers(&self) -> Vec<&wgpu::Buffer> {
+                vec![$(self.$field),*]
+            }
+        }
+
+        $(
+            $(#[$spec_meta])*
+            $spec_vis static $spec: $crate::kernel::KernelSpec = $crate::kernel::KernelSpec::new(
+                $crate::shader::file($path),
+                <$args<'static>>::NAMES,
+            );
+        )+
+    };
+}
+pub(crate) use kernel;
+
+/// Declares a struct of built kernels, one `pub` [`Kernel`] field per spec, and its
+/// constructor `build`, which takes each kernel from a function of its spec (typically
+/// `|spec| Kernel::new(ctx, spec)`, the pipeline cache).
+macro_rules! pipelines {
+    (
+        $(#[$meta:meta])*
+        $vis:vis struct $name:ident {
+            $(
+                $(#[$field_meta:meta])*
+                $field:ident: $spec:path
+            ),* $(,)?
+        }
+    ) => {
+        $(#[$meta])*
+        #[derive(Clone, Debug)]
+        $vis struct $name {
+            $(
+                $(#[$field_meta])*
+                pub $field: $crate::kernel::Kernel,
+            )*
+        }
+
+        impl $name {
+            /// Every kernel, each from `kernel`.
+            pub fn build(
+                mut kernel: impl FnMut(
+                    &'static $crate::kernel::KernelSpec,
+                ) -> Result<$crate::kernel::Kernel, $crate::GpuError>,
+            ) -> Result<Self, $crate::GpuError> {
+                Ok(Self {
+                    $($field: kernel(&$spec)?,)*
+                })
+            }
+        }
+    };
+}
+pub(crate) use pipelines;
+
+/// A kernel: its file and the names of its buffers, in binding order. Declared with
+/// [`kernel!`]; everything else (binding kinds, override names) is read from the shader.
+#[derive(Debug)]
 pub struct KernelSpec {
-    /// The kernel's name (the stage name it implements, used in labels and errors).
+    /// The kernel's name: its file name without `.wgsl` (used in labels and errors).
     pub name: &'static str,
-    /// Its WGSL source.
-    pub source: ShaderSource,
-    /// Its buffers in binding order (group 0, binding = index).
-    pub bindings: &'static [Binding],
+    /// Its WGSL file (entry point `main`); the shared files come from its directives.
+    pub file: WgslFile,
+    /// The fields of its argument struct, in order: the names its group-0 bindings must have.
+    pub buffers: &'static [&'static str],
+    reflection: OnceLock<Result<Reflection, String>>,
+}
+
+/// What building a pipeline needs from a checked module, computed once per kernel.
+#[derive(Debug)]
+struct Reflection {
+    text: String,
+    bindings: Vec<Binding>,
+    overrides: Vec<String>,
+}
+
+/// A kernel file's name: the last path segment without `.wgsl`.
+const fn kernel_name(path: &'static str) -> &'static str {
+    let bytes = path.as_bytes();
+    let suffix = b".wgsl";
+    assert!(bytes.len() > suffix.len(), "a kernel file is named *.wgsl");
+    let end = bytes.len() - suffix.len();
+    let mut i = 0;
+    while i < suffix.len() {
+        assert!(bytes[end + i] == suffix[i], "a kernel file is named *.wgsl");
+        i += 1;
+    }
+    let mut start = 0;
+    let mut i = 0;
+    while i < end {
+        if bytes[i] == b'/' {
+            start = i + 1;
+        }
+        i += 1;
+    }
+    let (head, _) = bytes.split_at(end);
+    let (_, name) = head.split_at(start);
+    match std::str::from_utf8(name) {
+        Ok(name) => name,
+        Err(_) => panic!("kernel file names are UTF-8"),
+    }
+}
+
+/// Every host value a shader may declare as an `override`: the shared, solver and sleep
+/// constants, each name once.
+fn host_override_values() -> Vec<(&'static str, f64)> {
+    let mut values = constants::shader_constants();
+    for (name, value) in crate::solver::constants::solver_constants()
+        .into_iter()
+        .chain(crate::sleep::constants::sleep_constants())
+    {
+        match values.iter().find(|(n, _)| *n == name) {
+            Some(&(_, known)) => debug_assert_eq!(known, value, "{name} has two values"),
+            None => values.push((name, value)),
+        }
+    }
+    values
 }
 
 impl KernelSpec {
-    /// Parses and validates the shader and checks its bindings match [`Self::bindings`].
+    /// A spec over `file` whose argument struct has the fields `buffers` (used by [`kernel!`]).
+    pub const fn new(file: WgslFile, buffers: &'static [&'static str]) -> Self {
+        Self {
+            name: kernel_name(file.path),
+            file,
+            buffers,
+            reflection: OnceLock::new(),
+        }
+    }
+
+    /// The kernel's file with every file it requires, in composition order.
+    pub fn source(&self) -> Result<ShaderSource, GpuError> {
+        ShaderSource::of(self.file).map_err(|e| self.error(e.to_string()))
+    }
+
+    fn error(&self, message: String) -> GpuError {
+        GpuError::Shader {
+            shader: self.name,
+            message,
+        }
+    }
+
+    /// Parses and validates the shader and checks that its buffer bindings are group 0,
+    /// numbered from 0, with the names of [`Self::buffers`] in binding order.
     pub fn check(&self) -> Result<naga::Module, GpuError> {
-        let module = self.source.parse(self.name)?;
+        let source = self.source()?;
+        let module = source.parse(self.name)?;
         let mut validator = naga::valid::Validator::new(
             naga::valid::ValidationFlags::all(),
             crate::validation_capabilities(),
         );
-        validator.validate(&module).map_err(|e| GpuError::Shader {
-            shader: self.name,
-            message: e.emit_to_string(&self.source.compose()),
-        })?;
-        let declared: Vec<(u32, u32, Binding)> = self
-            .bindings
+        validator
+            .validate(&module)
+            .map_err(|e| self.error(e.emit_to_string(&source.compose())))?;
+        let found = reflect_bindings(&module);
+        let numbered = found
             .iter()
             .enumerate()
-            .map(|(i, &b)| (0, i as u32, b))
-            .collect();
-        let found = reflect_bindings(&module);
-        if found != declared {
-            return Err(GpuError::Shader {
-                shader: self.name,
-                message: format!(
-                    "bindings in the shader {found:?} differ from the kernel spec {declared:?}"
-                ),
-            });
+            .all(|(i, b)| b.group == 0 && b.binding == i as u32);
+        let names: Vec<&str> = found.iter().map(|b| b.name.as_str()).collect();
+        if !numbered || names != self.buffers {
+            let shader: Vec<String> = found
+                .iter()
+                .map(|b| format!("@group({}) @binding({}) {}", b.group, b.binding, b.name))
+                .collect();
+            return Err(self.error(format!(
+                "the argument struct's fields {:?} are not the shader's group 0 bindings \
+                 in binding order {shader:?}",
+                self.buffers
+            )));
         }
         Ok(module)
+    }
+
+    /// The checked module's bindings and override names, computed on first use.
+    fn reflection(&self) -> Result<&Reflection, GpuError> {
+        self.reflection
+            .get_or_init(|| {
+                let module = self.check().map_err(|e| match e {
+                    GpuError::Shader { message, .. } => message,
+                    other => other.to_string(),
+                })?;
+                Ok(Reflection {
+                    text: self.source().map_err(|e| e.to_string())?.compose(),
+                    bindings: reflect_bindings(&module).iter().map(|b| b.kind).collect(),
+                    overrides: override_names(&module),
+                })
+            })
+            .as_ref()
+            .map_err(|message| self.error(message.clone()))
+    }
+
+    /// Whether the shader declares the `override` `name`.
+    pub fn declares(&self, name: &str) -> Result<bool, GpuError> {
+        Ok(self.reflection()?.overrides.iter().any(|o| o == name))
+    }
+
+    /// The entries of `values` this shader declares as overrides (switches that only some
+    /// kernels of a stage have, such as the effect switches).
+    pub fn declared(
+        &self,
+        values: &[(&'static str, f64)],
+    ) -> Result<Vec<(&'static str, f64)>, GpuError> {
+        let mut kept = Vec::new();
+        for &(name, value) in values {
+            if self.declares(name)? {
+                kept.push((name, value));
+            }
+        }
+        Ok(kept)
+    }
+
+    /// The override values this kernel is built with, sorted by name: the host constants
+    /// its module declares, then `extra` (specializations such as effect switches) on top.
+    /// Errs on an `extra` value the shader lacks.
+    pub fn override_values(
+        &self,
+        extra: &[(&'static str, f64)],
+    ) -> Result<Vec<(&'static str, f64)>, GpuError> {
+        let names = &self.reflection()?.overrides;
+        let mut values: Vec<(&'static str, f64)> = host_override_values()
+            .into_iter()
+            .filter(|(n, _)| names.iter().any(|m| m == n))
+            .collect();
+        for &(name, value) in extra {
+            if !names.iter().any(|m| m == name) {
+                return Err(self.error(format!("no override named {name} to specialize")));
+            }
+            values.retain(|(n, _)| *n != name);
+            values.push((name, value));
+        }
+        values.sort_by(|a, b| a.0.cmp(b.0));
+        Ok(values)
     }
 
     /// Like [`Self::check`], then specializes the module with the override values (plus
@@ -57,18 +316,14 @@ impl KernelSpec {
         extra: &[(&'static str, f64)],
     ) -> Result<(naga::Module, naga::valid::ModuleInfo), GpuError> {
         let module = self.check()?;
-        let fail = |message: String| GpuError::Shader {
-            shader: self.name,
-            message,
-        };
         let info = naga::valid::Validator::new(
             naga::valid::ValidationFlags::all(),
             crate::validation_capabilities(),
         )
         .validate(&module)
-        .map_err(|e| fail(e.to_string()))?;
+        .map_err(|e| self.error(e.to_string()))?;
         let mut constants = naga::back::PipelineConstants::default();
-        for (name, value) in self.override_values(&module, extra)? {
+        for (name, value) in self.override_values(extra)? {
             constants.insert(name.to_string(), value);
         }
         let (specialized, info) = naga::back::pipeline_constants::process_overrides(
@@ -77,91 +332,93 @@ impl KernelSpec {
             Some((naga::ShaderStage::Compute, "main")),
             &constants,
         )
-        .map_err(|e| fail(e.to_string()))?;
+        .map_err(|e| self.error(e.to_string()))?;
         Ok((specialized.into_owned(), info.into_owned()))
-    }
-
-    /// The override values for this kernel: the shared constants its module declares, then
-    /// `extra` (specializations such as effect switches). Errs on a value the shader lacks.
-    pub fn override_values(
-        &self,
-        module: &naga::Module,
-        extra: &[(&'static str, f64)],
-    ) -> Result<Vec<(&'static str, f64)>, GpuError> {
-        let names = override_names(module);
-        let mut values: Vec<(&'static str, f64)> = constants::shader_constants()
-            .into_iter()
-            .filter(|(n, _)| names.iter().any(|m| m == n))
-            .collect();
-        for &(name, value) in extra {
-            if !names.iter().any(|m| m == name) {
-                return Err(GpuError::Shader {
-                    shader: self.name,
-                    message: format!("no override named {name} to specialize"),
-                });
-            }
-            values.retain(|(n, _)| *n != name);
-            values.push((name, value));
-        }
-        Ok(values)
     }
 }
 
 /// A kernel's buffers as a typed struct of named fields; `buffers` lists them in binding order.
 pub trait KernelArgs {
-    /// The buffers, in the order of the kernel's [`KernelSpec::bindings`].
+    /// The buffers, in the order of the kernel's [`KernelSpec::buffers`].
     fn buffers(&self) -> Vec<&wgpu::Buffer>;
 }
 
-/// A built kernel: compute pipeline plus the layout of its single bind group.
+/// A built kernel: compute pipeline plus the layout of its single bind group. Cheap to clone
+/// (the GPU objects are shared).
 #[derive(Clone, Debug)]
 pub struct Kernel {
     /// What it was built from.
     pub spec: &'static KernelSpec,
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
+    bindings: usize,
+}
+
+/// Pipelines by device, kernel and override values (as bits).
+type PipelineKey = (wgpu::Device, &'static str, Vec<(&'static str, u64)>);
+
+/// Every pipeline built, shared after (pipeline creation is the slow part of starting a
+/// world: on a software rasterizer the fused solver kernel alone takes a large fraction of
+/// a second to compile).
+fn pipeline_cache() -> &'static Mutex<HashMap<PipelineKey, Kernel>> {
+    static CACHE: OnceLock<Mutex<HashMap<PipelineKey, Kernel>>> = OnceLock::new();
+    CACHE.get_or_init(Default::default)
 }
 
 impl Kernel {
-    /// Builds the pipeline with the shared constants.
+    /// The pipeline with the host constants.
     pub fn new(ctx: &GpuContext, spec: &'static KernelSpec) -> Result<Self, GpuError> {
         Self::specialized(ctx, spec, &[])
     }
 
-    /// Builds the pipeline with extra `override` values (effects compiled in or out).
+    /// The pipeline with extra `override` values (effects compiled in or out, a pass kind),
+    /// each of which the shader must declare. Built on first use per device and values, and
+    /// shared after.
     pub fn specialized(
         ctx: &GpuContext,
         spec: &'static KernelSpec,
         overrides: &[(&'static str, f64)],
     ) -> Result<Self, GpuError> {
-        let module = spec.check()?;
-        let constants = spec.override_values(&module, overrides)?;
+        let constants = spec.override_values(overrides)?;
+        let key: PipelineKey = (
+            ctx.device.clone(),
+            spec.name,
+            constants.iter().map(|&(n, v)| (n, v.to_bits())).collect(),
+        );
+        let cache = pipeline_cache();
+        if let Some(found) = cache.lock().expect("pipeline cache lock").get(&key) {
+            return Ok(found.clone());
+        }
+        // Built outside the lock: another thread building the same pipeline only wastes time.
+        let built = Self::build(ctx, spec, &constants)?;
+        Ok(cache
+            .lock()
+            .expect("pipeline cache lock")
+            .entry(key)
+            .or_insert(built)
+            .clone())
+    }
+
+    fn build(
+        ctx: &GpuContext,
+        spec: &'static KernelSpec,
+        constants: &[(&'static str, f64)],
+    ) -> Result<Self, GpuError> {
+        let reflection = spec.reflection()?;
         let device = &ctx.device;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(spec.name),
-            source: wgpu::ShaderSource::Wgsl(spec.source.compose().into()),
+            source: wgpu::ShaderSource::Wgsl(reflection.text.as_str().into()),
         });
-        let entries: Vec<wgpu::BindGroupLayoutEntry> = spec
+        let entries: Vec<wgpu::BindGroupLayoutEntry> = reflection
             .bindings
             .iter()
             .enumerate()
             .map(|(i, b)| wgpu::BindGroupLayoutEntry {
                 binding: i as u32,
                 visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Buffer {
-                    ty: match b {
-                        Binding::Uniform => wgpu::BufferBindingType::Uniform,
-                        Binding::StorageRead => {
-                            wgpu::BufferBindingType::Storage { read_only: true }
-                        }
-                        Binding::StorageReadWrite => {
-                            wgpu::BufferBindingType::Storage { read_only: false }
-                        }
-                    },
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
+                ty: b.layout_type(),
                 count: None,
             })
             .collect();
@@ -180,21 +437,19 @@ impl Kernel {
             module: &shader,
             entry_point: Some("main"),
             compilation_options: wgpu::PipelineCompilationOptions {
-                constants: &constants,
+                constants,
                 zero_initialize_workgroup_memory: true,
             },
             cache: None,
         });
         if let Some(error) = pollster::block_on(scope.pop()) {
-            return Err(GpuError::Shader {
-                shader: spec.name,
-                message: error.to_string(),
-            });
+            return Err(spec.error(error.to_string()));
         }
         Ok(Self {
             spec,
             pipeline,
             layout,
+            bindings: entries.len(),
         })
     }
 
@@ -203,10 +458,10 @@ impl Kernel {
         let buffers = args.buffers();
         assert_eq!(
             buffers.len(),
-            self.spec.bindings.len(),
+            self.bindings,
             "kernel {} takes {} buffers",
             self.spec.name,
-            self.spec.bindings.len()
+            self.bindings
         );
         let entries: Vec<wgpu::BindGroupEntry> = buffers
             .iter()
@@ -262,5 +517,27 @@ impl Kernel {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, group, &[]);
         pass.dispatch_workgroups_indirect(args, offset);
+    }
+
+    /// Dispatches one thread per item of the `WorkList` `work`, with the workgroup counts the
+    /// GPU wrote into it.
+    pub fn dispatch_work(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        group: &wgpu::BindGroup,
+        work: &wgpu::Buffer,
+    ) {
+        self.dispatch_indirect(pass, group, work, WORK_LIST_GROUPS_OFFSET);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::kernel_name;
+
+    #[test]
+    fn a_kernel_is_named_after_its_file() {
+        assert_eq!(kernel_name("match_pairs.wgsl"), "match_pairs");
+        assert_eq!(kernel_name("solver/solve_color.wgsl"), "solve_color");
     }
 }

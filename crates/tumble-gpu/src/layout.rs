@@ -4,38 +4,298 @@
 
 use bytemuck::{Pod, Zeroable};
 
-/// A body's pose. 32 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuPose {
-    /// World position of the centre of mass; `w` unused (0).
-    pub position: [f32; 4],
-    /// Unit quaternion `(x, y, z, w)`, `w` the scalar part (nalgebra's storage order).
-    pub rotation: [f32; 4],
-}
+/// Declares structs shared with WGSL, each `#[repr(C)]` with the attributes and fields given,
+/// and a function listing their [`StructLayout`]s (sizes and field offsets, in declaration
+/// order) for the layout check: a shared struct is written once.
+macro_rules! host_structs {
+    (
+        $(#[$fn_meta:meta])*
+        pub fn $layouts:ident();
+        $(
+            $(#[$meta:meta])*
+            pub struct $name:ident {
+                $(
+                    $(#[$field_meta:meta])*
+                    pub $field:ident: $ty:ty
+                ),* $(,)?
+            }
+        )+
+    ) => {
+        $(
+            $(#[$meta])*
+            #[repr(C)]
+            pub struct $name {
+                $(
+                    $(#[$field_meta])*
+                    pub $field: $ty,
+                )*
+            }
+        )+
 
-/// A body's velocity. 32 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuVelocity {
-    /// Linear velocity (m/s); `w` unused.
-    pub linear: [f32; 4],
-    /// Angular velocity (rad/s, world frame); `w` unused.
-    pub angular: [f32; 4],
+        $(#[$fn_meta])*
+        pub fn $layouts() -> Vec<$crate::layout::StructLayout> {
+            vec![$(
+                $crate::layout::StructLayout {
+                    name: stringify!($name),
+                    size: std::mem::size_of::<$name>(),
+                    fields: vec![$((stringify!($field), std::mem::offset_of!($name, $field))),*],
+                }
+            ),+]
+        }
+    };
 }
+pub(crate) use host_structs;
 
-/// A body's cuboid half extents and flags. 16 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuShape {
-    /// Half extent along local x (m).
-    pub hx: f32,
-    /// Half extent along local y (m).
-    pub hy: f32,
-    /// Half extent along local z (m).
-    pub hz: f32,
-    /// Bit set of `BODY_*` flags.
-    pub flags: u32,
+host_structs! {
+    /// Every struct shared with WGSL.
+    pub fn shared_struct_layouts();
+
+    /// A body's pose. 32 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct GpuPose {
+            /// World position of the centre of mass; `w` unused (0).
+            pub position: [f32; 4],
+            /// Unit quaternion `(x, y, z, w)`, `w` the scalar part (nalgebra's storage order).
+            pub rotation: [f32; 4],
+    }
+
+    /// A body's velocity. 32 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct GpuVelocity {
+            /// Linear velocity (m/s); `w` unused.
+            pub linear: [f32; 4],
+            /// Angular velocity (rad/s, world frame); `w` unused.
+            pub angular: [f32; 4],
+    }
+
+    /// A body's cuboid half extents and flags. 16 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct GpuShape {
+            /// Half extent along local x (m).
+            pub hx: f32,
+            /// Half extent along local y (m).
+            pub hy: f32,
+            /// Half extent along local z (m).
+            pub hz: f32,
+            /// Bit set of `BODY_*` flags.
+            pub flags: u32,
+    }
+
+    /// A world-space AABB. 32 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct GpuAabb {
+            /// Lower corner; `w` unused.
+            pub min: [f32; 4],
+            /// Upper corner; `w` unused.
+            pub max: [f32; 4],
+    }
+
+    /// Arguments of `dispatch_workgroups_indirect`, padded to 16 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+    pub struct DispatchArgs {
+            /// Workgroups along x.
+            pub x: u32,
+            /// Workgroups along y.
+            pub y: u32,
+            /// Workgroups along z.
+            pub z: u32,
+            /// Padding.
+            pub _pad: u32,
+    }
+
+    /// A GPU-side count of work items and the dispatch size covering it. 32 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+    pub struct WorkList {
+            /// Items to process (an append count clamped to the capacity).
+            pub count: u32,
+            /// Items the producer tried to append; more than `capacity` means overflow.
+            pub requested: u32,
+            /// Slots in the item buffer.
+            pub capacity: u32,
+            /// Padding.
+            pub _pad: u32,
+            /// Workgroups covering one thread per item, which is also one workgroup per tile of
+            /// `WORKGROUP_SIZE` items (the radix sort's tiles).
+            pub groups: DispatchArgs,
+    }
+
+    /// Parameters of `update_aabbs`. 16 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct UpdateAabbsParams {
+            /// Bodies.
+            pub count: u32,
+            /// Distance every AABB grows by on each side (m): the speculative contact margin.
+            pub margin: f32,
+            /// Time step (s): AABBs also sweep by velocity times `dt`.
+            pub dt: f32,
+            /// Padding.
+            pub _pad: u32,
+    }
+
+    /// Parameters of one radix sort pass. 16 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+    pub struct RadixPassParams {
+            /// Bit offset of the digit this pass sorts on.
+            pub shift: u32,
+            /// Padding.
+            pub _pad0: u32,
+            /// Padding.
+            pub _pad1: u32,
+            /// Padding.
+            pub _pad2: u32,
+    }
+
+    /// Parameters of `sweep_pairs`. 16 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct SweepParams {
+            /// Bodies.
+            pub body_count: u32,
+            /// Slots in the pair buffers.
+            pub pair_capacity: u32,
+            /// Boxes longer than this on the sweep axis (m) are paired by `long_pairs` instead of
+            /// the sweep (see `shaders/common/sweep.wgsl`).
+            pub long_extent: f32,
+            /// Padding.
+            pub _pad1: u32,
+    }
+
+    /// The sweep axis and the statistics it was chosen from. 32 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct SweepAxis {
+            /// 0, 1 or 2: the axis of largest centre variance.
+            pub axis: u32,
+            /// Padding.
+            pub _pad0: u32,
+            /// Padding.
+            pub _pad1: u32,
+            /// Padding.
+            pub _pad2: u32,
+            /// Centre variance along x, y, z (m²); `w` unused.
+            pub variance: [f32; 4],
+    }
+
+    /// Parameters of `collide_cuboids`. 16 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct NarrowParams {
+            /// Base speculative margin (m): points this far apart are still reported.
+            pub margin: f32,
+            /// Time step (s): the margin grows by how far a pair can close in one step.
+            pub dt: f32,
+            /// Padding.
+            pub _pad0: u32,
+            /// Padding.
+            pub _pad1: u32,
+    }
+
+    /// One contact point of a manifold. 48 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct GpuContact {
+            /// World point midway between the surfaces; `w` unused.
+            pub position: [f32; 4],
+            /// Accumulated friction impulse (world, N s), carried between steps; `w` unused.
+            pub friction_impulse: [f32; 4],
+            /// Overlap along the normal (m): positive when overlapping.
+            pub depth: f32,
+            /// Feature id: the same while the same features touch.
+            pub id: u32,
+            /// Accumulated normal impulse (N s), carried between steps.
+            pub normal_impulse: f32,
+            /// Padding.
+            pub _pad: u32,
+    }
+
+    /// The manifold of candidate pair `k`; its points are `contacts[k * MAX_MANIFOLD_POINTS..]`.
+    /// 48 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct GpuManifold {
+            /// Unit normal from A to B; `w` unused.
+            pub normal: [f32; 4],
+            /// Body A, the smaller index of the pair.
+            pub body_a: u32,
+            /// Body B.
+            pub body_b: u32,
+            /// `MANIFOLD_FACE_A`, `MANIFOLD_FACE_B` or `MANIFOLD_EDGE`.
+            pub kind: u32,
+            /// Reference face, packed edge pair (`edge_a * 12 + edge_b`), or vertex feature.
+            pub feature: u32,
+            /// Valid points: 0 (no contact) to `MAX_MANIFOLD_POINTS`.
+            pub len: u32,
+            /// Index of this pair's manifold last step, or `NO_PREVIOUS`.
+            pub previous: u32,
+            /// Padding.
+            pub _pad0: u32,
+            /// Padding.
+            pub _pad1: u32,
+    }
+
+    /// A manifold in body A's frame at the poses it was found at, kept per pair slot so that the
+    /// next step's `carry_impulses` can match points whose feature ids changed by where they are
+    /// on A (the CPU contact cache keeps the same). 80 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct GpuLocalManifold {
+            /// The manifold normal in A's frame; `w` unused.
+            pub normal: [f32; 4],
+            /// Each point in A's frame; `w` unused, slots past the manifold's `len` zero.
+            pub points: [[f32; 4]; tumble_geometry::MAX_MANIFOLD_POINTS],
+    }
+
+    /// A body's AABB in sweep order, coordinates permuted so the sweep axis comes first (then the
+    /// axis after it, then the one after that). 32 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct GpuSweepBox {
+            /// Lower bound on the sweep axis.
+            pub lo_0: f32,
+            /// Lower bound on the next axis.
+            pub lo_1: f32,
+            /// Lower bound on the last axis.
+            pub lo_2: f32,
+            /// The body's index.
+            pub body: u32,
+            /// Upper bound on the sweep axis.
+            pub hi_0: f32,
+            /// Upper bound on the next axis.
+            pub hi_1: f32,
+            /// Upper bound on the last axis.
+            pub hi_2: f32,
+            /// The body's `GpuShape::flags`.
+            pub flags: u32,
+    }
+
+    /// Where a manifold in contact sits: its pair slot and its first point in the dense list.
+    /// 8 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+    pub struct GpuTouching {
+            /// Index of the pair (and of its manifold in the per-pair arrays).
+            pub slot: u32,
+            /// Index of its first point among the dense points.
+            pub first_point: u32,
+    }
+
+    /// Totals of the dense contact list. 16 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+    pub struct TouchingCounts {
+            /// Manifolds in contact.
+            pub manifolds: u32,
+            /// Their points.
+            pub points: u32,
+            /// Padding.
+            pub _pad0: u32,
+            /// Padding.
+            pub _pad1: u32,
+    }
+
+    /// Parameters of `scatter_impulses`. 16 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+    pub struct ScatterParams {
+            /// Dense manifolds to scatter.
+            pub count: u32,
+            /// Padding.
+            pub _pad0: u32,
+            /// Padding.
+            pub _pad1: u32,
+            /// Padding.
+            pub _pad2: u32,
+    }
 }
 
 /// Flag bit of [`GpuShape::flags`]: the body never moves (two static bodies never pair).
@@ -81,47 +341,6 @@ impl GpuShape {
     }
 }
 
-/// A world-space AABB. 32 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuAabb {
-    /// Lower corner; `w` unused.
-    pub min: [f32; 4],
-    /// Upper corner; `w` unused.
-    pub max: [f32; 4],
-}
-
-/// Arguments of `dispatch_workgroups_indirect`, padded to 16 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct DispatchArgs {
-    /// Workgroups along x.
-    pub x: u32,
-    /// Workgroups along y.
-    pub y: u32,
-    /// Workgroups along z.
-    pub z: u32,
-    /// Padding.
-    pub _pad: u32,
-}
-
-/// A GPU-side count of work items and the dispatch size covering it. 32 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct WorkList {
-    /// Items to process (an append count clamped to the capacity).
-    pub count: u32,
-    /// Items the producer tried to append; more than `capacity` means overflow.
-    pub requested: u32,
-    /// Slots in the item buffer.
-    pub capacity: u32,
-    /// Padding.
-    pub _pad: u32,
-    /// Workgroups covering one thread per item, which is also one workgroup per tile of
-    /// `WORKGROUP_SIZE` items (the radix sort's tiles).
-    pub groups: DispatchArgs,
-}
-
 /// Byte offset of [`WorkList::groups`], for indirect dispatch.
 pub const WORK_LIST_GROUPS_OFFSET: u64 = std::mem::offset_of!(WorkList, groups) as u64;
 
@@ -144,196 +363,6 @@ impl WorkList {
     }
 }
 
-/// Parameters of `update_aabbs`. 16 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct UpdateAabbsParams {
-    /// Bodies.
-    pub count: u32,
-    /// Distance every AABB grows by on each side (m): the speculative contact margin.
-    pub margin: f32,
-    /// Time step (s): AABBs also sweep by velocity times `dt`.
-    pub dt: f32,
-    /// Padding.
-    pub _pad: u32,
-}
-
-/// Parameters of one radix sort pass. 16 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct RadixPassParams {
-    /// Bit offset of the digit this pass sorts on.
-    pub shift: u32,
-    /// Padding.
-    pub _pad0: u32,
-    /// Padding.
-    pub _pad1: u32,
-    /// Padding.
-    pub _pad2: u32,
-}
-
-/// Parameters of `sweep_pairs`. 16 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct SweepParams {
-    /// Bodies.
-    pub body_count: u32,
-    /// Slots in the pair buffers.
-    pub pair_capacity: u32,
-    /// Boxes longer than this on the sweep axis (m) are paired by `long_pairs` instead of
-    /// the sweep (see `shaders/common/sweep.wgsl`).
-    pub long_extent: f32,
-    /// Padding.
-    pub _pad1: u32,
-}
-
-/// The sweep axis and the statistics it was chosen from. 32 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct SweepAxis {
-    /// 0, 1 or 2: the axis of largest centre variance.
-    pub axis: u32,
-    /// Padding.
-    pub _pad0: u32,
-    /// Padding.
-    pub _pad1: u32,
-    /// Padding.
-    pub _pad2: u32,
-    /// Centre variance along x, y, z (m²); `w` unused.
-    pub variance: [f32; 4],
-}
-
-/// Parameters of `collide_cuboids`. 16 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct NarrowParams {
-    /// Base speculative margin (m): points this far apart are still reported.
-    pub margin: f32,
-    /// Time step (s): the margin grows by how far a pair can close in one step.
-    pub dt: f32,
-    /// Padding.
-    pub _pad0: u32,
-    /// Padding.
-    pub _pad1: u32,
-}
-
-/// One contact point of a manifold. 48 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuContact {
-    /// World point midway between the surfaces; `w` unused.
-    pub position: [f32; 4],
-    /// Accumulated friction impulse (world, N s), carried between steps; `w` unused.
-    pub friction_impulse: [f32; 4],
-    /// Overlap along the normal (m): positive when overlapping.
-    pub depth: f32,
-    /// Feature id: the same while the same features touch.
-    pub id: u32,
-    /// Accumulated normal impulse (N s), carried between steps.
-    pub normal_impulse: f32,
-    /// Padding.
-    pub _pad: u32,
-}
-
-/// The manifold of candidate pair `k`; its points are `contacts[k * MAX_MANIFOLD_POINTS..]`.
-/// 48 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuManifold {
-    /// Unit normal from A to B; `w` unused.
-    pub normal: [f32; 4],
-    /// Body A, the smaller index of the pair.
-    pub body_a: u32,
-    /// Body B.
-    pub body_b: u32,
-    /// `MANIFOLD_FACE_A`, `MANIFOLD_FACE_B` or `MANIFOLD_EDGE`.
-    pub kind: u32,
-    /// Reference face, packed edge pair (`edge_a * 12 + edge_b`), or vertex feature.
-    pub feature: u32,
-    /// Valid points: 0 (no contact) to `MAX_MANIFOLD_POINTS`.
-    pub len: u32,
-    /// Index of this pair's manifold last step, or `NO_PREVIOUS`.
-    pub previous: u32,
-    /// Padding.
-    pub _pad0: u32,
-    /// Padding.
-    pub _pad1: u32,
-}
-
-/// A manifold in body A's frame at the poses it was found at, kept per pair slot so that the
-/// next step's `carry_impulses` can match points whose feature ids changed by where they are
-/// on A (the CPU contact cache keeps the same). 80 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuLocalManifold {
-    /// The manifold normal in A's frame; `w` unused.
-    pub normal: [f32; 4],
-    /// Each point in A's frame; `w` unused, slots past the manifold's `len` zero.
-    pub points: [[f32; 4]; tumble_geometry::MAX_MANIFOLD_POINTS],
-}
-
-/// A body's AABB in sweep order, coordinates permuted so the sweep axis comes first (then the
-/// axis after it, then the one after that). 32 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuSweepBox {
-    /// Lower bound on the sweep axis.
-    pub lo_0: f32,
-    /// Lower bound on the next axis.
-    pub lo_1: f32,
-    /// Lower bound on the last axis.
-    pub lo_2: f32,
-    /// The body's index.
-    pub body: u32,
-    /// Upper bound on the sweep axis.
-    pub hi_0: f32,
-    /// Upper bound on the next axis.
-    pub hi_1: f32,
-    /// Upper bound on the last axis.
-    pub hi_2: f32,
-    /// The body's `GpuShape::flags`.
-    pub flags: u32,
-}
-
-/// Where a manifold in contact sits: its pair slot and its first point in the dense list.
-/// 8 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct GpuTouching {
-    /// Index of the pair (and of its manifold in the per-pair arrays).
-    pub slot: u32,
-    /// Index of its first point among the dense points.
-    pub first_point: u32,
-}
-
-/// Totals of the dense contact list. 16 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct TouchingCounts {
-    /// Manifolds in contact.
-    pub manifolds: u32,
-    /// Their points.
-    pub points: u32,
-    /// Padding.
-    pub _pad0: u32,
-    /// Padding.
-    pub _pad1: u32,
-}
-
-/// Parameters of `scatter_impulses`. 16 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct ScatterParams {
-    /// Dense manifolds to scatter.
-    pub count: u32,
-    /// Padding.
-    pub _pad0: u32,
-    /// Padding.
-    pub _pad1: u32,
-    /// Padding.
-    pub _pad2: u32,
-}
-
 /// Size and field offsets of one host struct, to compare with the WGSL struct of that name.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct StructLayout {
@@ -343,107 +372,4 @@ pub struct StructLayout {
     pub size: usize,
     /// Field names and byte offsets, in declaration order.
     pub fields: Vec<(&'static str, usize)>,
-}
-
-/// Builds a [`StructLayout`] from a type and its fields in declaration order.
-macro_rules! struct_layout {
-    ($ty:ident { $($field:ident),* $(,)? }) => {
-        StructLayout {
-            name: stringify!($ty),
-            size: std::mem::size_of::<$ty>(),
-            fields: vec![$((stringify!($field), std::mem::offset_of!($ty, $field))),*],
-        }
-    };
-}
-
-/// Every struct shared with WGSL.
-pub fn shared_struct_layouts() -> Vec<StructLayout> {
-    vec![
-        struct_layout!(GpuPose { position, rotation }),
-        struct_layout!(GpuVelocity { linear, angular }),
-        struct_layout!(GpuShape { hx, hy, hz, flags }),
-        struct_layout!(GpuAabb { min, max }),
-        struct_layout!(DispatchArgs { x, y, z, _pad }),
-        struct_layout!(WorkList {
-            count,
-            requested,
-            capacity,
-            _pad,
-            groups
-        }),
-        struct_layout!(UpdateAabbsParams {
-            count,
-            margin,
-            dt,
-            _pad
-        }),
-        struct_layout!(RadixPassParams {
-            shift,
-            _pad0,
-            _pad1,
-            _pad2
-        }),
-        struct_layout!(SweepParams {
-            body_count,
-            pair_capacity,
-            long_extent,
-            _pad1
-        }),
-        struct_layout!(SweepAxis {
-            axis,
-            _pad0,
-            _pad1,
-            _pad2,
-            variance
-        }),
-        struct_layout!(NarrowParams {
-            margin,
-            dt,
-            _pad0,
-            _pad1
-        }),
-        struct_layout!(GpuContact {
-            position,
-            friction_impulse,
-            depth,
-            id,
-            normal_impulse,
-            _pad
-        }),
-        struct_layout!(GpuManifold {
-            normal,
-            body_a,
-            body_b,
-            kind,
-            feature,
-            len,
-            previous,
-            _pad0,
-            _pad1
-        }),
-        struct_layout!(GpuLocalManifold { normal, points }),
-        struct_layout!(GpuTouching { slot, first_point }),
-        struct_layout!(TouchingCounts {
-            manifolds,
-            points,
-            _pad0,
-            _pad1
-        }),
-        struct_layout!(ScatterParams {
-            count,
-            _pad0,
-            _pad1,
-            _pad2
-        }),
-        struct_layout!(GpuSweepBox {
-            lo_0,
-            lo_1,
-            lo_2,
-            body,
-            hi_0,
-            hi_1,
-            hi_2,
-            flags
-        }),
-    ]
 }

@@ -1,10 +1,12 @@
-//! Tumble's GPU runtime: device setup, buffers, one pipeline per kernel, and the collision
-//! stages (`update_aabbs`, `broad_phase`, `narrow_phase`) recorded into one command stream,
-//! with the solver stages ([`solver`]) and sleeping islands ([`sleep`]) after them.
+//! Tumble's GPU runtime: device setup, buffers, kernels (each declared once, its pipeline
+//! built once per device and override values: [`kernel`]), and the collision stages
+//! (`update_aabbs`, `broad_phase`, `narrow_phase`) recorded into one command stream, with the
+//! solver stages ([`solver`]) and sleeping islands ([`sleep`]) after them.
 //!
-//! Shaders are WGSL files in the repository's `shaders/` folder, embedded at compile time;
-//! constants shared with them are defined in [`constants`] and reach them as `override`
-//! values. Every kernel has a CPU twin in its module under [`kernels`].
+//! Shaders are WGSL files in the repository's `shaders/` folder, embedded at compile time and
+//! composed from their `// requires:` directives ([`shader`]); constants shared with them are
+//! defined in [`constants`] and reach them as `override` values. Every kernel has a CPU twin
+//! in its module under [`kernels`].
 #![warn(missing_docs)]
 
 pub mod buffer_pool;

@@ -9,6 +9,10 @@ use std::sync::{Arc, Mutex};
 
 use crate::{GpuContext, GpuError};
 
+/// Longest wait for a readback before reporting a device error: far beyond any step (a lost
+/// device, not a slow one).
+pub const READ_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(60);
+
 /// Where a copied region landed in a staging buffer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Region {

@@ -1,18 +1,31 @@
 //! WGSL sources, embedded at compile time from the repository's `shaders/` folder, and how a
 //! kernel's source is composed.
 //!
-//! The include mechanism is whole-file concatenation: a kernel lists the files of
-//! `shaders/common/` it needs, and [`ShaderSource::compose`] writes them, in that order, in
-//! front of the kernel file. WGSL lets module-scope declarations appear in any order, so no
-//! file needs guards or forward declarations. Nothing inside any file is ever rewritten:
-//! values such as the workgroup size reach the shaders as `override` constants, and the few
-//! that WGSL needs as const-expressions (array sizes, tables) as `const` declarations
-//! generated from the Rust values ([`crate::constants::wgsl_const_prelude`]), composed first.
+//! Every `.wgsl` file under `shaders/` is embedded by the crate's build script into one table,
+//! [`FILES`], keyed by its path relative to `shaders/`. A file names the files it needs in a
+//! directive among its leading comment lines:
+//!
+//! ```wgsl
+//! // requires: common/indexing.wgsl common/layout.wgsl
+//! ```
+//!
+//! The include mechanism is whole-file concatenation: [`ShaderSource::of`] follows these
+//! directives transitively, depth first in the order written, and lists each file once, after
+//! everything it requires and before the file that required it (so the order is fixed by the
+//! files alone). [`ShaderSource::compose`] then writes them in that order. WGSL lets
+//! module-scope declarations appear in any order, so no file needs guards or forward
+//! declarations. Nothing inside any file is ever rewritten: values such as the workgroup size
+//! reach the shaders as `override` constants, and the few that WGSL needs as const-expressions
+//! (array sizes, tables) as `const` declarations generated from the Rust values
+//! ([`crate::constants::wgsl_const_prelude`]), composed first.
+//!
+//! A shader file therefore only ever names what it uses itself; a kernel
+//! ([`crate::kernel::KernelSpec`]) names only its own file.
 
 use crate::GpuError;
 
 /// One WGSL file of `shaders/`, embedded in the binary.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct WgslFile {
     /// Path relative to `shaders/`, e.g. `common/layout.wgsl`.
     pub path: &'static str,
@@ -20,106 +33,93 @@ pub struct WgslFile {
     pub source: &'static str,
 }
 
-/// Embeds `shaders/<path>` as a [`WgslFile`].
-macro_rules! wgsl_file {
-    ($path:literal) => {
-        $crate::shader::WgslFile {
-            path: $path,
-            source: include_str!(concat!(
-                env!("CARGO_MANIFEST_DIR"),
-                "/../../shaders/",
-                $path
-            )),
+/// The directive naming the files a WGSL file needs, in its leading comment lines.
+pub const REQUIRES_DIRECTIVE: &str = "// requires:";
+
+impl WgslFile {
+    /// The paths this file's `// requires:` directives name, in the order written.
+    pub fn requires(&self) -> impl Iterator<Item = &'static str> + use<> {
+        let source: &'static str = self.source;
+        source
+            .lines()
+            .map(str::trim_start)
+            .take_while(|line| line.starts_with("//"))
+            .filter_map(|line| line.strip_prefix(REQUIRES_DIRECTIVE))
+            .flat_map(str::split_whitespace)
+    }
+}
+
+/// Every WGSL file under `shaders/`, sorted by path (written by `build.rs`).
+pub const FILES: &[WgslFile] = include!(concat!(env!("OUT_DIR"), "/wgsl_files.rs"));
+
+const fn same(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
         }
-    };
-}
-pub(crate) use wgsl_file;
-
-/// The shared files of `shaders/common/`.
-pub mod common {
-    use super::WgslFile;
-
-    /// `override` declarations of the constants in [`crate::constants`].
-    pub const CONSTANTS: WgslFile = wgsl_file!("common/constants.wgsl");
-    /// Linear thread index over 2D-folded dispatches.
-    pub const INDEXING: WgslFile = wgsl_file!("common/indexing.wgsl");
-    /// The structs shared with the host (checked against Rust by the layout test).
-    pub const LAYOUT: WgslFile = wgsl_file!("common/layout.wgsl");
-    /// Quaternion and pose helpers.
-    pub const QUAT: WgslFile = wgsl_file!("common/quat.wgsl");
-    /// The narrow phase's tolerances and id layout (overrides from `tumble-narrow`).
-    pub const NARROW_CONSTANTS: WgslFile = wgsl_file!("common/narrow_constants.wgsl");
-    /// Two boxes in the first one's frame, box vertices, edges and faces.
-    pub const BOX_PAIR: WgslFile = wgsl_file!("common/box_pair.wgsl");
-    /// The separating axis test and the choice of the contact axis.
-    pub const SAT: WgslFile = wgsl_file!("common/sat.wgsl");
-    /// Labelled polygon clipping and the contact polygon.
-    pub const CONTACT_POLYGON: WgslFile = wgsl_file!("common/contact_polygon.wgsl");
-    /// Face contacts by clipping.
-    pub const FACE_CONTACT: WgslFile = wgsl_file!("common/face_contact.wgsl");
-    /// Edge-edge contacts and segment closest points.
-    pub const EDGE_CONTACT: WgslFile = wgsl_file!("common/edge_contact.wgsl");
-    /// The closest vertex pair of separated boxes.
-    pub const VERTEX_CONTACT: WgslFile = wgsl_file!("common/vertex_contact.wgsl");
-    /// Reduction to four points.
-    pub const REDUCE: WgslFile = wgsl_file!("common/reduce.wgsl");
-    /// The sweep's pair test and its long boxes.
-    pub const SWEEP: WgslFile = wgsl_file!("common/sweep.wgsl");
-    /// Workgroup-wide prefix sum of a tile.
-    pub const TILE_SCAN: WgslFile = wgsl_file!("common/tile_scan.wgsl");
-    /// The contact persistence tolerances (overrides from `tumble-solver`'s contact cache).
-    pub const PERSISTENCE: WgslFile = wgsl_file!("common/persistence.wgsl");
-
-    /// Everything the box-box narrow phase needs, in order.
-    pub const NARROW_PHASE: &[WgslFile] = &[
-        CONSTANTS,
-        INDEXING,
-        LAYOUT,
-        QUAT,
-        NARROW_CONSTANTS,
-        BOX_PAIR,
-        SAT,
-        CONTACT_POLYGON,
-        FACE_CONTACT,
-        EDGE_CONTACT,
-        VERTEX_CONTACT,
-        REDUCE,
-    ];
-
-    /// Every common file, for validation and layout checks.
-    pub const ALL: &[WgslFile] = &[
-        CONSTANTS,
-        INDEXING,
-        LAYOUT,
-        QUAT,
-        NARROW_CONSTANTS,
-        BOX_PAIR,
-        SAT,
-        CONTACT_POLYGON,
-        FACE_CONTACT,
-        EDGE_CONTACT,
-        VERTEX_CONTACT,
-        REDUCE,
-        TILE_SCAN,
-        PERSISTENCE,
-        SWEEP,
-    ];
+        i += 1;
+    }
+    true
 }
 
-/// A kernel's full source: common files then the kernel file.
-#[derive(Clone, Copy, Debug)]
+/// The embedded file at `path` (relative to `shaders/`), if there is one.
+pub const fn find(path: &str) -> Option<WgslFile> {
+    let mut i = 0;
+    while i < FILES.len() {
+        if same(FILES[i].path, path) {
+            return Some(FILES[i]);
+        }
+        i += 1;
+    }
+    None
+}
+
+/// The embedded file at `path`; evaluated in a constant (as kernel specs are), a path with no
+/// file under `shaders/` fails the build.
+pub const fn file(path: &str) -> WgslFile {
+    match find(path) {
+        Some(file) => file,
+        None => panic!("no WGSL file at this path under shaders/"),
+    }
+}
+
+/// A full source: a file and everything it requires, dependency first, the file itself last.
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ShaderSource {
-    /// Common files, concatenated in this order before the kernel.
-    pub common: &'static [WgslFile],
-    /// The kernel file itself (one entry point, `main`).
-    pub kernel: WgslFile,
+    /// The files in composition order.
+    pub files: Vec<WgslFile>,
 }
 
 impl ShaderSource {
+    /// `root` with the files its `// requires:` directives name, transitively, each once.
+    /// Errs on a path with no embedded file or on a cycle, naming the chain.
+    pub fn of(root: WgslFile) -> Result<Self, GpuError> {
+        let mut files = Vec::new();
+        visit(root, &mut Vec::new(), &mut files).map_err(|message| GpuError::Shader {
+            shader: root.path,
+            message,
+        })?;
+        Ok(Self { files })
+    }
+
+    /// The file at `path` with what it requires (see [`Self::of`]).
+    pub fn of_path(path: &'static str) -> Result<Self, GpuError> {
+        let root = find(path).ok_or_else(|| GpuError::Shader {
+            shader: path,
+            message: format!("no WGSL file {path} under shaders/"),
+        })?;
+        Self::of(root)
+    }
+
     /// The composed WGSL text handed to naga and wgpu.
     pub fn compose(&self) -> String {
         let mut text = crate::constants::wgsl_const_prelude();
-        for file in self.common.iter().chain(std::iter::once(&self.kernel)) {
+        for file in &self.files {
             text.push_str("// ---- shaders/");
             text.push_str(file.path);
             text.push_str(" ----\n");
@@ -139,6 +139,38 @@ impl ShaderSource {
     }
 }
 
+/// Depth-first post-order over the `requires` directives: `file`'s requirements in the order
+/// written, then `file`, skipping files already listed. `chain` is the path being followed.
+fn visit(
+    file: WgslFile,
+    chain: &mut Vec<&'static str>,
+    out: &mut Vec<WgslFile>,
+) -> Result<(), String> {
+    if out.iter().any(|f| f.path == file.path) {
+        return Ok(());
+    }
+    if chain.contains(&file.path) {
+        return Err(format!(
+            "requires cycle: {} -> {}",
+            chain.join(" -> "),
+            file.path
+        ));
+    }
+    chain.push(file.path);
+    for path in file.requires() {
+        let needed = find(path).ok_or_else(|| {
+            format!(
+                "{} requires {path}, which is no file under shaders/",
+                file.path
+            )
+        })?;
+        visit(needed, chain, out)?;
+    }
+    chain.pop();
+    out.push(file);
+    Ok(())
+}
+
 /// How a kernel binds one buffer (all in bind group 0, binding = position in the list).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Binding {
@@ -150,10 +182,38 @@ pub enum Binding {
     StorageReadWrite,
 }
 
-/// The buffer bindings a parsed module declares, ordered by binding number, with their group.
-/// Used to check a kernel's declared [`Binding`] list against its shader.
-pub fn reflect_bindings(module: &naga::Module) -> Vec<(u32, u32, Binding)> {
-    let mut found: Vec<(u32, u32, Binding)> = module
+impl Binding {
+    /// The bind group layout entry type of this binding.
+    pub fn layout_type(self) -> wgpu::BindingType {
+        let ty = match self {
+            Binding::Uniform => wgpu::BufferBindingType::Uniform,
+            Binding::StorageRead => wgpu::BufferBindingType::Storage { read_only: true },
+            Binding::StorageReadWrite => wgpu::BufferBindingType::Storage { read_only: false },
+        };
+        wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        }
+    }
+}
+
+/// One buffer binding a parsed module declares.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ReflectedBinding {
+    /// `@group`.
+    pub group: u32,
+    /// `@binding`.
+    pub binding: u32,
+    /// The global variable's name.
+    pub name: String,
+    /// How it is bound.
+    pub kind: Binding,
+}
+
+/// The buffer bindings a parsed module declares, ordered by group then binding number.
+pub fn reflect_bindings(module: &naga::Module) -> Vec<ReflectedBinding> {
+    let mut found: Vec<ReflectedBinding> = module
         .global_variables
         .iter()
         .filter_map(|(_, var)| {
@@ -169,10 +229,15 @@ pub fn reflect_bindings(module: &naga::Module) -> Vec<(u32, u32, Binding)> {
                 }
                 _ => return None,
             };
-            Some((rb.group, rb.binding, kind))
+            Some(ReflectedBinding {
+                group: rb.group,
+                binding: rb.binding,
+                name: var.name.clone().unwrap_or_default(),
+                kind,
+            })
         })
         .collect();
-    found.sort_by_key(|&(g, b, _)| (g, b));
+    found.sort_by_key(|b| (b.group, b.binding));
     found
 }
 
@@ -183,4 +248,32 @@ pub fn override_names(module: &naga::Module) -> Vec<String> {
         .iter()
         .filter_map(|(_, o)| o.name.clone())
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn requirements_come_first_once_in_the_order_written() {
+        let source = ShaderSource::of_path("collide_cuboids.wgsl").unwrap();
+        let paths: Vec<&str> = source.files.iter().map(|f| f.path).collect();
+        assert_eq!(paths.last(), Some(&"collide_cuboids.wgsl"));
+        for (i, file) in source.files.iter().enumerate() {
+            assert_eq!(paths.iter().filter(|p| **p == file.path).count(), 1);
+            for needed in file.requires() {
+                let at = paths.iter().position(|p| *p == needed).unwrap();
+                assert!(at < i, "{needed} after {}", file.path);
+            }
+        }
+    }
+
+    #[test]
+    fn every_requirement_names_an_embedded_file() {
+        for file in FILES {
+            ShaderSource::of(*file).unwrap_or_else(|e| panic!("{e}"));
+        }
+        assert!(find("common/layout.wgsl").is_some());
+        assert!(find("common/no_such_file.wgsl").is_none());
+    }
 }

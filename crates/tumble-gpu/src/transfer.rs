@@ -8,6 +8,12 @@ use crate::buffer_pool::STORAGE_USAGE;
 use crate::{GpuContext, GpuError};
 
 impl GpuContext {
+    /// A command encoder labelled `label`.
+    pub fn encoder(&self, label: &str) -> wgpu::CommandEncoder {
+        self.device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) })
+    }
+
     /// A new storage buffer holding `data` (at least 4 bytes, so it can always be bound).
     pub fn storage_buffer<T: Pod>(&self, label: &str, data: &[T]) -> wgpu::Buffer {
         let bytes: &[u8] = bytemuck::cast_slice(data);
@@ -49,11 +55,7 @@ impl GpuContext {
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let mut encoder = self
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("read"),
-            });
+        let mut encoder = self.encoder("read");
         encoder.copy_buffer_to_buffer(buffer, first * size, &staging, 0, padded);
         self.queue.submit([encoder.finish()]);
         staging.map_async(wgpu::MapMode::Read, .., |_| {});

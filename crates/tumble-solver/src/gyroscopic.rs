@@ -13,7 +13,7 @@ use crate::Mat3;
 
 /// Newton iterations for the midpoint equation; the residual shrinks quadratically, so three
 /// reach f32 round-off for `h |w|` up to about 1 (a quarter turn per substep).
-const NEWTON_ITERATIONS: usize = 3;
+pub const NEWTON_ITERATIONS: usize = 3;
 
 /// Skew-symmetric cross-product matrix: `skew(a) b = a x b`.
 fn skew(a: &Vec3) -> Mat3 {

@@ -56,7 +56,7 @@ pub use contact_cache::{
 pub use contact_solver::{PassContext, restitution_contact, solve_contact, warm_start_contact};
 pub use effects::Effects;
 pub use error::{InvalidParameter, require_finite3, require_non_negative, require_positive};
-pub use gyroscopic::gyroscopic_midpoint;
+pub use gyroscopic::{NEWTON_ITERATIONS as GYROSCOPIC_NEWTON_ITERATIONS, gyroscopic_midpoint};
 pub use integrate::{
     MAX_LINEAR_SPEED, MAX_ROTATION_PER_SUBSTEP, begin_step, finalize_bodies, integrate_positions,
     integrate_velocities, integrate_velocities_with,

@@ -1,3 +1,4 @@
+// requires: common/solver_types.wgsl solver/common/solver_constants.wgsl sleep/common/sleep_types.wgsl
 // Constants of the sleep kernels. Their values are defined once, in tumble-solver (the
 // thresholds, shared with the CPU step) and crates/tumble-gpu/src/sleep/constants.rs (the
 // encodings), and supplied at pipeline creation; none has a default here.

@@ -1,3 +1,4 @@
+// requires: common/quat.wgsl common/solver_types.wgsl solver/common/solver_constants.wgsl
 // Body math of the solver stages as pure functions, mirroring crates/tumble-solver: lock masks
 // and the world inverse inertia (body.rs), the implicit-midpoint gyroscopic term
 // (gyroscopic.rs), and the integration steps (integrate.rs).

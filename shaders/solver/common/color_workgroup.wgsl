@@ -1,3 +1,4 @@
+// requires: solver/common/coloring.wgsl
 // The coloring rounds, the per-color counts and the stable order by color, run by a single
 // workgroup (used by color_finish after the wide first round, and by solve_fused for all of it).
 //

@@ -1,3 +1,4 @@
+// requires: common/solver_types.wgsl solver/common/solver_constants.wgsl
 // Graph coloring of constraints in rounds (Jones-Plassmann-Luby with speculative colors):
 // in a round every undecided constraint proposes the lowest color free at both of its dynamic
 // bodies (in round 0: last step's color if it is free), and claims (body, color) for each

@@ -1,3 +1,4 @@
+// requires: solver/common/contact_math.wgsl
 // One constraint pass on one constraint: load it and its two bodies, apply the pass, store
 // the constraint and the dynamic bodies' velocities (fixed and kinematic bodies are shared by
 // many constraints of a color and are never written). Used by solve_color and solve_fused.

@@ -1,3 +1,4 @@
+// requires: solver/common/body_math.wgsl
 // The per-constraint math of the solve stage as functions on function-local copies, mirroring
 // crates/tumble-solver (constraint.rs, contact_solver.rs, tangent_basis.rs) step for step, so
 // the GPU and the CPU solver pass the same stability suite.

@@ -1,3 +1,4 @@
+// requires: common/solver_types.wgsl
 // Constants of the solver stages. Their values are defined once, in
 // crates/tumble-gpu/src/solver/constants.rs, and supplied at pipeline creation; the structural
 // ones have no default here, so a pipeline built without them fails instead of drifting.

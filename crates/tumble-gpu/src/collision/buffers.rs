@@ -6,7 +6,7 @@
 //! copies, the radix sort's ping-pong; the sorted result lands in copy
 //! [`PAIR_RESULT_COPY`] (the pair sort always runs an even number of passes).
 
-use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE};
+use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE, bytes_of};
 use crate::kernels::radix_sort::tile_count_len;
 use crate::layout::{
     GpuAabb, GpuContact, GpuLocalManifold, GpuManifold, GpuPose, GpuShape, GpuSweepBox,
@@ -80,10 +80,6 @@ pub const UPDATE_PARAMS: &str = "update_aabbs params";
 pub const SWEEP_PARAMS: &str = "sweep params";
 /// `NarrowParams`.
 pub const NARROW_PARAMS: &str = "narrow params";
-
-fn bytes_of<T>(count: u64) -> u64 {
-    count * std::mem::size_of::<T>() as u64
-}
 
 /// Makes every body-sized buffer hold `bodies`; true when any was reallocated.
 pub fn ensure_body_buffers(pool: &mut BufferPool, bodies: u32) -> Result<bool, GpuError> {

@@ -1,8 +1,9 @@
 //! The pipelines of the collision stages and their bind groups over the collision buffers.
 
 use super::buffers::*;
+use crate::GpuContext;
 use crate::buffer_pool::BufferPool;
-use crate::kernel::Kernel;
+use crate::kernel::pipelines;
 use crate::kernels::carry_impulses::{CARRY_IMPULSES, CarryImpulsesArgs};
 use crate::kernels::choose_axis::{CHOOSE_AXIS, ChooseAxisArgs};
 use crate::kernels::collide_cuboids::{COLLIDE_CUBOIDS, CollideCuboidsArgs};
@@ -19,63 +20,38 @@ use crate::kernels::radix_sort::{
 use crate::kernels::sweep_pairs::{LONG_PAIRS, SWEEP_PAIRS, SweepPairsArgs};
 use crate::kernels::update_aabbs::{UPDATE_AABBS, UpdateAabbsArgs};
 use crate::kernels::write_sort_keys::{WRITE_SORT_KEYS, WriteSortKeysArgs};
-use crate::{GpuContext, GpuError};
 
-/// Every pipeline the collision stages dispatch.
-#[derive(Debug)]
-pub struct CollisionKernels {
-    /// `update_aabbs`.
-    pub update_aabbs: Kernel,
-    /// `choose_axis`.
-    pub choose_axis: Kernel,
-    /// `write_sort_keys`.
-    pub write_sort_keys: Kernel,
-    /// The radix sort (three kernels).
-    pub radix: RadixSort,
-    /// `gather_sweep_boxes`.
-    pub gather_sweep_boxes: Kernel,
-    /// `sweep_pairs`.
-    pub sweep_pairs: Kernel,
-    /// `long_pairs`.
-    pub long_pairs: Kernel,
-    /// `plan_dispatch`.
-    pub plan_dispatch: Kernel,
-    /// `match_pairs`.
-    pub match_pairs: Kernel,
-    /// `collide_cuboids`.
-    pub collide_cuboids: Kernel,
-    /// `carry_impulses`.
-    pub carry_impulses: Kernel,
-    /// `count_touching`.
-    pub count_touching: Kernel,
-    /// `scan_touching`.
-    pub scan_touching: Kernel,
-    /// `write_touching`.
-    pub write_touching: Kernel,
-    /// `scatter_impulses`.
-    pub scatter_impulses: Kernel,
-}
-
-impl CollisionKernels {
-    /// Builds every pipeline.
-    pub fn new(ctx: &GpuContext) -> Result<Self, GpuError> {
-        Ok(Self {
-            update_aabbs: Kernel::new(ctx, &UPDATE_AABBS)?,
-            choose_axis: Kernel::new(ctx, &CHOOSE_AXIS)?,
-            write_sort_keys: Kernel::new(ctx, &WRITE_SORT_KEYS)?,
-            radix: RadixSort::new(ctx)?,
-            gather_sweep_boxes: Kernel::new(ctx, &GATHER_SWEEP_BOXES)?,
-            sweep_pairs: Kernel::new(ctx, &SWEEP_PAIRS)?,
-            long_pairs: Kernel::new(ctx, &LONG_PAIRS)?,
-            plan_dispatch: Kernel::new(ctx, &PLAN_DISPATCH)?,
-            match_pairs: Kernel::new(ctx, &MATCH_PAIRS)?,
-            collide_cuboids: Kernel::new(ctx, &COLLIDE_CUBOIDS)?,
-            carry_impulses: Kernel::new(ctx, &CARRY_IMPULSES)?,
-            count_touching: Kernel::new(ctx, &COUNT_TOUCHING)?,
-            scan_touching: Kernel::new(ctx, &SCAN_TOUCHING)?,
-            write_touching: Kernel::new(ctx, &WRITE_TOUCHING)?,
-            scatter_impulses: Kernel::new(ctx, &SCATTER_IMPULSES)?,
-        })
+pipelines! {
+    /// Every pipeline the collision stages dispatch (the radix sort's are [`RadixSort`]'s).
+    pub struct CollisionKernels {
+        /// `update_aabbs`.
+        update_aabbs: UPDATE_AABBS,
+        /// `choose_axis`.
+        choose_axis: CHOOSE_AXIS,
+        /// `write_sort_keys`.
+        write_sort_keys: WRITE_SORT_KEYS,
+        /// `gather_sweep_boxes`.
+        gather_sweep_boxes: GATHER_SWEEP_BOXES,
+        /// `sweep_pairs`.
+        sweep_pairs: SWEEP_PAIRS,
+        /// `long_pairs`.
+        long_pairs: LONG_PAIRS,
+        /// `plan_dispatch`.
+        plan_dispatch: PLAN_DISPATCH,
+        /// `match_pairs`.
+        match_pairs: MATCH_PAIRS,
+        /// `collide_cuboids`.
+        collide_cuboids: COLLIDE_CUBOIDS,
+        /// `carry_impulses`.
+        carry_impulses: CARRY_IMPULSES,
+        /// `count_touching`.
+        count_touching: COUNT_TOUCHING,
+        /// `scan_touching`.
+        scan_touching: SCAN_TOUCHING,
+        /// `write_touching`.
+        write_touching: WRITE_TOUCHING,
+        /// `scatter_impulses`.
+        scatter_impulses: SCATTER_IMPULSES,
     }
 }
 
@@ -129,6 +105,7 @@ pub struct CollisionGroups {
 pub fn build_groups(
     ctx: &GpuContext,
     kernels: &CollisionKernels,
+    radix: &RadixSort,
     pool: &BufferPool,
     bodies: u32,
 ) -> CollisionGroups {
@@ -146,7 +123,7 @@ pub fn build_groups(
     let choose_axis = kernels.choose_axis.bind(
         ctx,
         &ChooseAxisArgs {
-            bodies: b(BODY_WORK),
+            work: b(BODY_WORK),
             aabbs: b(AABBS),
             sweep_axis: b(SWEEP_AXIS),
         },
@@ -154,7 +131,7 @@ pub fn build_groups(
     let write_sort_keys = kernels.write_sort_keys.bind(
         ctx,
         &WriteSortKeysArgs {
-            bodies: b(BODY_WORK),
+            work: b(BODY_WORK),
             sweep_axis: b(SWEEP_AXIS),
             aabbs: b(AABBS),
             keys: b(SORT_KEYS[0]),
@@ -163,7 +140,7 @@ pub fn build_groups(
     );
     let body_passes = plan_passes(&[(true, u32::BITS)]);
     assert_eq!(result_copy(&body_passes), BODY_RESULT_COPY);
-    let body_sort = kernels.radix.bind(
+    let body_sort = radix.bind(
         ctx,
         &RadixBuffers {
             work: b(BODY_WORK),
@@ -176,7 +153,7 @@ pub fn build_groups(
     let gather_sweep_boxes = kernels.gather_sweep_boxes.bind(
         ctx,
         &GatherSweepBoxesArgs {
-            bodies: b(BODY_WORK),
+            work: b(BODY_WORK),
             sweep_axis: b(SWEEP_AXIS),
             aabbs: b(AABBS),
             shapes: b(SHAPES),
@@ -211,7 +188,7 @@ pub fn build_groups(
                     work: b(PAIR_WORK[p]),
                 },
             ),
-            pair_sort: kernels.radix.bind(
+            pair_sort: radix.bind(
                 ctx,
                 &RadixBuffers {
                     work: b(PAIR_WORK[p]),

@@ -25,11 +25,13 @@ use kernels::{CollisionGroups, CollisionKernels, build_groups};
 pub use snapshot::{CollisionSnapshot, ReadbackRequest};
 
 use crate::buffer_pool::BufferPool;
+use crate::kernel::Kernel;
 use crate::kernels::compact_touching::ScatterImpulsesArgs;
+use crate::kernels::radix_sort::RadixSort;
 use crate::layout::{
     GpuAabb, GpuContact, GpuLocalManifold, GpuManifold, GpuPose, GpuShape, GpuSweepBox,
     GpuTouching, GpuVelocity, NarrowParams, ScatterParams, SweepAxis, SweepParams, TouchingCounts,
-    UpdateAabbsParams, WORK_LIST_GROUPS_OFFSET, WorkList,
+    UpdateAabbsParams, WorkList,
 };
 use crate::readback::{Mapped, Readback, Region, Ticket};
 use crate::{GpuContext, GpuError, MAX_BODIES, MAX_MANIFOLD_POINTS, StageTimer};
@@ -148,6 +150,7 @@ pub struct GpuCollision {
     ctx: GpuContext,
     config: CollisionConfig,
     kernels: CollisionKernels,
+    radix: RadixSort,
     pool: BufferPool,
     body_count: u32,
     pair_capacity: u32,
@@ -171,7 +174,8 @@ impl GpuCollision {
         Ok(Self {
             ctx: ctx.clone(),
             config,
-            kernels: CollisionKernels::new(ctx)?,
+            kernels: CollisionKernels::build(|spec| Kernel::new(ctx, spec))?,
+            radix: RadixSort::new(ctx)?,
             pool: BufferPool::new(ctx),
             body_count: 0,
             pair_capacity: 0,
@@ -360,6 +364,7 @@ impl GpuCollision {
             self.groups = Some(build_groups(
                 &self.ctx,
                 &self.kernels,
+                &self.radix,
                 &self.pool,
                 self.body_count,
             ));
@@ -403,7 +408,7 @@ impl GpuCollision {
             k.choose_axis
                 .dispatch_workgroups(&mut pass, &g.choose_axis, 1, 1);
             k.write_sort_keys.dispatch(&mut pass, &g.write_sort_keys, n);
-            k.radix
+            self.radix
                 .record(&mut pass, &g.body_sort, self.pool.get(BODY_WORK));
         }
         {
@@ -417,29 +422,18 @@ impl GpuCollision {
         }
         {
             let mut pass = timer.begin_pass(encoder, BROAD_PHASE_SORT_PAIRS);
-            k.radix.record(&mut pass, &g.parity[p].pair_sort, pair_work);
+            self.radix
+                .record(&mut pass, &g.parity[p].pair_sort, pair_work);
         }
         {
             let mut pass = timer.begin_pass(encoder, NARROW_PHASE);
             let groups = &g.parity[p];
-            k.match_pairs.dispatch_indirect(
-                &mut pass,
-                &groups.match_pairs,
-                pair_work,
-                WORK_LIST_GROUPS_OFFSET,
-            );
-            k.collide_cuboids.dispatch_indirect(
-                &mut pass,
-                &groups.collide,
-                pair_work,
-                WORK_LIST_GROUPS_OFFSET,
-            );
-            k.carry_impulses.dispatch_indirect(
-                &mut pass,
-                &groups.carry,
-                pair_work,
-                WORK_LIST_GROUPS_OFFSET,
-            );
+            k.match_pairs
+                .dispatch_work(&mut pass, &groups.match_pairs, pair_work);
+            k.collide_cuboids
+                .dispatch_work(&mut pass, &groups.collide, pair_work);
+            k.carry_impulses
+                .dispatch_work(&mut pass, &groups.carry, pair_work);
         }
         self.steps += 1;
         Ok(())
@@ -447,18 +441,10 @@ impl GpuCollision {
 
     /// Records and submits one step (no readback).
     pub fn step(&mut self) -> Result<(), GpuError> {
-        let mut encoder = self.encoder();
+        let mut encoder = self.ctx.encoder("collision step");
         self.record(&mut encoder, &mut StageTimer::disabled(&self.ctx))?;
         self.ctx.queue.submit([encoder.finish()]);
         Ok(())
-    }
-
-    fn encoder(&self) -> wgpu::CommandEncoder {
-        self.ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("collision step"),
-            })
     }
 
     /// The buffers of the last recorded step, for stages recorded after it.

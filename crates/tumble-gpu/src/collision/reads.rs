@@ -22,20 +22,12 @@ impl GpuCollision {
                 label: Some("compact_touching"),
                 timestamp_writes: None,
             });
-            k.count_touching.dispatch_indirect(
-                &mut pass,
-                &g.count_touching,
-                work,
-                WORK_LIST_GROUPS_OFFSET,
-            );
+            k.count_touching
+                .dispatch_work(&mut pass, &g.count_touching, work);
             k.scan_touching
                 .dispatch_workgroups(&mut pass, &g.scan_touching, 1, 1);
-            k.write_touching.dispatch_indirect(
-                &mut pass,
-                &g.write_touching,
-                work,
-                WORK_LIST_GROUPS_OFFSET,
-            );
+            k.write_touching
+                .dispatch_work(&mut pass, &g.write_touching, work);
         }
         let size = |t: usize| t as u64;
         let pairs = if request.pairs || request.manifolds {
@@ -257,7 +249,7 @@ impl GpuCollision {
                 contacts: pool.get(CONTACTS[self.last_parity()]),
             },
         );
-        let mut encoder = self.encoder();
+        let mut encoder = self.ctx.encoder("collision step");
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("scatter_impulses"),
@@ -340,7 +332,7 @@ impl GpuCollision {
         &mut self,
         request: ReadbackRequest,
     ) -> Result<CollisionSnapshot, GpuError> {
-        let mut encoder = self.encoder();
+        let mut encoder = self.ctx.encoder("collision step");
         self.record(&mut encoder, &mut StageTimer::disabled(&self.ctx))?;
         let plan = self.record_readback(&mut encoder, request)?;
         self.ctx.queue.submit([encoder.finish()]);

@@ -6,69 +6,32 @@ use tumble_geometry::Vec3;
 
 use crate::MAX_MANIFOLD_POINTS;
 use crate::constants::{NO_PREVIOUS, PERSIST_DISTANCE};
-use crate::kernel::{KernelArgs, KernelSpec};
+use crate::kernel::kernel;
 use crate::layout::{GpuContact, GpuLocalManifold, GpuManifold, GpuPose};
-use crate::shader::{Binding, ShaderSource, common, wgsl_file};
 use crate::solver::constants::PERSIST_NORMAL_COS;
 
-/// The kernel: one thread per manifold.
-pub static CARRY_IMPULSES: KernelSpec = KernelSpec {
-    name: "carry_impulses",
-    source: ShaderSource {
-        common: &[
-            common::CONSTANTS,
-            common::INDEXING,
-            common::LAYOUT,
-            common::QUAT,
-            common::PERSISTENCE,
-        ],
-        kernel: wgsl_file!("carry_impulses.wgsl"),
-    },
-    bindings: &[
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-        Binding::StorageReadWrite,
-    ],
-};
-
-/// Buffers of [`CARRY_IMPULSES`].
-pub struct CarryImpulsesArgs<'a> {
-    /// This step's pair `WorkList`.
-    pub work: &'a wgpu::Buffer,
-    /// The bodies' poses the manifolds were found at.
-    pub poses: &'a wgpu::Buffer,
-    /// This step's manifolds.
-    pub manifolds: &'a wgpu::Buffer,
-    /// Last step's manifolds.
-    pub previous_manifolds: &'a wgpu::Buffer,
-    /// Last step's contact points (with the solver's impulses).
-    pub previous_contacts: &'a wgpu::Buffer,
-    /// Last step's manifolds in their body A's frame (`array<GpuLocalManifold>`).
-    pub previous_locals: &'a wgpu::Buffer,
-    /// This step's contact points; impulses are written.
-    pub contacts: &'a wgpu::Buffer,
-    /// This step's manifolds in body A's frame; written for every manifold with points.
-    pub locals: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for CarryImpulsesArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![
-            self.work,
-            self.poses,
-            self.manifolds,
-            self.previous_manifolds,
-            self.previous_contacts,
-            self.previous_locals,
-            self.contacts,
-            self.locals,
-        ]
+kernel! {
+    /// Buffers of [`CARRY_IMPULSES`].
+    pub struct CarryImpulsesArgs {
+        /// This step's pair `WorkList`.
+        work,
+        /// The bodies' poses the manifolds were found at.
+        poses,
+        /// This step's manifolds.
+        manifolds,
+        /// Last step's manifolds.
+        previous_manifolds,
+        /// Last step's contact points (with the solver's impulses).
+        previous_contacts,
+        /// Last step's manifolds in their body A's frame (`array<GpuLocalManifold>`).
+        previous_locals,
+        /// This step's contact points; impulses are written.
+        contacts,
+        /// This step's manifolds in body A's frame; written for every manifold with points.
+        locals,
     }
+    /// The kernel: one thread per manifold.
+    pub static CARRY_IMPULSES = "carry_impulses.wgsl";
 }
 
 /// What last step left for [`carry_impulses_cpu`]: its manifolds, their points with the

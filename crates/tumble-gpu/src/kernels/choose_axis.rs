@@ -1,38 +1,21 @@
 //! `choose_axis`: the sweep axis is the one along which AABB centres spread most.
 
 use crate::WORKGROUP_SIZE;
-use crate::kernel::{KernelArgs, KernelSpec};
+use crate::kernel::kernel;
 use crate::layout::{GpuAabb, SweepAxis};
-use crate::shader::{Binding, ShaderSource, common, wgsl_file};
 
-/// The kernel: a single workgroup reduction.
-pub static CHOOSE_AXIS: KernelSpec = KernelSpec {
-    name: "choose_axis",
-    source: ShaderSource {
-        common: &[common::CONSTANTS, common::LAYOUT],
-        kernel: wgsl_file!("choose_axis.wgsl"),
-    },
-    bindings: &[
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-    ],
-};
-
-/// Buffers of [`CHOOSE_AXIS`].
-pub struct ChooseAxisArgs<'a> {
-    /// The bodies' `WorkList` (its count is the body count).
-    pub bodies: &'a wgpu::Buffer,
-    /// `array<GpuAabb>`.
-    pub aabbs: &'a wgpu::Buffer,
-    /// Output `SweepAxis`.
-    pub sweep_axis: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for ChooseAxisArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![self.bodies, self.aabbs, self.sweep_axis]
+kernel! {
+    /// Buffers of [`CHOOSE_AXIS`].
+    pub struct ChooseAxisArgs {
+        /// The bodies' `WorkList` (its count is the body count).
+        work,
+        /// `array<GpuAabb>`.
+        aabbs,
+        /// Output `SweepAxis`.
+        sweep_axis,
     }
+    /// The kernel: a single workgroup reduction.
+    pub static CHOOSE_AXIS = "choose_axis.wgsl";
 }
 
 /// The CPU twin of [`CHOOSE_AXIS`], with the same summation order (strided partial sums per

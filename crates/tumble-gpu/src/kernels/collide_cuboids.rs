@@ -3,75 +3,38 @@
 use tumble_geometry::{Cuboid, FeatureKind, Manifold, Vec3};
 
 use crate::constants::{MANIFOLD_EDGE, MANIFOLD_FACE_A, MANIFOLD_FACE_B};
-use crate::kernel::{KernelArgs, KernelSpec};
+use crate::kernel::kernel;
 use crate::kernels::update_aabbs::pose_from_gpu;
 use crate::layout::{GpuPose, GpuShape, GpuVelocity};
-use crate::shader::{Binding, ShaderSource, common, wgsl_file};
 
-/// The kernel: one thread per pair.
-pub static COLLIDE_CUBOIDS: KernelSpec = KernelSpec {
-    name: "collide_cuboids",
-    source: ShaderSource {
-        common: common::NARROW_PHASE,
-        kernel: wgsl_file!("collide_cuboids.wgsl"),
-    },
-    bindings: &[
-        Binding::Uniform,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-        Binding::StorageReadWrite,
-    ],
-};
-
-/// Buffers of [`COLLIDE_CUBOIDS`].
-pub struct CollideCuboidsArgs<'a> {
-    /// [`crate::layout::NarrowParams`].
-    pub params: &'a wgpu::Buffer,
-    /// This step's pair `WorkList`.
-    pub work: &'a wgpu::Buffer,
-    /// Sorted pairs, first bodies.
-    pub pair_a: &'a wgpu::Buffer,
-    /// Sorted pairs, second bodies.
-    pub pair_b: &'a wgpu::Buffer,
-    /// `array<GpuPose>`.
-    pub poses: &'a wgpu::Buffer,
-    /// `array<GpuVelocity>` (for the speculative margin).
-    pub velocities: &'a wgpu::Buffer,
-    /// `array<GpuShape>`.
-    pub shapes: &'a wgpu::Buffer,
-    /// From `match_pairs`.
-    pub previous_index: &'a wgpu::Buffer,
-    /// Last step's manifolds (for the reference-face hysteresis).
-    pub previous_manifolds: &'a wgpu::Buffer,
-    /// Output manifolds, one per pair.
-    pub manifolds: &'a wgpu::Buffer,
-    /// Output points, `MAX_MANIFOLD_POINTS` per pair.
-    pub contacts: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for CollideCuboidsArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![
-            self.params,
-            self.work,
-            self.pair_a,
-            self.pair_b,
-            self.poses,
-            self.velocities,
-            self.shapes,
-            self.previous_index,
-            self.previous_manifolds,
-            self.manifolds,
-            self.contacts,
-        ]
+kernel! {
+    /// Buffers of [`COLLIDE_CUBOIDS`].
+    pub struct CollideCuboidsArgs {
+        /// [`crate::layout::NarrowParams`].
+        params,
+        /// This step's pair `WorkList`.
+        work,
+        /// Sorted pairs, first bodies.
+        pair_a,
+        /// Sorted pairs, second bodies.
+        pair_b,
+        /// `array<GpuPose>`.
+        poses,
+        /// `array<GpuVelocity>` (for the speculative margin).
+        velocities,
+        /// `array<GpuShape>`.
+        shapes,
+        /// From `match_pairs`.
+        previous_index,
+        /// Last step's manifolds (for the reference-face hysteresis).
+        previous_manifolds,
+        /// Output manifolds, one per pair.
+        manifolds,
+        /// Output points, `MAX_MANIFOLD_POINTS` per pair.
+        contacts,
     }
+    /// The kernel: one thread per pair.
+    pub static COLLIDE_CUBOIDS = "collide_cuboids.wgsl";
 }
 
 /// `GpuManifold::kind` of a CPU feature kind.

@@ -6,167 +6,75 @@
 //! order in which threads happened to append.
 
 use crate::MAX_MANIFOLD_POINTS;
-use crate::kernel::{KernelArgs, KernelSpec};
+use crate::kernel::kernel;
 use crate::layout::{GpuContact, GpuManifold, GpuTouching};
-use crate::shader::{Binding, ShaderSource, WgslFile, common, wgsl_file};
 
-const TILE_COMMON: &[WgslFile] = &[
-    common::CONSTANTS,
-    common::INDEXING,
-    common::LAYOUT,
-    common::TILE_SCAN,
-];
-
-/// Kernel: per-tile totals of manifolds in contact and of their points.
-pub static COUNT_TOUCHING: KernelSpec = KernelSpec {
-    name: "count_touching",
-    source: ShaderSource {
-        common: TILE_COMMON,
-        kernel: wgsl_file!("count_touching.wgsl"),
-    },
-    bindings: &[
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-    ],
-};
-
-/// Kernel: exclusive scan of the tile totals (single workgroup) and the grand totals.
-pub static SCAN_TOUCHING: KernelSpec = KernelSpec {
-    name: "scan_touching",
-    source: ShaderSource {
-        common: TILE_COMMON,
-        kernel: wgsl_file!("scan_touching.wgsl"),
-    },
-    bindings: &[
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-        Binding::StorageReadWrite,
-    ],
-};
-
-/// Kernel: the dense writes.
-pub static WRITE_TOUCHING: KernelSpec = KernelSpec {
-    name: "write_touching",
-    source: ShaderSource {
-        common: TILE_COMMON,
-        kernel: wgsl_file!("write_touching.wgsl"),
-    },
-    bindings: &[
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-        Binding::StorageReadWrite,
-        Binding::StorageReadWrite,
-    ],
-};
-
-/// Kernel: dense impulses back to the pair slots.
-pub static SCATTER_IMPULSES: KernelSpec = KernelSpec {
-    name: "scatter_impulses",
-    source: ShaderSource {
-        common: &[common::CONSTANTS, common::INDEXING, common::LAYOUT],
-        kernel: wgsl_file!("scatter_impulses.wgsl"),
-    },
-    bindings: &[
-        Binding::Uniform,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-    ],
-};
-
-/// Buffers of [`COUNT_TOUCHING`].
-pub struct CountTouchingArgs<'a> {
-    /// The pair `WorkList`.
-    pub work: &'a wgpu::Buffer,
-    /// Manifolds, one per pair.
-    pub manifolds: &'a wgpu::Buffer,
-    /// Output `array<vec2<u32>>`: (manifolds in contact, points) per tile.
-    pub tile_totals: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for CountTouchingArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![self.work, self.manifolds, self.tile_totals]
+kernel! {
+    /// Buffers of [`COUNT_TOUCHING`].
+    pub struct CountTouchingArgs {
+        /// The pair `WorkList`.
+        work,
+        /// Manifolds, one per pair.
+        manifolds,
+        /// Output `array<vec2<u32>>`: (manifolds in contact, points) per tile.
+        tile_totals,
     }
+    /// Kernel: per-tile totals of manifolds in contact and of their points.
+    pub static COUNT_TOUCHING = "count_touching.wgsl";
 }
 
-/// Buffers of [`SCAN_TOUCHING`].
-pub struct ScanTouchingArgs<'a> {
-    /// The pair `WorkList`.
-    pub work: &'a wgpu::Buffer,
-    /// Tile totals in, first dense manifold and point per tile out.
-    pub tile_totals: &'a wgpu::Buffer,
-    /// Output `TouchingCounts`.
-    pub counts: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for ScanTouchingArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![self.work, self.tile_totals, self.counts]
+kernel! {
+    /// Buffers of [`SCAN_TOUCHING`].
+    pub struct ScanTouchingArgs {
+        /// The pair `WorkList`.
+        work,
+        /// Tile totals in, first dense manifold and point per tile out.
+        tile_totals,
+        /// Output `TouchingCounts`.
+        counts,
     }
+    /// Kernel: exclusive scan of the tile totals (single workgroup) and the grand totals.
+    pub static SCAN_TOUCHING = "scan_touching.wgsl";
 }
 
-/// Buffers of [`WRITE_TOUCHING`].
-pub struct WriteTouchingArgs<'a> {
-    /// The pair `WorkList`.
-    pub work: &'a wgpu::Buffer,
-    /// Manifolds, one per pair.
-    pub manifolds: &'a wgpu::Buffer,
-    /// Points, `MAX_MANIFOLD_POINTS` per pair.
-    pub contacts: &'a wgpu::Buffer,
-    /// Scanned tile totals.
-    pub tile_offsets: &'a wgpu::Buffer,
-    /// Output `array<GpuTouching>`.
-    pub touching: &'a wgpu::Buffer,
-    /// Output dense manifolds.
-    pub touching_manifolds: &'a wgpu::Buffer,
-    /// Output dense points.
-    pub touching_points: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for WriteTouchingArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![
-            self.work,
-            self.manifolds,
-            self.contacts,
-            self.tile_offsets,
-            self.touching,
-            self.touching_manifolds,
-            self.touching_points,
-        ]
+kernel! {
+    /// Buffers of [`WRITE_TOUCHING`].
+    pub struct WriteTouchingArgs {
+        /// The pair `WorkList`.
+        work,
+        /// Manifolds, one per pair.
+        manifolds,
+        /// Points, `MAX_MANIFOLD_POINTS` per pair.
+        contacts,
+        /// Scanned tile totals.
+        tile_offsets,
+        /// Output `array<GpuTouching>`.
+        touching,
+        /// Output dense manifolds.
+        touching_manifolds,
+        /// Output dense points.
+        touching_points,
     }
+    /// Kernel: the dense writes.
+    pub static WRITE_TOUCHING = "write_touching.wgsl";
 }
 
-/// Buffers of [`SCATTER_IMPULSES`].
-pub struct ScatterImpulsesArgs<'a> {
-    /// `ScatterParams` (how many dense manifolds).
-    pub params: &'a wgpu::Buffer,
-    /// `array<GpuTouching>` from `write_touching`.
-    pub touching: &'a wgpu::Buffer,
-    /// Dense manifolds from `write_touching` (for their point counts).
-    pub touching_manifolds: &'a wgpu::Buffer,
-    /// Impulses in dense point order (uploaded).
-    pub impulses: &'a wgpu::Buffer,
-    /// The per-pair points whose impulses are written.
-    pub contacts: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for ScatterImpulsesArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![
-            self.params,
-            self.touching,
-            self.touching_manifolds,
-            self.impulses,
-            self.contacts,
-        ]
+kernel! {
+    /// Buffers of [`SCATTER_IMPULSES`].
+    pub struct ScatterImpulsesArgs {
+        /// `ScatterParams` (how many dense manifolds).
+        params,
+        /// `array<GpuTouching>` from `write_touching`.
+        touching,
+        /// Dense manifolds from `write_touching` (for their point counts).
+        touching_manifolds,
+        /// Impulses in dense point order (uploaded).
+        impulses,
+        /// The per-pair points whose impulses are written.
+        contacts,
     }
+    /// Kernel: dense impulses back to the pair slots.
+    pub static SCATTER_IMPULSES = "scatter_impulses.wgsl";
 }
 
 /// The dense contact list: where each manifold in contact sits, the manifolds, their points.

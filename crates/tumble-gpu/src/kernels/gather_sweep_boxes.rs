@@ -1,66 +1,30 @@
 //! `gather_sweep_boxes`: AABBs copied into sweep order, sweep axis first, with index and flags.
 
-use crate::kernel::{KernelArgs, KernelSpec};
+use crate::kernel::kernel;
 use crate::layout::{GpuAabb, GpuShape, GpuSweepBox};
-use crate::shader::{Binding, ShaderSource, common, wgsl_file};
 
-/// The kernel: one thread per sorted position.
-pub static GATHER_SWEEP_BOXES: KernelSpec = KernelSpec {
-    name: "gather_sweep_boxes",
-    source: ShaderSource {
-        common: &[
-            common::CONSTANTS,
-            common::INDEXING,
-            common::LAYOUT,
-            common::SWEEP,
-        ],
-        kernel: wgsl_file!("gather_sweep_boxes.wgsl"),
-    },
-    bindings: &[
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-        Binding::Uniform,
-        Binding::StorageReadWrite,
-    ],
-};
-
-/// Buffers of [`GATHER_SWEEP_BOXES`].
-pub struct GatherSweepBoxesArgs<'a> {
-    /// The bodies' `WorkList`.
-    pub bodies: &'a wgpu::Buffer,
-    /// `SweepAxis` from `choose_axis`.
-    pub sweep_axis: &'a wgpu::Buffer,
-    /// `array<GpuAabb>`.
-    pub aabbs: &'a wgpu::Buffer,
-    /// `array<GpuShape>` (for the flags).
-    pub shapes: &'a wgpu::Buffer,
-    /// Body indices sorted by lower bound on the sweep axis.
-    pub sorted_bodies: &'a wgpu::Buffer,
-    /// Output `array<GpuSweepBox>`, one per sorted position.
-    pub sweep_boxes: &'a wgpu::Buffer,
-    /// [`crate::layout::SweepParams`] (the long extent).
-    pub params: &'a wgpu::Buffer,
-    /// Output: the long box count and list (cleared count before).
-    pub long_boxes: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for GatherSweepBoxesArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![
-            self.bodies,
-            self.sweep_axis,
-            self.aabbs,
-            self.shapes,
-            self.sorted_bodies,
-            self.sweep_boxes,
-            self.params,
-            self.long_boxes,
-        ]
+kernel! {
+    /// Buffers of [`GATHER_SWEEP_BOXES`].
+    pub struct GatherSweepBoxesArgs {
+        /// The bodies' `WorkList`.
+        work,
+        /// `SweepAxis` from `choose_axis`.
+        sweep_axis,
+        /// `array<GpuAabb>`.
+        aabbs,
+        /// `array<GpuShape>` (for the flags).
+        shapes,
+        /// Body indices sorted by lower bound on the sweep axis.
+        sorted_bodies,
+        /// Output `array<GpuSweepBox>`, one per sorted position.
+        sweep_boxes,
+        /// [`crate::layout::SweepParams`] (the long extent).
+        params,
+        /// Output: the long box count and list (cleared count before).
+        long_boxes,
     }
+    /// The kernel: one thread per sorted position.
+    pub static GATHER_SWEEP_BOXES = "gather_sweep_boxes.wgsl";
 }
 
 /// The CPU twin of [`GATHER_SWEEP_BOXES`].

@@ -10,119 +10,61 @@
 
 use wgpu::util::DeviceExt;
 
-use crate::kernel::{Kernel, KernelArgs, KernelSpec};
-use crate::layout::{RadixPassParams, WORK_LIST_GROUPS_OFFSET};
-use crate::shader::{Binding, ShaderSource, common, wgsl_file};
+use crate::kernel::{Kernel, kernel};
+use crate::layout::RadixPassParams;
 use crate::{GpuContext, GpuError, RADIX, RADIX_BITS, WORKGROUP_SIZE};
 
 // The histogram kernel has one thread store each bucket's count.
 const _: () = assert!(RADIX <= WORKGROUP_SIZE);
 
-/// Kernel: per-tile digit counts.
-pub static RADIX_HISTOGRAM: KernelSpec = KernelSpec {
-    name: "radix_histogram",
-    source: ShaderSource {
-        common: &[common::CONSTANTS, common::INDEXING, common::LAYOUT],
-        kernel: wgsl_file!("radix_histogram.wgsl"),
-    },
-    bindings: &[
-        Binding::Uniform,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-    ],
-};
-
-/// Kernel: exclusive scan of the digit-major counts (single workgroup).
-pub static RADIX_SCAN: KernelSpec = KernelSpec {
-    name: "radix_scan",
-    source: ShaderSource {
-        common: &[common::CONSTANTS, common::LAYOUT],
-        kernel: wgsl_file!("radix_scan.wgsl"),
-    },
-    bindings: &[Binding::StorageRead, Binding::StorageReadWrite],
-};
-
-/// Kernel: stable scatter to the sorted slots.
-pub static RADIX_SCATTER: KernelSpec = KernelSpec {
-    name: "radix_scatter",
-    source: ShaderSource {
-        common: &[common::CONSTANTS, common::INDEXING, common::LAYOUT],
-        kernel: wgsl_file!("radix_scatter.wgsl"),
-    },
-    bindings: &[
-        Binding::Uniform,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-        Binding::StorageReadWrite,
-    ],
-};
-
-/// Buffers of [`RADIX_HISTOGRAM`].
-pub struct RadixHistogramArgs<'a> {
-    /// This pass's [`RadixPassParams`].
-    pub pass_params: &'a wgpu::Buffer,
-    /// The `WorkList` giving the item count.
-    pub work: &'a wgpu::Buffer,
-    /// Keys.
-    pub keys: &'a wgpu::Buffer,
-    /// Output counts, `RADIX * tiles` entries, digit-major.
-    pub tile_counts: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for RadixHistogramArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![self.pass_params, self.work, self.keys, self.tile_counts]
+kernel! {
+    /// Buffers of [`RADIX_HISTOGRAM`].
+    pub struct RadixHistogramArgs {
+        /// This pass's [`RadixPassParams`].
+        pass_params,
+        /// The `WorkList` giving the item count.
+        work,
+        /// Keys.
+        keys,
+        /// Output counts, `RADIX * tiles` entries, digit-major.
+        tile_counts,
     }
+    /// Kernel: per-tile digit counts.
+    pub static RADIX_HISTOGRAM = "radix_histogram.wgsl";
 }
 
-/// Buffers of [`RADIX_SCAN`].
-pub struct RadixScanArgs<'a> {
-    /// The `WorkList` giving the item count.
-    pub work: &'a wgpu::Buffer,
-    /// Counts in, first slots out (in place).
-    pub tile_counts: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for RadixScanArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![self.work, self.tile_counts]
+kernel! {
+    /// Buffers of [`RADIX_SCAN`].
+    pub struct RadixScanArgs {
+        /// The `WorkList` giving the item count.
+        work,
+        /// Counts in, first slots out (in place).
+        tile_counts,
     }
+    /// Kernel: exclusive scan of the digit-major counts (single workgroup).
+    pub static RADIX_SCAN = "radix_scan.wgsl";
 }
 
-/// Buffers of [`RADIX_SCATTER`].
-pub struct RadixScatterArgs<'a> {
-    /// This pass's [`RadixPassParams`].
-    pub pass_params: &'a wgpu::Buffer,
-    /// The `WorkList` giving the item count.
-    pub work: &'a wgpu::Buffer,
-    /// Keys in.
-    pub keys_in: &'a wgpu::Buffer,
-    /// Values in.
-    pub values_in: &'a wgpu::Buffer,
-    /// First slots from the scan.
-    pub tile_offsets: &'a wgpu::Buffer,
-    /// Keys out.
-    pub keys_out: &'a wgpu::Buffer,
-    /// Values out.
-    pub values_out: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for RadixScatterArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![
-            self.pass_params,
-            self.work,
-            self.keys_in,
-            self.values_in,
-            self.tile_offsets,
-            self.keys_out,
-            self.values_out,
-        ]
+kernel! {
+    /// Buffers of [`RADIX_SCATTER`].
+    pub struct RadixScatterArgs {
+        /// This pass's [`RadixPassParams`].
+        pass_params,
+        /// The `WorkList` giving the item count.
+        work,
+        /// Keys in.
+        keys_in,
+        /// Values in.
+        values_in,
+        /// First slots from the scan.
+        tile_offsets,
+        /// Keys out.
+        keys_out,
+        /// Values out.
+        values_out,
     }
+    /// Kernel: stable scatter to the sorted slots.
+    pub static RADIX_SCATTER = "radix_scatter.wgsl";
 }
 
 /// One pass of a chain of sorts over two arrays, `first` and `second`, each double-buffered.
@@ -279,11 +221,9 @@ impl RadixSort {
         work: &wgpu::Buffer,
     ) {
         for (histogram, scatter) in &groups.passes {
-            self.histogram
-                .dispatch_indirect(pass, histogram, work, WORK_LIST_GROUPS_OFFSET);
+            self.histogram.dispatch_work(pass, histogram, work);
             self.scan.dispatch_workgroups(pass, &groups.scan, 1, 1);
-            self.scatter
-                .dispatch_indirect(pass, scatter, work, WORK_LIST_GROUPS_OFFSET);
+            self.scatter.dispatch_work(pass, scatter, work);
         }
     }
 }

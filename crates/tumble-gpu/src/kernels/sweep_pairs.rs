@@ -2,47 +2,30 @@
 //! `long_pairs`: the long boxes it leaves out (`shaders/common/sweep.wgsl`), against all.
 
 use crate::constants::{LONG_BOX_FACTOR, MAX_LONG_BOXES};
-use crate::kernel::{KernelArgs, KernelSpec};
+use crate::kernel::kernel;
 use crate::layout::{BODY_STATIC, GpuShape, GpuSweepBox};
-use crate::shader::{Binding, ShaderSource, common, wgsl_file};
 
-/// Common WGSL of both kernels.
-const COMMON: &[crate::shader::WgslFile] = &[
-    common::CONSTANTS,
-    common::INDEXING,
-    common::LAYOUT,
-    common::SWEEP,
-];
-
-/// Bindings of both kernels: [`SweepPairsArgs`].
-const BINDINGS: &[Binding] = &[
-    Binding::Uniform,
-    Binding::StorageRead,
-    Binding::StorageReadWrite,
-    Binding::StorageReadWrite,
-    Binding::StorageReadWrite,
-    Binding::StorageRead,
-];
-
-/// The kernel: one thread per sorted body, appending pairs through an atomic counter.
-pub static SWEEP_PAIRS: KernelSpec = KernelSpec {
-    name: "sweep_pairs",
-    source: ShaderSource {
-        common: COMMON,
-        kernel: wgsl_file!("sweep_pairs.wgsl"),
-    },
-    bindings: BINDINGS,
-};
-
-/// The kernel pairing the long boxes: one thread per sorted body, against each long box.
-pub static LONG_PAIRS: KernelSpec = KernelSpec {
-    name: "long_pairs",
-    source: ShaderSource {
-        common: COMMON,
-        kernel: wgsl_file!("long_pairs.wgsl"),
-    },
-    bindings: BINDINGS,
-};
+kernel! {
+    /// Buffers of [`SWEEP_PAIRS`] and [`LONG_PAIRS`].
+    pub struct SweepPairsArgs {
+        /// [`crate::layout::SweepParams`].
+        params,
+        /// `array<GpuSweepBox>` in sweep order, from `gather_sweep_boxes`.
+        sweep_boxes,
+        /// Append counter (`u32`, cleared before the sweep).
+        counter,
+        /// Output: smaller body index of each pair.
+        pair_a,
+        /// Output: larger body index of each pair.
+        pair_b,
+        /// The long box count and list from `gather_sweep_boxes`.
+        long_boxes,
+    }
+    /// The kernel: one thread per sorted body, appending pairs through an atomic counter.
+    pub static SWEEP_PAIRS = "sweep_pairs.wgsl";
+    /// The kernel pairing the long boxes: one thread per sorted body, against each long box.
+    pub static LONG_PAIRS = "long_pairs.wgsl";
+}
 
 /// Bytes of the long box list: its count, then [`MAX_LONG_BOXES`] sorted positions.
 pub const LONG_BOXES_BYTES: u64 = 4 * (1 + MAX_LONG_BOXES as u64);
@@ -61,35 +44,6 @@ pub fn long_extent(shapes: &[GpuShape]) -> f32 {
     let middle = diameters.len() / 2;
     let (_, median, _) = diameters.select_nth_unstable_by(middle, f32::total_cmp);
     LONG_BOX_FACTOR * *median
-}
-
-/// Buffers of [`SWEEP_PAIRS`] and [`LONG_PAIRS`].
-pub struct SweepPairsArgs<'a> {
-    /// [`crate::layout::SweepParams`].
-    pub params: &'a wgpu::Buffer,
-    /// `array<GpuSweepBox>` in sweep order, from `gather_sweep_boxes`.
-    pub sweep_boxes: &'a wgpu::Buffer,
-    /// Append counter (`u32`, cleared before the sweep).
-    pub counter: &'a wgpu::Buffer,
-    /// Output: smaller body index of each pair.
-    pub pair_a: &'a wgpu::Buffer,
-    /// Output: larger body index of each pair.
-    pub pair_b: &'a wgpu::Buffer,
-    /// The long box count and list from `gather_sweep_boxes`.
-    pub long_boxes: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for SweepPairsArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![
-            self.params,
-            self.sweep_boxes,
-            self.counter,
-            self.pair_a,
-            self.pair_b,
-            self.long_boxes,
-        ]
-    }
 }
 
 /// The CPU twin of [`SWEEP_PAIRS`] followed by the canonical sort: every overlapping pair

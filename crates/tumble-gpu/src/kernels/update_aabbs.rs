@@ -3,55 +3,25 @@
 
 use tumble_geometry::{Aabb, Cuboid, Point3, Pose, Rot, Vec3};
 
-use crate::kernel::{KernelArgs, KernelSpec};
+use crate::kernel::kernel;
 use crate::layout::{GpuAabb, GpuPose, GpuShape, GpuVelocity};
-use crate::shader::{Binding, ShaderSource, common, wgsl_file};
 
-/// The kernel: one thread per body.
-pub static UPDATE_AABBS: KernelSpec = KernelSpec {
-    name: "update_aabbs",
-    source: ShaderSource {
-        common: &[
-            common::CONSTANTS,
-            common::INDEXING,
-            common::LAYOUT,
-            common::QUAT,
-        ],
-        kernel: wgsl_file!("update_aabbs.wgsl"),
-    },
-    bindings: &[
-        Binding::Uniform,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-    ],
-};
-
-/// Buffers of [`UPDATE_AABBS`].
-pub struct UpdateAabbsArgs<'a> {
-    /// [`crate::layout::UpdateAabbsParams`].
-    pub params: &'a wgpu::Buffer,
-    /// `array<GpuPose>`, one per body.
-    pub poses: &'a wgpu::Buffer,
-    /// `array<GpuVelocity>`, one per body.
-    pub velocities: &'a wgpu::Buffer,
-    /// `array<GpuShape>`, one per body.
-    pub shapes: &'a wgpu::Buffer,
-    /// Output `array<GpuAabb>`, one per body.
-    pub aabbs: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for UpdateAabbsArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![
-            self.params,
-            self.poses,
-            self.velocities,
-            self.shapes,
-            self.aabbs,
-        ]
+kernel! {
+    /// Buffers of [`UPDATE_AABBS`].
+    pub struct UpdateAabbsArgs {
+        /// [`crate::layout::UpdateAabbsParams`].
+        params,
+        /// `array<GpuPose>`, one per body.
+        poses,
+        /// `array<GpuVelocity>`, one per body.
+        velocities,
+        /// `array<GpuShape>`, one per body.
+        shapes,
+        /// Output `array<GpuAabb>`, one per body.
+        aabbs,
     }
+    /// The kernel: one thread per body.
+    pub static UPDATE_AABBS = "update_aabbs.wgsl";
 }
 
 /// The host form of a GPU pose.

@@ -1,50 +1,25 @@
 //! `write_sort_keys`: each body's AABB lower bound on the sweep axis as an order-preserving
 //! unsigned key, paired with the body index.
 
-use crate::kernel::{KernelArgs, KernelSpec};
+use crate::kernel::kernel;
 use crate::layout::GpuAabb;
-use crate::shader::{Binding, ShaderSource, common, wgsl_file};
 
-/// The kernel: one thread per body.
-pub static WRITE_SORT_KEYS: KernelSpec = KernelSpec {
-    name: "write_sort_keys",
-    source: ShaderSource {
-        common: &[common::CONSTANTS, common::INDEXING, common::LAYOUT],
-        kernel: wgsl_file!("write_sort_keys.wgsl"),
-    },
-    bindings: &[
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-        Binding::StorageReadWrite,
-    ],
-};
-
-/// Buffers of [`WRITE_SORT_KEYS`].
-pub struct WriteSortKeysArgs<'a> {
-    /// The bodies' `WorkList`.
-    pub bodies: &'a wgpu::Buffer,
-    /// `SweepAxis` from `choose_axis`.
-    pub sweep_axis: &'a wgpu::Buffer,
-    /// `array<GpuAabb>`.
-    pub aabbs: &'a wgpu::Buffer,
-    /// Output keys, one per body.
-    pub keys: &'a wgpu::Buffer,
-    /// Output body indices, one per body.
-    pub values: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for WriteSortKeysArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![
-            self.bodies,
-            self.sweep_axis,
-            self.aabbs,
-            self.keys,
-            self.values,
-        ]
+kernel! {
+    /// Buffers of [`WRITE_SORT_KEYS`].
+    pub struct WriteSortKeysArgs {
+        /// The bodies' `WorkList`.
+        work,
+        /// `SweepAxis` from `choose_axis`.
+        sweep_axis,
+        /// `array<GpuAabb>`.
+        aabbs,
+        /// Output keys, one per body.
+        keys,
+        /// Output body indices, one per body.
+        values,
     }
+    /// The kernel: one thread per body.
+    pub static WRITE_SORT_KEYS = "write_sort_keys.wgsl";
 }
 
 /// An unsigned key whose order is the order of the (non-NaN) floats: negative floats have

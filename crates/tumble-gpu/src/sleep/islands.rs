@@ -10,107 +10,63 @@
 //! bit for bit. A finished search labels each island with its smallest body index, the
 //! labels `tumble_solver::Islands` gives.
 
-use crate::kernel::{KernelArgs, KernelSpec};
-use crate::shader::{Binding, ShaderSource, wgsl_file};
+use crate::kernel::kernel;
 
-use super::shaders::SLEEP_COMMON;
-
-/// Kernel: one thread per manifold (dispatched indirectly from the pair work list).
-pub static HOOK_LABELS: KernelSpec = KernelSpec {
-    name: "hook_labels",
-    source: ShaderSource {
-        common: SLEEP_COMMON,
-        kernel: wgsl_file!("sleep/hook_labels.wgsl"),
-    },
-    bindings: &[
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-    ],
-};
-
-/// Buffers of [`HOOK_LABELS`] and [`CHECK_LABELS`] (whose last buffer is the one-entry
-/// `unfinished` flag instead of `next_labels`).
-pub struct LinkLabelsArgs<'a> {
-    /// The step's pair `WorkList`.
-    pub work: &'a wgpu::Buffer,
-    /// `array<GpuManifold>`: the step's manifolds.
-    pub manifolds: &'a wgpu::Buffer,
-    /// `array<GpuBody>`: every body as uploaded.
-    pub awake_bodies: &'a wgpu::Buffer,
-    /// `array<u32>`: island labels (which bodies sleep).
-    pub island: &'a wgpu::Buffer,
-    /// `array<u32>`: the round's labels.
-    pub labels: &'a wgpu::Buffer,
-    /// `array<atomic<u32>>`: what the kernel lowers or flags.
-    pub output: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for LinkLabelsArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![
-            self.work,
-            self.manifolds,
-            self.awake_bodies,
-            self.island,
-            self.labels,
-            self.output,
-        ]
+kernel! {
+    /// Buffers of [`HOOK_LABELS`].
+    pub struct HookLabelsArgs {
+        /// The step's pair `WorkList`.
+        work,
+        /// `array<GpuManifold>`: the step's manifolds.
+        manifolds,
+        /// `array<GpuBody>`: every body as uploaded.
+        awake_bodies,
+        /// `array<u32>`: island labels (which bodies sleep).
+        island,
+        /// `array<u32>`: the round's labels.
+        labels,
+        /// `array<atomic<u32>>`: the labels the round's hooks lower.
+        next_labels,
     }
+    /// Kernel: one thread per manifold (dispatched indirectly from the pair work list).
+    pub static HOOK_LABELS = "sleep/hook_labels.wgsl";
 }
 
-/// Kernel: one thread per body.
-pub static JUMP_LABELS: KernelSpec = KernelSpec {
-    name: "jump_labels",
-    source: ShaderSource {
-        common: SLEEP_COMMON,
-        kernel: wgsl_file!("sleep/jump_labels.wgsl"),
-    },
-    bindings: &[
-        Binding::Uniform,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-        Binding::StorageReadWrite,
-    ],
-};
-
-/// Buffers of [`JUMP_LABELS`].
-pub struct JumpLabelsArgs<'a> {
-    /// `SleepParams`.
-    pub params: &'a wgpu::Buffer,
-    /// `array<u32>`: the labels after this round's hooks.
-    pub next_labels: &'a wgpu::Buffer,
-    /// `array<u32>`: the round's result.
-    pub labels: &'a wgpu::Buffer,
-    /// `array<u32>`: the same result, the copy the next round hooks into.
-    pub spare: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for JumpLabelsArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![self.params, self.next_labels, self.labels, self.spare]
+kernel! {
+    /// Buffers of [`CHECK_LABELS`].
+    pub struct CheckLabelsArgs {
+        /// The step's pair `WorkList`.
+        work,
+        /// `array<GpuManifold>`: the step's manifolds.
+        manifolds,
+        /// `array<GpuBody>`: every body as uploaded.
+        awake_bodies,
+        /// `array<u32>`: island labels (which bodies sleep).
+        island,
+        /// `array<u32>`: the last round's labels.
+        labels,
+        /// One `atomic<u32>`: flagged when some link still joins two labels.
+        unfinished,
     }
+    /// Kernel: one thread per manifold (dispatched indirectly from the pair work list).
+    pub static CHECK_LABELS = "sleep/check_labels.wgsl";
 }
 
-/// Kernel: one thread per manifold (dispatched indirectly from the pair work list).
-pub static CHECK_LABELS: KernelSpec = KernelSpec {
-    name: "check_labels",
-    source: ShaderSource {
-        common: SLEEP_COMMON,
-        kernel: wgsl_file!("sleep/check_labels.wgsl"),
-    },
-    bindings: &[
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-    ],
-};
+kernel! {
+    /// Buffers of [`JUMP_LABELS`].
+    pub struct JumpLabelsArgs {
+        /// `SleepParams`.
+        params,
+        /// `array<u32>`: the labels after this round's hooks.
+        next_labels,
+        /// `array<u32>`: the round's result.
+        labels,
+        /// `array<u32>`: the same result, the copy the next round hooks into.
+        spare,
+    }
+    /// Kernel: one thread per body.
+    pub static JUMP_LABELS = "sleep/jump_labels.wgsl";
+}
 
 /// The result of an island search.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -3,53 +3,30 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::layout::StructLayout;
+use crate::layout::host_structs;
 
-/// The sleep stage's per-world settings (uniform). 32 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct SleepParams {
-    /// Bodies in the world.
-    pub body_count: u32,
-    /// Time step, s: what a resting body's rest time grows by per step.
-    pub dt: f32,
-    /// Kinematic bodies (entries of the kinematic list).
-    pub kinematic_count: u32,
-    /// Padding.
-    pub _pad0: u32,
-    /// Workgroups along x of a dispatch over every body ([`crate::constants::workgroups_for`]).
-    pub body_groups_x: u32,
-    /// Workgroups along y of the same dispatch.
-    pub body_groups_y: u32,
-    /// Padding.
-    pub _pad1: u32,
-    /// Padding.
-    pub _pad2: u32,
-}
+host_structs! {
+    /// Every struct of `sleep_types.wgsl`, for the layout check against naga.
+    pub fn sleep_struct_layouts();
 
-/// Every struct of `sleep_types.wgsl`, for the layout check against naga.
-pub fn sleep_struct_layouts() -> Vec<StructLayout> {
-    vec![StructLayout {
-        name: "SleepParams",
-        size: std::mem::size_of::<SleepParams>(),
-        fields: vec![
-            ("body_count", std::mem::offset_of!(SleepParams, body_count)),
-            ("dt", std::mem::offset_of!(SleepParams, dt)),
-            (
-                "kinematic_count",
-                std::mem::offset_of!(SleepParams, kinematic_count),
-            ),
-            ("_pad0", std::mem::offset_of!(SleepParams, _pad0)),
-            (
-                "body_groups_x",
-                std::mem::offset_of!(SleepParams, body_groups_x),
-            ),
-            (
-                "body_groups_y",
-                std::mem::offset_of!(SleepParams, body_groups_y),
-            ),
-            ("_pad1", std::mem::offset_of!(SleepParams, _pad1)),
-            ("_pad2", std::mem::offset_of!(SleepParams, _pad2)),
-        ],
-    }]
+    /// The sleep stage's per-world settings (uniform). 32 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct SleepParams {
+            /// Bodies in the world.
+            pub body_count: u32,
+            /// Time step, s: what a resting body's rest time grows by per step.
+            pub dt: f32,
+            /// Kinematic bodies (entries of the kinematic list).
+            pub kinematic_count: u32,
+            /// Padding.
+            pub _pad0: u32,
+            /// Workgroups along x of a dispatch over every body ([`crate::constants::workgroups_for`]).
+            pub body_groups_x: u32,
+            /// Workgroups along y of the same dispatch.
+            pub body_groups_y: u32,
+            /// Padding.
+            pub _pad1: u32,
+            /// Padding.
+            pub _pad2: u32,
+    }
 }

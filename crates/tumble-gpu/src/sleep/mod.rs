@@ -25,42 +25,10 @@ pub mod layout;
 pub mod pipelines;
 pub mod plan_search;
 pub mod rest;
-pub mod shaders;
 pub mod stage;
 pub mod touch;
 pub mod wake;
 
-use crate::kernel::KernelSpec;
-
 pub use cpu::{SleepCpu, SleepLink};
 pub use islands::{IslandSearch, island_search_cpu};
 pub use stage::{GpuSleep, SleepInputs};
-
-/// Every sleep kernel spec, for validation.
-pub fn kernels() -> Vec<&'static KernelSpec> {
-    vec![
-        &wake::WAKE_BODIES,
-        &wake::WAKE_ISLANDS,
-        &rest::UPDATE_REST,
-        &touch::TOUCH_SLEEPERS,
-        &kinematic::KINEMATIC_WAKE,
-        &plan_search::PLAN_SEARCH,
-        &islands::HOOK_LABELS,
-        &islands::JUMP_LABELS,
-        &islands::CHECK_LABELS,
-        &rest::ISLAND_REST,
-        &rest::FALL_ASLEEP,
-    ]
-}
-
-/// Every sleep kernel with the override values it is built with. A shader that fails to
-/// parse gets no values, and the check then reports the parse error.
-pub fn registered_kernels() -> Vec<crate::registry::RegisteredKernel> {
-    kernels()
-        .into_iter()
-        .map(|spec| crate::registry::RegisteredKernel {
-            spec,
-            overrides: shaders::sleep_overrides(spec).unwrap_or_default(),
-        })
-        .collect()
-}

@@ -4,16 +4,15 @@
 //! (rest timers, the island search, islands falling asleep). Nothing is read back inside a
 //! step; the manifold kernels are dispatched indirectly from the pair work list.
 
-use std::sync::Arc;
-
 use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE};
-use crate::layout::{DispatchArgs, WORK_LIST_GROUPS_OFFSET};
+use crate::kernel::Kernel;
+use crate::layout::DispatchArgs;
 use crate::solver::constants::BODY_KINEMATIC;
 use crate::solver::layout::GpuBody;
 use crate::{GpuContext, GpuError, StageTimer};
 
 use super::constants::{AWAKE, ISLAND_ROUNDS};
-use super::islands::{JumpLabelsArgs, LinkLabelsArgs};
+use super::islands::{CheckLabelsArgs, HookLabelsArgs, JumpLabelsArgs};
 use super::kinematic::KinematicWakeArgs;
 use super::layout::SleepParams;
 use super::pipelines::SleepPipelines;
@@ -83,7 +82,7 @@ struct Groups {
 #[derive(Debug)]
 pub struct GpuSleep {
     ctx: GpuContext,
-    pipelines: Option<Arc<SleepPipelines>>,
+    pipelines: Option<SleepPipelines>,
     pool: BufferPool,
     body_count: u32,
     kinematic_count: u32,
@@ -121,7 +120,7 @@ impl GpuSleep {
     /// body awake and no rest time. `awake_bodies` are the bodies as uploaded; `dt` the step.
     pub fn enable(&mut self, awake_bodies: &[GpuBody], dt: f32) -> Result<(), GpuError> {
         if self.pipelines.is_none() {
-            self.pipelines = Some(SleepPipelines::shared(&self.ctx)?);
+            self.pipelines = Some(SleepPipelines::build(|spec| Kernel::new(&self.ctx, spec))?);
         }
         self.reset(awake_bodies, dt)
     }
@@ -204,12 +203,7 @@ impl GpuSleep {
             self.ctx
                 .queue
                 .write_buffer(self.pool.get(WAKE), 0, bytemuck::cast_slice(&every));
-            let mut encoder =
-                self.ctx
-                    .device
-                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                        label: Some("sleep off"),
-                    });
+            let mut encoder = self.ctx.encoder("sleep off");
             let mut timer = StageTimer::disabled(&self.ctx);
             self.record_wake(&mut encoder, &mut timer, bodies, shapes);
             self.ctx.queue.submit([encoder.finish()]);
@@ -273,13 +267,13 @@ impl GpuSleep {
         }
         let k = self.pipelines.as_ref().expect("enabled");
         let (ctx, p) = (&self.ctx, &self.pool);
-        let link = |labels: &'static str, output: &'static str| LinkLabelsArgs {
+        let hook = |next: usize| HookLabelsArgs {
             work: inputs.pair_work,
             manifolds: inputs.manifolds,
             awake_bodies: p.get(AWAKE_BODIES),
             island: p.get(ISLAND),
-            labels: p.get(labels),
-            output: p.get(output),
+            labels: p.get(LABELS),
+            next_labels: p.get(NEXT_LABELS[next]),
         };
         let jump = |from: usize| JumpLabelsArgs {
             params: p.get(PARAMS),
@@ -334,15 +328,19 @@ impl GpuSleep {
                     search_groups: p.get(SEARCH_GROUPS),
                 },
             ),
-            hook_labels: [
-                k.hook_labels.bind(ctx, &link(LABELS, NEXT_LABELS[0])),
-                k.hook_labels.bind(ctx, &link(LABELS, NEXT_LABELS[1])),
-            ],
-            jump_labels: [
-                k.jump_labels.bind(ctx, &jump(0)),
-                k.jump_labels.bind(ctx, &jump(1)),
-            ],
-            check_labels: k.check_labels.bind(ctx, &link(LABELS, UNFINISHED)),
+            hook_labels: [0, 1].map(|next| k.hook_labels.bind(ctx, &hook(next))),
+            jump_labels: [0, 1].map(|from| k.jump_labels.bind(ctx, &jump(from))),
+            check_labels: k.check_labels.bind(
+                ctx,
+                &CheckLabelsArgs {
+                    work: inputs.pair_work,
+                    manifolds: inputs.manifolds,
+                    awake_bodies: p.get(AWAKE_BODIES),
+                    island: p.get(ISLAND),
+                    labels: p.get(LABELS),
+                    unfinished: p.get(UNFINISHED),
+                },
+            ),
             island_rest: k.island_rest.bind(
                 ctx,
                 &IslandRestArgs {
@@ -394,7 +392,7 @@ impl GpuSleep {
                 rest_time: p.get(REST_TIME),
                 bodies,
                 shapes,
-                active: p.get(ACTIVE),
+                moving: p.get(ACTIVE),
             },
         );
         self.wake_group = Some((key, group));
@@ -465,12 +463,8 @@ impl GpuSleep {
         let search = self.pool.get(SEARCH_GROUPS);
         let mut pass = timer.begin_pass(encoder, SLEEP_ISLANDS);
         k.update_rest.dispatch(&mut pass, &g.update_rest, n);
-        k.touch_sleepers.dispatch_indirect(
-            &mut pass,
-            &g.touch_sleepers,
-            work,
-            WORK_LIST_GROUPS_OFFSET,
-        );
+        k.touch_sleepers
+            .dispatch_work(&mut pass, &g.touch_sleepers, work);
         if self.kinematic_count > 0 {
             k.kinematic_wake.dispatch(&mut pass, &g.kinematic_wake, n);
         }

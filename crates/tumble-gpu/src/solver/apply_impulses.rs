@@ -5,42 +5,22 @@
 use tumble_geometry::{Point3, Vec3};
 use tumble_solver::{Body, BodyState};
 
-use crate::kernel::{KernelArgs, KernelSpec};
-use crate::shader::{Binding, ShaderSource, wgsl_file};
+use crate::kernel::kernel;
 
-use super::shaders::BODY_COMMON;
-
-/// Kernel: a single thread, impulses in queue order.
-pub static APPLY_IMPULSES: KernelSpec = KernelSpec {
-    name: "apply_impulses",
-    source: ShaderSource {
-        common: BODY_COMMON,
-        kernel: wgsl_file!("solver/apply_impulses.wgsl"),
-    },
-    bindings: &[
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-    ],
-};
-
-/// Buffers of [`APPLY_IMPULSES`].
-pub struct ApplyImpulsesArgs<'a> {
-    /// `array<GpuImpulse>`, exactly the queued ones.
-    pub impulses: &'a wgpu::Buffer,
-    /// `array<GpuBody>`.
-    pub bodies: &'a wgpu::Buffer,
-    /// `array<GpuPose>`.
-    pub poses: &'a wgpu::Buffer,
-    /// `array<GpuVelocity>`, updated.
-    pub velocities: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for ApplyImpulsesArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![self.impulses, self.bodies, self.poses, self.velocities]
+kernel! {
+    /// Buffers of [`APPLY_IMPULSES`].
+    pub struct ApplyImpulsesArgs {
+        /// `array<GpuImpulse>`, exactly the queued ones.
+        impulses,
+        /// `array<GpuBody>`.
+        bodies,
+        /// `array<GpuPose>`.
+        poses,
+        /// `array<GpuVelocity>`, updated.
+        velocities,
     }
+    /// Kernel: a single thread, impulses in queue order.
+    pub static APPLY_IMPULSES = "solver/apply_impulses.wgsl";
 }
 
 /// The CPU twin: `impulse` at world `point` on a dynamic body changes its velocities by

@@ -5,125 +5,65 @@
 
 use std::collections::HashMap;
 
-use crate::kernel::{KernelArgs, KernelSpec};
-use crate::shader::{Binding, ShaderSource, wgsl_file};
+use crate::kernel::kernel;
 
 use super::constants::{COLOR_ROUNDS, EMPTY_COLOR, GRAPH_COLOR_COUNT, NO_COLOR, OVERFLOW_COLOR};
-use super::shaders::{COLOR_COMMON, COLOR_FINISH_COMMON};
 
-const ROUND_BINDINGS: &[Binding] = &[
-    Binding::Uniform,
-    Binding::StorageRead,
-    Binding::StorageRead,
-    Binding::StorageRead,
-    Binding::StorageRead,
-    Binding::StorageReadWrite,
-    Binding::StorageReadWrite,
-];
-
-/// Kernel: round 0 proposals, one thread per constraint.
-pub static COLOR_PROPOSE: KernelSpec = KernelSpec {
-    name: "color_propose",
-    source: ShaderSource {
-        common: COLOR_COMMON,
-        kernel: wgsl_file!("solver/color_propose.wgsl"),
-    },
-    bindings: ROUND_BINDINGS,
-};
-
-/// Kernel: round 0 decisions, one thread per constraint.
-pub static COLOR_RESOLVE: KernelSpec = KernelSpec {
-    name: "color_resolve",
-    source: ShaderSource {
-        common: COLOR_COMMON,
-        kernel: wgsl_file!("solver/color_resolve.wgsl"),
-    },
-    bindings: ROUND_BINDINGS,
-};
-
-/// Kernel: the remaining rounds, counts, offsets, dispatch sizes and sort keys (one workgroup).
-pub static COLOR_FINISH: KernelSpec = KernelSpec {
-    name: "color_finish",
-    source: ShaderSource {
-        common: COLOR_FINISH_COMMON,
-        kernel: wgsl_file!("solver/color_finish.wgsl"),
-    },
-    bindings: &[
-        Binding::Uniform,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-        Binding::StorageReadWrite,
-        Binding::StorageReadWrite,
-        Binding::StorageReadWrite,
-        Binding::StorageReadWrite,
-        Binding::StorageReadWrite,
-        Binding::StorageReadWrite,
-    ],
-};
-
-/// Buffers of [`COLOR_PROPOSE`] and [`COLOR_RESOLVE`].
-pub struct ColorRoundArgs<'a> {
-    /// `SolverParams` (for the body count).
-    pub params: &'a wgpu::Buffer,
-    /// The contacts' `WorkList`.
-    pub contact_work: &'a wgpu::Buffer,
-    /// `array<GpuManifold>`.
-    pub manifolds: &'a wgpu::Buffer,
-    /// `array<GpuBody>`.
-    pub bodies: &'a wgpu::Buffer,
-    /// Last step's `array<ColorSlot>`.
-    pub previous_colors: &'a wgpu::Buffer,
-    /// This step's `array<ColorSlot>`.
-    pub color_state: &'a wgpu::Buffer,
-    /// Used-color masks then claims, `u32`.
-    pub color_marks: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for ColorRoundArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![
-            self.params,
-            self.contact_work,
-            self.manifolds,
-            self.bodies,
-            self.previous_colors,
-            self.color_state,
-            self.color_marks,
-        ]
+kernel! {
+    /// Buffers of [`COLOR_PROPOSE`] and [`COLOR_RESOLVE`].
+    pub struct ColorRoundArgs {
+        /// `SolverParams` (for the body count).
+        params,
+        /// The contacts' `WorkList`.
+        contact_work,
+        /// `array<GpuManifold>`.
+        manifolds,
+        /// `array<GpuBody>`.
+        bodies,
+        /// Last step's `array<ColorSlot>`.
+        previous_colors,
+        /// This step's `array<ColorSlot>`.
+        color_state,
+        /// Used-color masks then claims, `u32`.
+        color_marks,
     }
+    /// Kernel: round 0 proposals, one thread per constraint.
+    pub static COLOR_PROPOSE = "solver/color_propose.wgsl";
+    /// Kernel: round 0 decisions, one thread per constraint.
+    pub static COLOR_RESOLVE = "solver/color_resolve.wgsl";
 }
 
-/// Buffers of [`COLOR_FINISH`].
-pub struct ColorFinishArgs<'a> {
-    /// The round buffers.
-    pub round: ColorRoundArgs<'a>,
-    /// Two lists of undecided constraints, `2 * capacity` `u32`.
-    pub color_scratch: &'a wgpu::Buffer,
-    /// Output: `COLOR_OFFSETS_LEN` offsets.
-    pub color_offsets: &'a wgpu::Buffer,
-    /// Output: `array<DispatchArgs>`, one per color slot.
-    pub color_args: &'a wgpu::Buffer,
-    /// Output: sort keys (the colors).
-    pub sort_keys: &'a wgpu::Buffer,
-    /// Output: sort values (the constraint indices).
-    pub sort_values: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for ColorFinishArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        let mut buffers = self.round.buffers();
-        buffers.extend([
-            self.color_scratch,
-            self.color_offsets,
-            self.color_args,
-            self.sort_keys,
-            self.sort_values,
-        ]);
-        buffers
+kernel! {
+    /// Buffers of [`COLOR_FINISH`]: those of [`ColorRoundArgs`], then its own.
+    pub struct ColorFinishArgs {
+        /// `SolverParams` (for the body count).
+        params,
+        /// The contacts' `WorkList`.
+        contact_work,
+        /// `array<GpuManifold>`.
+        manifolds,
+        /// `array<GpuBody>`.
+        bodies,
+        /// Last step's `array<ColorSlot>`.
+        previous_colors,
+        /// This step's `array<ColorSlot>`.
+        color_state,
+        /// Used-color masks then claims, `u32`.
+        color_marks,
+        /// Two lists of undecided constraints, `2 * capacity` `u32`.
+        color_scratch,
+        /// Output: `COLOR_OFFSETS_LEN` offsets.
+        color_offsets,
+        /// Output: `array<DispatchArgs>`, one per color slot.
+        color_args,
+        /// Output: sort keys (the colors).
+        sort_keys,
+        /// Output: sort values (the constraint indices).
+        sort_values,
     }
+    /// Kernel: the remaining rounds, counts, offsets, dispatch sizes and sort keys (one
+    /// workgroup).
+    pub static COLOR_FINISH = "solver/color_finish.wgsl";
 }
 
 /// Wellons' "lowbias32" hash, the same bijection as `hash_u32` in `coloring.wgsl`.

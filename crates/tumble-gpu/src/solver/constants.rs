@@ -44,11 +44,6 @@ pub const CONSTRAINT_DYNAMIC_A: u32 = 1;
 /// `GpuConstraint::flags`: body B is dynamic.
 pub const CONSTRAINT_DYNAMIC_B: u32 = 2;
 
-/// Newton iterations of the gyroscopic midpoint rule. tumble-solver keeps its own count
-/// private (3, "the residual shrinks quadratically, so three reach f32 round-off"); the
-/// GPU-versus-CPU spin test fails if the two drift apart.
-pub const GYROSCOPIC_NEWTON_ITERATIONS: u32 = 3;
-
 /// Smallest cosine between a pair's normal last step and now (in body A's frame) for its tilt
 /// impulse to carry over: tumble-solver's contact-cache tolerance (the cosine of 5 degrees).
 pub const PERSIST_NORMAL_COS: f32 = tumble_solver::PERSIST_NORMAL_COS;
@@ -92,7 +87,7 @@ pub fn solver_constants() -> Vec<(&'static str, f64)> {
         ("PASS_RESTITUTION", f64::from(PASS_RESTITUTION)),
         (
             "GYROSCOPIC_NEWTON_ITERATIONS",
-            f64::from(GYROSCOPIC_NEWTON_ITERATIONS),
+            tumble_solver::GYROSCOPIC_NEWTON_ITERATIONS as f64,
         ),
     ]
 }

@@ -1,26 +1,25 @@
 //! The color and solve stages on the GPU: buffers, bind groups, and the recording of one
 //! step's solver work into a command encoder (no CPU read anywhere inside).
 
-use std::sync::Arc;
-
 use wgpu::util::DeviceExt;
 
-use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE};
+use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE, bytes_of};
 use crate::kernel::Kernel;
 use crate::kernels::radix_sort::{
-    RadixBindGroups, RadixBuffers, RadixPass, index_bits, plan_passes, result_copy, tile_count_len,
+    RadixBindGroups, RadixBuffers, RadixPass, RadixSort, index_bits, plan_passes, result_copy,
+    tile_count_len,
 };
-use crate::layout::{DispatchArgs, WORK_LIST_GROUPS_OFFSET};
+use crate::layout::DispatchArgs;
 use crate::{GpuContext, GpuError, StageTimer};
 
 use super::color::{ColorFinishArgs, ColorRoundArgs};
 use super::constants::{COLOR_OFFSETS_LEN, COLOR_SLOTS, GRAPH_COLOR_COUNT};
-use super::effects::Effects;
+use super::effects::{Effects, effect_overrides};
 use super::fused::SolveFusedArgs;
 use super::integrate::{FinalizeBodiesArgs, IntegratePositionsArgs, IntegrateVelocitiesArgs};
 use super::layout::{ColorPass, ColorSlot, GpuConstraint, GpuSolverBody, GpuTilt, SolverParams};
 use super::path::SolvePath;
-use super::pipelines::SolverPipelines;
+use super::pipelines::{SolverPipelines, pass_kernels};
 use super::prepare::{PrepareBodiesArgs, PrepareContactsArgs};
 use super::solve_color::{PassKind, SolveColorArgs};
 use super::store::StoreImpulsesArgs;
@@ -64,7 +63,6 @@ pub struct SolverInputs<'a> {
 #[derive(Clone, Debug, PartialEq, Eq)]
 struct BindKey {
     generation: u64,
-    pipelines: usize,
     inputs: [wgpu::Buffer; 6],
 }
 
@@ -90,7 +88,11 @@ struct BindGroups {
 #[derive(Debug)]
 pub struct GpuSolver {
     ctx: GpuContext,
-    pipelines: Arc<SolverPipelines>,
+    effects: Effects,
+    pipelines: SolverPipelines,
+    /// `solve_color`, one per [`PassKind`] in [`PassKind::ALL`] order.
+    passes: Vec<Kernel>,
+    radix: RadixSort,
     pool: BufferPool,
     params: wgpu::Buffer,
     last_params: Option<SolverParams>,
@@ -107,7 +109,8 @@ impl GpuSolver {
             sleep: false,
             ..effects
         };
-        let pipelines = SolverPipelines::shared(ctx, effects)?;
+        let pipelines = SolverPipelines::new(ctx, &effects)?;
+        let passes = pass_kernels(ctx, &effects)?;
         let params = ctx.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("solver params"),
             size: std::mem::size_of::<SolverParams>() as u64,
@@ -129,7 +132,10 @@ impl GpuSolver {
             .collect();
         Ok(Self {
             ctx: ctx.clone(),
+            effects,
             pipelines,
+            passes,
+            radix: RadixSort::new(ctx)?,
             pool: BufferPool::new(ctx),
             params,
             last_params: None,
@@ -147,7 +153,7 @@ impl GpuSolver {
 
     /// The effects compiled in.
     pub fn effects(&self) -> Effects {
-        self.pipelines.effects
+        self.effects
     }
 
     /// Switches to pipelines with `effects` (bind groups are rebuilt on the next record).
@@ -157,10 +163,12 @@ impl GpuSolver {
             sleep: false,
             ..effects
         };
-        if effects != self.pipelines.effects {
-            self.pipelines = SolverPipelines::shared(&self.ctx, effects)?;
+        if effect_overrides(&effects) != effect_overrides(&self.effects) {
+            self.pipelines = SolverPipelines::new(&self.ctx, &effects)?;
+            self.passes = pass_kernels(&self.ctx, &effects)?;
             self.bind = None;
         }
+        self.effects = effects;
         Ok(())
     }
 
@@ -175,35 +183,20 @@ impl GpuSolver {
         let (n, cap) = (u64::from(bodies.max(1)), u64::from(capacity.max(1)));
         let u32_bytes = 4u64;
         let sizes: [(&'static str, u64); 10] = [
-            (TILTS[0], cap * std::mem::size_of::<GpuTilt>() as u64),
-            (TILTS[1], cap * std::mem::size_of::<GpuTilt>() as u64),
-            (
-                SOLVER_BODIES,
-                n * std::mem::size_of::<GpuSolverBody>() as u64,
-            ),
-            (
-                CONSTRAINTS,
-                cap * std::mem::size_of::<GpuConstraint>() as u64,
-            ),
-            (
-                COLOR_STATE[0],
-                cap * std::mem::size_of::<ColorSlot>() as u64,
-            ),
-            (
-                COLOR_STATE[1],
-                cap * std::mem::size_of::<ColorSlot>() as u64,
-            ),
+            (TILTS[0], bytes_of::<GpuTilt>(cap)),
+            (TILTS[1], bytes_of::<GpuTilt>(cap)),
+            (SOLVER_BODIES, bytes_of::<GpuSolverBody>(n)),
+            (CONSTRAINTS, bytes_of::<GpuConstraint>(cap)),
+            (COLOR_STATE[0], bytes_of::<ColorSlot>(cap)),
+            (COLOR_STATE[1], bytes_of::<ColorSlot>(cap)),
             // Per body its used-color mask, then one claim per (body, color).
             (
                 COLOR_MARKS,
-                n * u64::from(1 + GRAPH_COLOR_COUNT) * u32_bytes,
+                bytes_of::<u32>(n * u64::from(1 + GRAPH_COLOR_COUNT)),
             ),
-            (COLOR_SCRATCH, 2 * cap * u32_bytes),
-            (COLOR_OFFSETS, u64::from(COLOR_OFFSETS_LEN) * u32_bytes),
-            (
-                COLOR_ARGS,
-                u64::from(COLOR_SLOTS) * std::mem::size_of::<DispatchArgs>() as u64,
-            ),
+            (COLOR_SCRATCH, bytes_of::<u32>(2 * cap)),
+            (COLOR_OFFSETS, bytes_of::<u32>(u64::from(COLOR_OFFSETS_LEN))),
+            (COLOR_ARGS, bytes_of::<DispatchArgs>(u64::from(COLOR_SLOTS))),
         ];
         for (name, bytes) in sizes {
             self.pool.ensure(name, bytes, STORAGE_USAGE)?;
@@ -300,7 +293,7 @@ impl GpuSolver {
         self.rebind(inputs);
         encoder.clear_buffer(self.pool.get(COLOR_MARKS), 0, None);
         let (_, groups) = self.bind.as_ref().expect("bound above");
-        let k = &*self.pipelines;
+        let k = &self.pipelines;
         let p = self.parity;
         match path {
             SolvePath::Fused => {
@@ -312,38 +305,31 @@ impl GpuSolver {
                 let work = inputs.contact_work;
                 {
                     let mut pass = timer.begin_pass(encoder, "color");
-                    k.color_propose.dispatch_indirect(
-                        &mut pass,
-                        &groups.color_propose[p],
-                        work,
-                        WORK_LIST_GROUPS_OFFSET,
-                    );
-                    k.color_resolve.dispatch_indirect(
-                        &mut pass,
-                        &groups.color_resolve[p],
-                        work,
-                        WORK_LIST_GROUPS_OFFSET,
-                    );
+                    k.color_propose
+                        .dispatch_work(&mut pass, &groups.color_propose[p], work);
+                    k.color_resolve
+                        .dispatch_work(&mut pass, &groups.color_resolve[p], work);
                     k.color_finish
                         .dispatch_workgroups(&mut pass, &groups.color_finish[p], 1, 1);
-                    k.radix.record(&mut pass, &groups.radix, work);
+                    self.radix.record(&mut pass, &groups.radix, work);
                 }
                 {
                     let mut pass = timer.begin_pass(encoder, "prepare");
                     k.prepare_bodies
                         .dispatch(&mut pass, &groups.prepare_bodies, inputs.body_count);
-                    k.prepare_contacts.dispatch_indirect(
-                        &mut pass,
-                        &groups.prepare_contacts[p],
-                        work,
-                        WORK_LIST_GROUPS_OFFSET,
-                    );
+                    k.prepare_contacts
+                        .dispatch_work(&mut pass, &groups.prepare_contacts[p], work);
                 }
                 {
                     let mut pass = timer.begin_pass(encoder, "solve");
                     let args = self.pool.get(COLOR_ARGS);
                     let sweep = |pass: &mut wgpu::ComputePass<'_>, kind: PassKind| {
-                        sweep_colors(pass, k.pass(kind), &groups.passes[kind.index()], args);
+                        sweep_colors(
+                            pass,
+                            &self.passes[kind.index()],
+                            &groups.passes[kind.index()],
+                            args,
+                        );
                     };
                     for _ in 0..params.substeps {
                         k.integrate_velocities.dispatch(
@@ -370,12 +356,8 @@ impl GpuSolver {
                 }
                 {
                     let mut pass = timer.begin_pass(encoder, "finish");
-                    k.store_impulses.dispatch_indirect(
-                        &mut pass,
-                        &groups.store_impulses[p],
-                        work,
-                        WORK_LIST_GROUPS_OFFSET,
-                    );
+                    k.store_impulses
+                        .dispatch_work(&mut pass, &groups.store_impulses[p], work);
                     k.finalize_bodies.dispatch(
                         &mut pass,
                         &groups.finalize_bodies,
@@ -392,7 +374,6 @@ impl GpuSolver {
     fn rebind(&mut self, inputs: &SolverInputs<'_>) {
         let key = BindKey {
             generation: self.pool.generation(),
-            pipelines: Arc::as_ptr(&self.pipelines) as usize,
             inputs: [
                 inputs.bodies.clone(),
                 inputs.poses.clone(),
@@ -411,7 +392,7 @@ impl GpuSolver {
 
     fn make_bind_groups(&self, inputs: &SolverInputs<'_>) -> BindGroups {
         let ctx = &self.ctx;
-        let k = &*self.pipelines;
+        let k = &self.pipelines;
         let get = |name| self.pool.get(name);
         let order = get(SORT_VALUES[result_copy(&self.sort_passes)]);
         let round = |p: usize| ColorRoundArgs {
@@ -424,7 +405,7 @@ impl GpuSolver {
             color_marks: get(COLOR_MARKS),
         };
         let both = |f: &dyn Fn(usize) -> wgpu::BindGroup| [f(0), f(1)];
-        let radix = k.radix.bind(
+        let radix = self.radix.bind(
             ctx,
             &RadixBuffers {
                 work: inputs.contact_work,
@@ -440,7 +421,7 @@ impl GpuSolver {
                 self.pass_colors
                     .iter()
                     .map(|pass_color| {
-                        k.pass(kind).bind(
+                        self.passes[kind.index()].bind(
                             ctx,
                             &SolveColorArgs {
                                 params: &self.params,
@@ -463,7 +444,13 @@ impl GpuSolver {
                 k.color_finish.bind(
                     ctx,
                     &ColorFinishArgs {
-                        round: round(p),
+                        params: &self.params,
+                        contact_work: inputs.contact_work,
+                        manifolds: inputs.manifolds,
+                        bodies: inputs.bodies,
+                        previous_colors: get(COLOR_STATE[1 - p]),
+                        color_state: get(COLOR_STATE[p]),
+                        color_marks: get(COLOR_MARKS),
                         color_scratch: get(COLOR_SCRATCH),
                         color_offsets: get(COLOR_OFFSETS),
                         color_args: get(COLOR_ARGS),

@@ -6,306 +6,198 @@
 use bytemuck::{Pod, Zeroable};
 use tumble_geometry::MAX_MANIFOLD_POINTS;
 
-use crate::layout::StructLayout;
+use crate::layout::host_structs;
 
-/// A body's constant solver data. 64 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuBody {
-    /// Local principal inverse moments (zero for fixed and kinematic); `w`: inverse mass.
-    pub inverse_inertia: [f32; 4],
-    /// Local principal moments, zero where the inverse is zero; `w` unused.
-    pub inertia: [f32; 4],
-    /// `BODY_FIXED`, `BODY_DYNAMIC` or `BODY_KINEMATIC`.
-    pub kind: u32,
-    /// Translation lock bits `0..3`, rotation lock bits `LOCK_ROTATION_SHIFT..+3`.
-    pub locks: u32,
-    /// Coulomb friction coefficient.
-    pub friction: f32,
-    /// Coefficient of restitution.
-    pub restitution: f32,
-    /// Linear damping rate, 1/s.
-    pub linear_damping: f32,
-    /// Angular damping rate, 1/s.
-    pub angular_damping: f32,
-    /// Padding.
-    pub _pad0: u32,
-    /// Padding.
-    pub _pad1: u32,
-}
+host_structs! {
+    /// Every struct of `solver_types.wgsl`, for the layout check against naga.
+    pub fn solver_struct_layouts();
 
-/// A body's per-step solver state. 96 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuSolverBody {
-    /// Translation since the start of the step; `w` unused.
-    pub delta_position: [f32; 4],
-    /// Rotation since the start of the step, `(x, y, z, w)`.
-    pub delta_rotation: [f32; 4],
-    /// Inverse mass per world axis (zero on locked axes); `w` unused.
-    pub inverse_mass: [f32; 4],
-    /// First column of the world inverse inertia; `w` unused.
-    pub inverse_inertia_x: [f32; 4],
-    /// Second column.
-    pub inverse_inertia_y: [f32; 4],
-    /// Third column.
-    pub inverse_inertia_z: [f32; 4],
-}
+    /// A body's constant solver data. 64 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct GpuBody {
+            /// Local principal inverse moments (zero for fixed and kinematic); `w`: inverse mass.
+            pub inverse_inertia: [f32; 4],
+            /// Local principal moments, zero where the inverse is zero; `w` unused.
+            pub inertia: [f32; 4],
+            /// `BODY_FIXED`, `BODY_DYNAMIC` or `BODY_KINEMATIC`.
+            pub kind: u32,
+            /// Translation lock bits `0..3`, rotation lock bits `LOCK_ROTATION_SHIFT..+3`.
+            pub locks: u32,
+            /// Coulomb friction coefficient.
+            pub friction: f32,
+            /// Coefficient of restitution.
+            pub restitution: f32,
+            /// Linear damping rate, 1/s.
+            pub linear_damping: f32,
+            /// Angular damping rate, 1/s.
+            pub angular_damping: f32,
+            /// Padding.
+            pub _pad0: u32,
+            /// Padding.
+            pub _pad1: u32,
+    }
 
-/// One point of a prepared constraint. 64 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuConstraintPoint {
-    /// Anchor on A (world axes); `w`: base separation.
-    pub anchor_a: [f32; 4],
-    /// Anchor on B; `w`: normal effective mass.
-    pub anchor_b: [f32; 4],
-    /// Effective mass of the first friction row.
-    pub tangent_mass_1: f32,
-    /// Effective mass of the second friction row.
-    pub tangent_mass_2: f32,
-    /// Accumulated normal impulse of the current substep.
-    pub normal_impulse: f32,
-    /// Normal impulse over the whole step.
-    pub total_normal_impulse: f32,
-    /// Accumulated impulse along `tangent1`.
-    pub tangent_impulse_1: f32,
-    /// Accumulated impulse along `tangent2`.
-    pub tangent_impulse_2: f32,
-    /// Normal relative velocity at preparation.
-    pub relative_velocity: f32,
-    /// Padding.
-    pub _pad: f32,
-}
+    /// A body's per-step solver state. 96 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct GpuSolverBody {
+            /// Translation since the start of the step; `w` unused.
+            pub delta_position: [f32; 4],
+            /// Rotation since the start of the step, `(x, y, z, w)`.
+            pub delta_rotation: [f32; 4],
+            /// Inverse mass per world axis (zero on locked axes); `w` unused.
+            pub inverse_mass: [f32; 4],
+            /// First column of the world inverse inertia; `w` unused.
+            pub inverse_inertia_x: [f32; 4],
+            /// Second column.
+            pub inverse_inertia_y: [f32; 4],
+            /// Third column.
+            pub inverse_inertia_z: [f32; 4],
+    }
 
-/// The constraint of one manifold. 368 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuConstraint {
-    /// Body A's index.
-    pub body_a: u32,
-    /// Body B's index.
-    pub body_b: u32,
-    /// Valid points.
-    pub point_count: u32,
-    /// `CONSTRAINT_DYNAMIC_A | CONSTRAINT_DYNAMIC_B`.
-    pub flags: u32,
-    /// Normal; `w`: combined friction.
-    pub normal: [f32; 4],
-    /// First tangent; `w`: combined restitution.
-    pub tangent1: [f32; 4],
-    /// Second tangent; `w`: Baumgarte slop.
-    pub tangent2: [f32; 4],
-    /// `bias_rate`, `mass_scale`, `impulse_scale`; `w` unused.
-    pub softness: [f32; 4],
-    /// Effective mass of the tilt row about `tangent1`.
-    pub tilt_mass_1: f32,
-    /// Effective mass of the tilt row about `tangent2`.
-    pub tilt_mass_2: f32,
-    /// Accumulated angular impulse about `tangent1`, N m s.
-    pub tilt_impulse_1: f32,
-    /// Accumulated angular impulse about `tangent2`, N m s.
-    pub tilt_impulse_2: f32,
-    /// Radius of the disc inscribed in the contact patch, m (0 below three points).
-    pub patch_radius: f32,
-    /// Padding.
-    pub _pad0: f32,
-    /// Padding.
-    pub _pad1: f32,
-    /// Padding.
-    pub _pad2: f32,
-    /// The points.
-    pub points: [GpuConstraintPoint; MAX_MANIFOLD_POINTS],
-}
+    /// One point of a prepared constraint. 64 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct GpuConstraintPoint {
+            /// Anchor on A (world axes); `w`: base separation.
+            pub anchor_a: [f32; 4],
+            /// Anchor on B; `w`: normal effective mass.
+            pub anchor_b: [f32; 4],
+            /// Effective mass of the first friction row.
+            pub tangent_mass_1: f32,
+            /// Effective mass of the second friction row.
+            pub tangent_mass_2: f32,
+            /// Accumulated normal impulse of the current substep.
+            pub normal_impulse: f32,
+            /// Normal impulse over the whole step.
+            pub total_normal_impulse: f32,
+            /// Accumulated impulse along `tangent1`.
+            pub tangent_impulse_1: f32,
+            /// Accumulated impulse along `tangent2`.
+            pub tangent_impulse_2: f32,
+            /// Normal relative velocity at preparation.
+            pub relative_velocity: f32,
+            /// Padding.
+            pub _pad: f32,
+    }
 
-/// A manifold's tilt impulse kept for the next step. 32 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuTilt {
-    /// Tilt impulse as a world vector, N m s; `w` unused.
-    pub impulse: [f32; 4],
-    /// The manifold normal in body A's frame at the start of the step; `w` unused.
-    pub local_normal: [f32; 4],
-}
+    /// The constraint of one manifold. 368 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct GpuConstraint {
+            /// Body A's index.
+            pub body_a: u32,
+            /// Body B's index.
+            pub body_b: u32,
+            /// Valid points.
+            pub point_count: u32,
+            /// `CONSTRAINT_DYNAMIC_A | CONSTRAINT_DYNAMIC_B`.
+            pub flags: u32,
+            /// Normal; `w`: combined friction.
+            pub normal: [f32; 4],
+            /// First tangent; `w`: combined restitution.
+            pub tangent1: [f32; 4],
+            /// Second tangent; `w`: Baumgarte slop.
+            pub tangent2: [f32; 4],
+            /// `bias_rate`, `mass_scale`, `impulse_scale`; `w` unused.
+            pub softness: [f32; 4],
+            /// Effective mass of the tilt row about `tangent1`.
+            pub tilt_mass_1: f32,
+            /// Effective mass of the tilt row about `tangent2`.
+            pub tilt_mass_2: f32,
+            /// Accumulated angular impulse about `tangent1`, N m s.
+            pub tilt_impulse_1: f32,
+            /// Accumulated angular impulse about `tangent2`, N m s.
+            pub tilt_impulse_2: f32,
+            /// Radius of the disc inscribed in the contact patch, m (0 below three points).
+            pub patch_radius: f32,
+            /// Padding.
+            pub _pad0: f32,
+            /// Padding.
+            pub _pad1: f32,
+            /// Padding.
+            pub _pad2: f32,
+            /// The points.
+            pub points: [GpuConstraintPoint; MAX_MANIFOLD_POINTS],
+    }
 
-/// Step-wide solver values. 96 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct SolverParams {
-    /// Gravity, m/s²; `w` unused.
-    pub gravity: [f32; 4],
-    /// Softness between two dynamic bodies: `bias_rate`, `mass_scale`, `impulse_scale`.
-    pub contact_softness: [f32; 4],
-    /// Softness against a fixed or kinematic body.
-    pub static_softness: [f32; 4],
-    /// Substep length, s.
-    pub h: f32,
-    /// `1 / h`.
-    pub inv_h: f32,
-    /// Push-out speed cap, m/s.
-    pub max_push_out: f32,
-    /// Restitution threshold speed, m/s.
-    pub restitution_threshold: f32,
-    /// Baumgarte slop, m (0 for the soft step).
-    pub slop: f32,
-    /// 1 to warm start, 0 not to.
-    pub warm_start_scale: f32,
-    /// Bodies in the step.
-    pub body_count: u32,
-    /// Substeps per step.
-    pub substeps: u32,
-    /// Biased passes per substep.
-    pub iterations: u32,
-    /// Relax passes per substep.
-    pub relax_iterations: u32,
-    /// 1 when the restitution pass runs.
-    pub restitution: u32,
-    /// Padding.
-    pub _pad: u32,
-}
+    /// A manifold's tilt impulse kept for the next step. 32 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct GpuTilt {
+            /// Tilt impulse as a world vector, N m s; `w` unused.
+            pub impulse: [f32; 4],
+            /// The manifold normal in body A's frame at the start of the step; `w` unused.
+            pub local_normal: [f32; 4],
+    }
 
-/// Which color a per-color pass visits. 16 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct ColorPass {
-    /// The color (`OVERFLOW_COLOR` for the overflow set).
-    pub color: u32,
-    /// Padding.
-    pub _pad0: u32,
-    /// Padding.
-    pub _pad1: u32,
-    /// Padding.
-    pub _pad2: u32,
-}
+    /// Step-wide solver values. 96 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct SolverParams {
+            /// Gravity, m/s²; `w` unused.
+            pub gravity: [f32; 4],
+            /// Softness between two dynamic bodies: `bias_rate`, `mass_scale`, `impulse_scale`.
+            pub contact_softness: [f32; 4],
+            /// Softness against a fixed or kinematic body.
+            pub static_softness: [f32; 4],
+            /// Substep length, s.
+            pub h: f32,
+            /// `1 / h`.
+            pub inv_h: f32,
+            /// Push-out speed cap, m/s.
+            pub max_push_out: f32,
+            /// Restitution threshold speed, m/s.
+            pub restitution_threshold: f32,
+            /// Baumgarte slop, m (0 for the soft step).
+            pub slop: f32,
+            /// 1 to warm start, 0 not to.
+            pub warm_start_scale: f32,
+            /// Bodies in the step.
+            pub body_count: u32,
+            /// Substeps per step.
+            pub substeps: u32,
+            /// Biased passes per substep.
+            pub iterations: u32,
+            /// Relax passes per substep.
+            pub relax_iterations: u32,
+            /// 1 when the restitution pass runs.
+            pub restitution: u32,
+            /// Padding.
+            pub _pad: u32,
+    }
 
-/// A constraint's coloring state. 8 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct ColorSlot {
-    /// Final color, `OVERFLOW_COLOR`, or `NO_COLOR`.
-    pub color: u32,
-    /// This round's proposal, or `NO_COLOR`.
-    pub proposal: u32,
-}
+    /// Which color a per-color pass visits. 16 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+    pub struct ColorPass {
+            /// The color (`OVERFLOW_COLOR` for the overflow set).
+            pub color: u32,
+            /// Padding.
+            pub _pad0: u32,
+            /// Padding.
+            pub _pad1: u32,
+            /// Padding.
+            pub _pad2: u32,
+    }
 
-/// An impulse queued by the host for the next step. 48 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuImpulse {
-    /// The body.
-    pub body: u32,
-    /// Padding.
-    pub _pad0: u32,
-    /// Padding.
-    pub _pad1: u32,
-    /// Padding.
-    pub _pad2: u32,
-    /// Impulse, N s (world); `w` unused.
-    pub impulse: [f32; 4],
-    /// World point it acts at; `w` unused.
-    pub point: [f32; 4],
-}
+    /// A constraint's coloring state. 8 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+    pub struct ColorSlot {
+            /// Final color, `OVERFLOW_COLOR`, or `NO_COLOR`.
+            pub color: u32,
+            /// This round's proposal, or `NO_COLOR`.
+            pub proposal: u32,
+    }
 
-/// Builds a [`StructLayout`] from a type and its fields in declaration order.
-macro_rules! solver_struct_layout {
-    ($ty:ident { $($field:ident),* $(,)? }) => {
-        StructLayout {
-            name: stringify!($ty),
-            size: std::mem::size_of::<$ty>(),
-            fields: vec![$((stringify!($field), std::mem::offset_of!($ty, $field))),*],
-        }
-    };
-}
-
-/// Every struct of `solver_types.wgsl`, for the layout check against naga.
-pub fn solver_struct_layouts() -> Vec<StructLayout> {
-    vec![
-        solver_struct_layout!(GpuBody {
-            inverse_inertia,
-            inertia,
-            kind,
-            locks,
-            friction,
-            restitution,
-            linear_damping,
-            angular_damping,
-            _pad0,
-            _pad1
-        }),
-        solver_struct_layout!(GpuSolverBody {
-            delta_position,
-            delta_rotation,
-            inverse_mass,
-            inverse_inertia_x,
-            inverse_inertia_y,
-            inverse_inertia_z
-        }),
-        solver_struct_layout!(GpuConstraintPoint {
-            anchor_a,
-            anchor_b,
-            tangent_mass_1,
-            tangent_mass_2,
-            normal_impulse,
-            total_normal_impulse,
-            tangent_impulse_1,
-            tangent_impulse_2,
-            relative_velocity,
-            _pad
-        }),
-        solver_struct_layout!(GpuConstraint {
-            body_a,
-            body_b,
-            point_count,
-            flags,
-            normal,
-            tangent1,
-            tangent2,
-            softness,
-            tilt_mass_1,
-            tilt_mass_2,
-            tilt_impulse_1,
-            tilt_impulse_2,
-            patch_radius,
-            _pad0,
-            _pad1,
-            _pad2,
-            points
-        }),
-        solver_struct_layout!(GpuTilt {
-            impulse,
-            local_normal
-        }),
-        solver_struct_layout!(SolverParams {
-            gravity,
-            contact_softness,
-            static_softness,
-            h,
-            inv_h,
-            max_push_out,
-            restitution_threshold,
-            slop,
-            warm_start_scale,
-            body_count,
-            substeps,
-            iterations,
-            relax_iterations,
-            restitution,
-            _pad
-        }),
-        solver_struct_layout!(ColorPass {
-            color,
-            _pad0,
-            _pad1,
-            _pad2
-        }),
-        solver_struct_layout!(ColorSlot { color, proposal }),
-        solver_struct_layout!(GpuImpulse {
-            body,
-            _pad0,
-            _pad1,
-            _pad2,
-            impulse,
-            point
-        }),
-    ]
+    /// An impulse queued by the host for the next step. 48 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct GpuImpulse {
+            /// The body.
+            pub body: u32,
+            /// Padding.
+            pub _pad0: u32,
+            /// Padding.
+            pub _pad1: u32,
+            /// Padding.
+            pub _pad2: u32,
+            /// Impulse, N s (world); `w` unused.
+            pub impulse: [f32; 4],
+            /// World point it acts at; `w` unused.
+            pub point: [f32; 4],
+    }
 }

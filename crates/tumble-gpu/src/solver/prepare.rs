@@ -4,107 +4,54 @@
 
 use tumble_solver::{Body, BodyState, Contact, Mat3, prepare_contact};
 
-use crate::kernel::{KernelArgs, KernelSpec};
-use crate::shader::{Binding, ShaderSource, wgsl_file};
+use crate::kernel::kernel;
 
 use super::convert::gpu_constraint;
 use super::layout::{GpuConstraint, GpuSolverBody};
 use super::params::StepParams;
-use super::shaders::{BODY_COMMON, CONTACT_COMMON};
 
-/// Kernel: one thread per body.
-pub static PREPARE_BODIES: KernelSpec = KernelSpec {
-    name: "prepare_bodies",
-    source: ShaderSource {
-        common: BODY_COMMON,
-        kernel: wgsl_file!("solver/prepare_bodies.wgsl"),
-    },
-    bindings: &[
-        Binding::Uniform,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-    ],
-};
-
-/// Kernel: one thread per manifold.
-pub static PREPARE_CONTACTS: KernelSpec = KernelSpec {
-    name: "prepare_contacts",
-    source: ShaderSource {
-        common: CONTACT_COMMON,
-        kernel: wgsl_file!("solver/prepare_contacts.wgsl"),
-    },
-    bindings: &[
-        Binding::Uniform,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-    ],
-};
-
-/// Buffers of [`PREPARE_BODIES`].
-pub struct PrepareBodiesArgs<'a> {
-    /// `SolverParams`.
-    pub params: &'a wgpu::Buffer,
-    /// `array<GpuBody>`.
-    pub bodies: &'a wgpu::Buffer,
-    /// `array<GpuPose>`.
-    pub poses: &'a wgpu::Buffer,
-    /// Output `array<GpuSolverBody>`.
-    pub solver_bodies: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for PrepareBodiesArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![self.params, self.bodies, self.poses, self.solver_bodies]
+kernel! {
+    /// Buffers of [`PREPARE_BODIES`].
+    pub struct PrepareBodiesArgs {
+        /// `SolverParams`.
+        params,
+        /// `array<GpuBody>`.
+        bodies,
+        /// `array<GpuPose>`.
+        poses,
+        /// Output `array<GpuSolverBody>`.
+        solver_bodies,
     }
+    /// Kernel: one thread per body.
+    pub static PREPARE_BODIES = "solver/prepare_bodies.wgsl";
 }
 
-/// Buffers of [`PREPARE_CONTACTS`].
-pub struct PrepareContactsArgs<'a> {
-    /// `SolverParams`.
-    pub params: &'a wgpu::Buffer,
-    /// The contacts' `WorkList`.
-    pub contact_work: &'a wgpu::Buffer,
-    /// `array<GpuManifold>`.
-    pub manifolds: &'a wgpu::Buffer,
-    /// `array<GpuContact>`, `MAX_MANIFOLD_POINTS` per manifold, with carried impulses.
-    pub contacts: &'a wgpu::Buffer,
-    /// `array<GpuBody>`.
-    pub bodies: &'a wgpu::Buffer,
-    /// `array<GpuPose>`.
-    pub poses: &'a wgpu::Buffer,
-    /// `array<GpuVelocity>`.
-    pub velocities: &'a wgpu::Buffer,
-    /// `array<GpuSolverBody>` from `prepare_bodies`.
-    pub solver_bodies: &'a wgpu::Buffer,
-    /// Last step's `array<GpuTilt>`, indexed by the manifolds' `previous`.
-    pub previous_tilts: &'a wgpu::Buffer,
-    /// Output `array<GpuConstraint>`.
-    pub constraints: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for PrepareContactsArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![
-            self.params,
-            self.contact_work,
-            self.manifolds,
-            self.contacts,
-            self.bodies,
-            self.poses,
-            self.velocities,
-            self.solver_bodies,
-            self.previous_tilts,
-            self.constraints,
-        ]
+kernel! {
+    /// Buffers of [`PREPARE_CONTACTS`].
+    pub struct PrepareContactsArgs {
+        /// `SolverParams`.
+        params,
+        /// The contacts' `WorkList`.
+        contact_work,
+        /// `array<GpuManifold>`.
+        manifolds,
+        /// `array<GpuContact>`, `MAX_MANIFOLD_POINTS` per manifold, with carried impulses.
+        contacts,
+        /// `array<GpuBody>`.
+        bodies,
+        /// `array<GpuPose>`.
+        poses,
+        /// `array<GpuVelocity>`.
+        velocities,
+        /// `array<GpuSolverBody>` from `prepare_bodies`.
+        solver_bodies,
+        /// Last step's `array<GpuTilt>`, indexed by the manifolds' `previous`.
+        previous_tilts,
+        /// Output `array<GpuConstraint>`.
+        constraints,
     }
+    /// Kernel: one thread per manifold.
+    pub static PREPARE_CONTACTS = "solver/prepare_contacts.wgsl";
 }
 
 /// A body's solver state at the start of a step, from its CPU form.

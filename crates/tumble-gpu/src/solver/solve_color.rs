@@ -2,29 +2,31 @@
 //! one graph color, one thread each, or over the overflow set in one thread. Its CPU twin is
 //! tumble-solver's `sweep` of the same pass over the same color order.
 
-use crate::kernel::{KernelArgs, KernelSpec};
-use crate::shader::{Binding, ShaderSource, wgsl_file};
+use crate::kernel::kernel;
 
 use super::constants::{PASS_RELAX, PASS_RESTITUTION, PASS_SOLVE, PASS_WARM_START};
-use super::shaders::PASS_COMMON;
 
-/// Kernel: specialized per pass with the `PASS` override.
-pub static SOLVE_COLOR: KernelSpec = KernelSpec {
-    name: "solve_color",
-    source: ShaderSource {
-        common: PASS_COMMON,
-        kernel: wgsl_file!("solver/solve_color.wgsl"),
-    },
-    bindings: &[
-        Binding::Uniform,
-        Binding::Uniform,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageRead,
-        Binding::StorageReadWrite,
-        Binding::StorageReadWrite,
-    ],
-};
+kernel! {
+    /// Buffers of [`SOLVE_COLOR`].
+    pub struct SolveColorArgs {
+        /// `SolverParams`.
+        params,
+        /// `ColorPass` naming the color.
+        pass_color,
+        /// Per-color offsets into `color_order`.
+        color_offsets,
+        /// Constraint indices grouped by color.
+        color_order,
+        /// `array<GpuSolverBody>`.
+        solver_bodies,
+        /// `array<GpuVelocity>`, updated.
+        velocities,
+        /// `array<GpuConstraint>`, updated.
+        constraints,
+    }
+    /// Kernel: specialized per pass with the `PASS` override.
+    pub static SOLVE_COLOR = "solver/solve_color.wgsl";
+}
 
 /// The passes a sweep over the colors can make.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -61,37 +63,5 @@ impl PassKind {
     /// Position in [`Self::ALL`].
     pub fn index(self) -> usize {
         self as usize
-    }
-}
-
-/// Buffers of [`SOLVE_COLOR`].
-pub struct SolveColorArgs<'a> {
-    /// `SolverParams`.
-    pub params: &'a wgpu::Buffer,
-    /// `ColorPass` naming the color.
-    pub pass_color: &'a wgpu::Buffer,
-    /// Per-color offsets into `color_order`.
-    pub color_offsets: &'a wgpu::Buffer,
-    /// Constraint indices grouped by color.
-    pub color_order: &'a wgpu::Buffer,
-    /// `array<GpuSolverBody>`.
-    pub solver_bodies: &'a wgpu::Buffer,
-    /// `array<GpuVelocity>`, updated.
-    pub velocities: &'a wgpu::Buffer,
-    /// `array<GpuConstraint>`, updated.
-    pub constraints: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for SolveColorArgs<'_> {
-    fn buffers(&self) -> Vec<&wgpu::Buffer> {
-        vec![
-            self.params,
-            self.pass_color,
-            self.color_offsets,
-            self.color_order,
-            self.solver_bodies,
-            self.velocities,
-            self.constraints,
-        ]
     }
 }

@@ -19,10 +19,6 @@ use crate::{GpuContext, GpuError, MAX_MANIFOLD_POINTS, StageTimer};
 /// is still getting denser does not overflow again at once.
 const GROWTH_DIVISOR: u32 = 4;
 
-/// Longest wait for a readback before reporting a device error: far beyond any step (a lost
-/// device, not a slow one).
-const READ_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(60);
-
 /// GPU collision for a CPU solver.
 #[derive(Debug)]
 pub struct HybridCollision {
@@ -120,12 +116,7 @@ impl HybridCollision {
     /// the copy. The wait polls until the map callback has run: another user of the device
     /// may be running it in its own poll when a plain wait returns.
     fn run_once(&mut self) -> Result<CollisionSnapshot, GpuError> {
-        let mut encoder = self
-            .ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("hybrid collision"),
-            });
+        let mut encoder = self.ctx.encoder("hybrid collision");
         self.collision
             .record(&mut encoder, &mut StageTimer::disabled(&self.ctx))?;
         let plan = self
@@ -133,7 +124,7 @@ impl HybridCollision {
             .record_readback(&mut encoder, ReadbackRequest::CONTACTS)?;
         self.ctx.queue.submit([encoder.finish()]);
         let pending = self.collision.submit_readback(plan);
-        let deadline = std::time::Instant::now() + READ_TIMEOUT;
+        let deadline = std::time::Instant::now() + crate::readback::READ_TIMEOUT;
         loop {
             if let Some(snapshot) = self.collision.try_receive(&pending) {
                 return snapshot;

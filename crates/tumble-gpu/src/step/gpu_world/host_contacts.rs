@@ -104,7 +104,7 @@ impl GpuWorld {
             PathPolicy::Auto => SolvePath::choose(n, count),
         };
         let params = self.params();
-        let mut encoder = self.encoder("tumble solver step");
+        let mut encoder = self.ctx.encoder("tumble solver step");
         self.timer.reset();
         // Host wakes still apply; islands only fall asleep in `step`.
         let shapes = self.collision.buffers().shapes;

@@ -1,0 +1,172 @@
+//! [`GpuWorld`]'s bodies: the upload, edits of single bodies between steps (pose, velocity,
+//! wake), and the impulses queued for the start of the next step.
+
+use super::*;
+
+impl GpuWorld {
+    /// Wakes body `i`'s island by the start of the next step (and restarts its rest time);
+    /// a no-op for an awake body or with sleep off. Setting a pose or a velocity or applying
+    /// an impulse does the same.
+    pub fn wake_up(&mut self, i: usize) -> Result<(), GpuError> {
+        self.check_body(i)?;
+        self.idle.changed();
+        self.sleep.queue_wake(i as u32);
+        Ok(())
+    }
+
+    /// Uploads every body (cold data, pose, velocities); body `i` is `bodies[i]` from now on.
+    /// Warm starting and color seeds start over (indices may have been reassigned), and the
+    /// pipelines are specialized for the effects these bodies use.
+    pub fn set_bodies(&mut self, bodies: &[Body], states: &[BodyState]) -> Result<(), GpuError> {
+        if states.len() != bodies.len() {
+            return Err(invalid(
+                "states.len()",
+                format!("{} for {} bodies", states.len(), bodies.len()),
+            ));
+        }
+        self.stats.reset()?;
+        self.idle.changed();
+        self.pending.clear();
+        self.impulses.clear();
+        self.known_manifolds = None;
+        let gpu: Vec<GpuBody> = bodies.iter().map(gpu_body).collect();
+        if !bodies.is_empty() {
+            let poses: Vec<GpuPose> = bodies.iter().map(|b| gpu_pose(&b.pose)).collect();
+            let velocities: Vec<GpuVelocity> = states.iter().map(gpu_velocity).collect();
+            let shapes: Vec<_> = bodies.iter().map(gpu_shape).collect();
+            self.collision.set_bodies(&poses, &velocities, &shapes)?;
+            self.collision.forget_history();
+            let bytes: &[u8] = bytemuck::cast_slice(&gpu);
+            self.pool
+                .ensure(BODIES, bytes.len() as u64, STORAGE_USAGE)?;
+            self.ctx.queue.write_buffer(self.pool.get(BODIES), 0, bytes);
+        }
+        self.solver
+            .set_effects(Effects::of_bodies(bodies, &self.config.gravity))?;
+        self.solver.forget_colors();
+        self.sleep.reset(&gpu, self.config.dt)?;
+        self.bodies = bodies.to_vec();
+        Ok(())
+    }
+
+    pub(super) fn check_body(&self, i: usize) -> Result<(), GpuError> {
+        if i >= self.bodies.len() {
+            return Err(invalid(
+                "body",
+                format!("{i} (the world has {} bodies)", self.bodies.len()),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Teleports body `i` (velocities kept). Takes effect before the next step.
+    pub fn set_pose(&mut self, i: usize, pose: &Pose) -> Result<(), GpuError> {
+        self.check_body(i)?;
+        let finite = pose.translation.vector.iter().all(|c| c.is_finite())
+            && pose.rotation.coords.iter().all(|c| c.is_finite());
+        if !finite {
+            return Err(invalid("pose", pose));
+        }
+        self.flush_impulses()?;
+        self.idle.changed();
+        self.sleep.queue_wake(i as u32);
+        let offset = (i * std::mem::size_of::<GpuPose>()) as u64;
+        let poses = self.collision.buffers().poses;
+        self.ctx
+            .queue
+            .write_buffer(poses, offset, bytemuck::bytes_of(&gpu_pose(pose)));
+        Ok(())
+    }
+
+    /// Sets body `i`'s linear and angular velocity. Takes effect before the next step.
+    pub fn set_velocity(
+        &mut self,
+        i: usize,
+        linear: &Vec3,
+        angular: &Vec3,
+    ) -> Result<(), GpuError> {
+        self.check_body(i)?;
+        if !linear.iter().all(|c| c.is_finite()) {
+            return Err(invalid("linear_velocity", linear));
+        }
+        if !angular.iter().all(|c| c.is_finite()) {
+            return Err(invalid("angular_velocity", angular));
+        }
+        self.flush_impulses()?;
+        self.idle.changed();
+        self.sleep.queue_wake(i as u32);
+        let offset = (i * std::mem::size_of::<GpuVelocity>()) as u64;
+        let velocity = gpu_velocity(&BodyState::moving(*linear, *angular));
+        let velocities = self.collision.buffers().velocities;
+        self.ctx
+            .queue
+            .write_buffer(velocities, offset, bytemuck::bytes_of(&velocity));
+        Ok(())
+    }
+
+    /// Queues an impulse (N s, world) at a world point on body `i`, applied on the GPU at
+    /// the start of the next step, in queue order (fixed and kinematic bodies ignore it).
+    pub fn apply_impulse(
+        &mut self,
+        i: usize,
+        impulse: &Vec3,
+        point: &Point3,
+    ) -> Result<(), GpuError> {
+        self.check_body(i)?;
+        if !impulse.iter().all(|c| c.is_finite()) {
+            return Err(invalid("impulse", impulse));
+        }
+        if !point.iter().all(|c| c.is_finite()) {
+            return Err(invalid("point", point));
+        }
+        self.idle.changed();
+        self.sleep.queue_wake(i as u32);
+        self.impulses.push(GpuImpulse {
+            body: i as u32,
+            impulse: [impulse.x, impulse.y, impulse.z, 0.0],
+            point: [point.x, point.y, point.z, 0.0],
+            ..Default::default()
+        });
+        Ok(())
+    }
+
+    /// Records the queued impulses (if any) and empties the queue.
+    pub(super) fn record_impulses(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        if self.impulses.is_empty() {
+            return;
+        }
+        let queued = self.ctx.storage_buffer("queued impulses", &self.impulses);
+        let kernel = &self.solver.pipelines().apply_impulses;
+        let buffers = self.collision.buffers();
+        let group = kernel.bind(
+            &self.ctx,
+            &ApplyImpulsesArgs {
+                impulses: &queued,
+                bodies: self.pool.get(BODIES),
+                poses: buffers.poses,
+                velocities: buffers.velocities,
+            },
+        );
+        let mut pass = self.timer.begin_pass(encoder, "apply_impulses");
+        kernel.dispatch_workgroups(&mut pass, &group, 1, 1);
+        drop(pass);
+        self.impulses.clear();
+    }
+
+    /// Submits the queued impulses now, so a later write of a pose or velocity lands after
+    /// them, as the calls were made. The islands queued to wake wake first, as at the start
+    /// of a step: an impulse skips a sleeping body (a fixed one to the kernel).
+    pub(super) fn flush_impulses(&mut self) -> Result<(), GpuError> {
+        if self.impulses.is_empty() {
+            return Ok(());
+        }
+        let mut encoder = self.ctx.encoder("impulses");
+        self.timer.reset();
+        let shapes = self.collision.buffers().shapes;
+        self.sleep
+            .record_wake(&mut encoder, &mut self.timer, self.pool.get(BODIES), shapes);
+        self.record_impulses(&mut encoder);
+        self.ctx.queue.submit([encoder.finish()]);
+        Ok(())
+    }
+}

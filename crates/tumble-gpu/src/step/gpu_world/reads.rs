@@ -1,0 +1,152 @@
+//! [`GpuWorld`]'s reads: the copies a step records for the host (double-buffered, read
+//! without stalling the next step) and blocking reads of the current state.
+
+use super::*;
+
+impl GpuWorld {
+    /// Asks the next steps to copy `request` for reading (see [`Self::latest_snapshot`]).
+    pub fn request_reads(&mut self, request: ReadRequest) {
+        self.request = request;
+    }
+
+    /// Records copies of `request` (with up to `manifolds` manifolds) into a staging slot.
+    pub(super) fn record_read(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        request: ReadRequest,
+        manifolds: u32,
+    ) -> Result<(usize, Vec<Region>, bool), GpuError> {
+        let n = self.bodies.len() as u64;
+        let (manifold_buffer, point_buffer, work, capacity) = self.contact_buffers();
+        let m = u64::from(manifolds.min(capacity));
+        let sizes = ReadSizes::new(n, m);
+        let slot = self.readback.begin(sizes.total(&request))?;
+        let mut regions = Vec::new();
+        let buffers = self.collision.buffers();
+        let rb = &mut self.readback;
+        if request.poses {
+            regions.push(rb.copy(encoder, slot, buffers.poses, 0, sizes.poses));
+        }
+        if request.velocities {
+            regions.push(rb.copy(encoder, slot, buffers.velocities, 0, sizes.velocities));
+        }
+        if request.contacts {
+            regions.push(rb.copy(encoder, slot, &work, 0, sizes.work));
+            regions.push(rb.copy(encoder, slot, &manifold_buffer, 0, sizes.manifolds));
+            regions.push(rb.copy(encoder, slot, &point_buffer, 0, sizes.points));
+            regions.push(rb.copy(
+                encoder,
+                slot,
+                self.solver.constraints(),
+                0,
+                sizes.constraints,
+            ));
+            regions.push(rb.copy(encoder, slot, self.solver.tilts(), 0, sizes.tilts));
+        }
+        let islands = self.sleep.island_labels().filter(|_| request.sleeping);
+        if let Some(islands) = islands {
+            regions.push(rb.copy(encoder, slot, islands, 0, sizes.islands));
+        }
+        self.bytes_read += regions.iter().map(|r| r.len).sum::<u64>();
+        Ok((slot, regions, islands.is_some()))
+    }
+
+    /// The most recent requested read whose copy has arrived, without waiting (older ones
+    /// are dropped); `None` when none has arrived yet.
+    pub fn latest_snapshot(&mut self) -> Option<Result<Snapshot, GpuError>> {
+        let mut latest = None;
+        while let Some(oldest) = self.pending.front() {
+            let Some(bytes) = self.readback.try_read(&oldest.ticket, &oldest.regions) else {
+                break;
+            };
+            let done = self.pending.pop_front().expect("front exists");
+            let n = self.bodies.len();
+            latest = Some(bytes.map(|b| decode(&done, n, b)));
+        }
+        latest
+    }
+
+    /// Waits for the most recent requested read (older ones are dropped).
+    pub fn wait_snapshot(&mut self) -> Result<Option<Snapshot>, GpuError> {
+        while self.pending.len() > 1 {
+            self.pending.pop_front();
+        }
+        let Some(last) = self.pending.pop_front() else {
+            return Ok(None);
+        };
+        // Polls until the map callback has run: another user of the device may be running it
+        // in its own poll when a plain wait returns.
+        let deadline = std::time::Instant::now() + crate::readback::READ_TIMEOUT;
+        loop {
+            if let Some(bytes) = self.readback.try_read(&last.ticket, &last.regions) {
+                return Ok(Some(decode(&last, self.bodies.len(), bytes?)));
+            }
+            if std::time::Instant::now() > deadline {
+                return Err(GpuError::Device("readback was not mapped in time".into()));
+            }
+            self.ctx.wait_idle()?;
+        }
+    }
+
+    /// Reads `request` from the current state now, blocking (queued impulses are applied
+    /// first). Contacts are the last step's, complete.
+    pub fn read_now(&mut self, request: ReadRequest) -> Result<Snapshot, GpuError> {
+        self.flush_impulses()?;
+        let n = self.bodies.len() as u64;
+        let mut snapshot = Snapshot {
+            step: self.steps,
+            ..Default::default()
+        };
+        if n == 0 {
+            return Ok(snapshot);
+        }
+        let buffers = self.collision.buffers();
+        if request.poses {
+            snapshot.poses = self.ctx.read_buffer(buffers.poses, 0, n)?;
+        }
+        if request.velocities {
+            snapshot.velocities = self.ctx.read_buffer(buffers.velocities, 0, n)?;
+        }
+        if request.contacts && self.steps > 0 {
+            let (manifolds, points, work, _) = self.contact_buffers();
+            let list: Vec<WorkList> = self.ctx.read_buffer(&work, 0, 1)?;
+            let count = u64::from(list[0].count);
+            snapshot.contacts = Some(ContactSnapshot {
+                work: list[0],
+                manifolds: self.ctx.read_buffer(&manifolds, 0, count)?,
+                points: self
+                    .ctx
+                    .read_buffer(&points, 0, count * u64::from(MAX_MANIFOLD_POINTS))?,
+                constraints: self.ctx.read_buffer(self.solver.constraints(), 0, count)?,
+                tilts: self.ctx.read_buffer(self.solver.tilts(), 0, count)?,
+            });
+        }
+        self.bytes_read += snapshot_bytes(&snapshot);
+        if request.sleeping {
+            snapshot.sleeping = match self.sleep.island_labels() {
+                Some(islands) => {
+                    let labels: Vec<u32> = self.ctx.read_buffer(islands, 0, n)?;
+                    self.bytes_read += std::mem::size_of_val(labels.as_slice()) as u64;
+                    labels.iter().map(|&l| l != AWAKE).collect()
+                }
+                None => vec![false; n as usize],
+            };
+        }
+        Ok(snapshot)
+    }
+}
+
+/// Bytes held by a snapshot's arrays.
+fn snapshot_bytes(s: &Snapshot) -> u64 {
+    fn bytes<T>(v: &[T]) -> u64 {
+        std::mem::size_of_val(v) as u64
+    }
+    let contacts = s.contacts.as_ref().map_or(0, |c| {
+        std::mem::size_of::<WorkList>() as u64
+            + bytes(&c.manifolds)
+            + bytes(&c.points)
+            + bytes(&c.constraints)
+            + bytes(&c.tilts)
+    });
+    bytes(&s.poses) + bytes(&s.velocities) + contacts
+}

@@ -262,7 +262,7 @@ mod tests {
     fn random_segments_match_the_exact_minimum_distance() {
         use rand::{Rng, SeedableRng};
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
-        let mut point = |rng: &mut rand_chacha::ChaCha8Rng| {
+        let point = |rng: &mut rand_chacha::ChaCha8Rng| {
             p(
                 rng.random_range(-2.0..2.0),
                 rng.random_range(-2.0..2.0),

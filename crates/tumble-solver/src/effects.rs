@@ -57,13 +57,6 @@ impl Effects {
     }
 }
 
-impl From<&Effects> for Effects {
-    /// A copy: lets code written against a backend's own effects type take these directly.
-    fn from(effects: &Effects) -> Self {
-        *effects
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

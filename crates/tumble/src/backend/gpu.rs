@@ -12,7 +12,6 @@
 use std::sync::Mutex;
 
 use tumble_geometry::Pose;
-use tumble_gpu::solver::Effects as GpuEffects;
 use tumble_gpu::step::{GpuWorld, GpuWorldConfig};
 use tumble_solver::{BodyState, Effects};
 
@@ -120,7 +119,7 @@ impl StepBackend for GpuBackend {
         }
         // Otherwise the caller changed nothing since the last step: every change brings the
         // host arrays up to date first.
-        gpu.set_effects(GpuEffects::from(effects)).map_err(failed)?;
+        gpu.set_effects(*effects).map_err(failed)?;
         let mut reads = config.effects.readback.resolve(asked);
         reads.sleeping &= effects.sleep;
         gpu.request_reads(reads.request());

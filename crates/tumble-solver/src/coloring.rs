@@ -432,4 +432,43 @@ mod tests {
         // Overflow may share anything.
         assert!(validate_coloring(&pairs, &dynamic, &[OVERFLOW_COLOR; 3]).is_ok());
     }
+
+    #[test]
+    fn rounds_give_a_valid_coloring_keep_free_seeds_and_skip_empty_pairs() {
+        // A star of 30 dynamic bodies around body 0, plus a chain on a fixed floor (body 31).
+        let mut pairs: Vec<(u32, u32)> = (1..31).map(|i| (0, i)).collect();
+        pairs.extend((1..30).map(|i| (i, i + 1)));
+        pairs.extend((1..31).map(|i| (i, 31)));
+        let mut dynamic = vec![true; 31];
+        dynamic.push(false);
+        let mut candidates: Vec<ColorCandidate> = pairs
+            .iter()
+            .map(|&bodies| ColorCandidate {
+                bodies,
+                touching: true,
+                seed: None,
+            })
+            .collect();
+        candidates.push(ColorCandidate {
+            bodies: (2, 5),
+            touching: false,
+            seed: None,
+        });
+        let colors = color_in_rounds(&candidates, &dynamic);
+        assert_eq!(colors[pairs.len()], EMPTY_COLOR);
+        validate_coloring(&pairs, &dynamic, &colors[..pairs.len()]).unwrap();
+        // The star's centre holds only 24 colors: the rest of its constraints overflow.
+        let overflow = colors[..30]
+            .iter()
+            .filter(|&&c| c == OVERFLOW_COLOR)
+            .count();
+        assert_eq!(overflow, 30 - GRAPH_COLOR_COUNT);
+        // A free seed is taken in round 0.
+        let seeded = [ColorCandidate {
+            bodies: (0, 1),
+            touching: true,
+            seed: Some(7),
+        }];
+        assert_eq!(color_in_rounds(&seeded, &[true, true]), vec![7]);
+    }
 }

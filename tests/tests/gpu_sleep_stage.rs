@@ -1,8 +1,8 @@
 //! The GPU sleep stage on synthetic contact graphs, against its CPU twins: the island search
-//! equals `island_search_cpu` bit for bit and union-find's islands on seeded random graphs (a
+//! equals `tumble_solver::island_search` bit for bit and union-find's islands on seeded random graphs (a
 //! body touching 100 others and long shuffled chains among them), a chain too long for the
 //! search's rounds is reported unfinished and puts no one to sleep, and the whole stage
-//! (wakes, rest times, kinematic wakes, falling asleep) equals `SleepCpu` step by step. The
+//! (wakes, rest times, kinematic wakes, falling asleep) equals `tumble_solver::SleepLabels` step by step. The
 //! whole-step tests are in `gpu_sleep/`.
 //!
 //! Needs a GPU (or lavapipe): without one it prints a loud "skipped" unless
@@ -13,10 +13,11 @@ use rand_chacha::ChaCha8Rng;
 use tumble_geometry::{Aabb, Cuboid, Point3, Pose, Vec3};
 use tumble_gpu::layout::{GpuAabb, GpuManifold, GpuShape, GpuVelocity, WorkList};
 use tumble_gpu::sleep::constants::{AWAKE, ISLAND_ROUNDS};
-use tumble_gpu::sleep::{GpuSleep, SleepCpu, SleepInputs, SleepLink, island_search_cpu};
+use tumble_gpu::sleep::{GpuSleep, SleepInputs};
 use tumble_gpu::solver::convert::{gpu_body, gpu_shape};
 use tumble_gpu::{GpuContext, StageTimer};
 use tumble_solver::{Body, BodyKind, Islands, Material, TIME_TO_SLEEP};
+use tumble_solver::{SleepLabels, SleepLink, island_search};
 
 /// A body for the stage tests: a unit cube of `kind` at the origin (only its kind matters to
 /// the stage).
@@ -237,7 +238,7 @@ fn check_search(ctx: &GpuContext, kinds: &[BodyKind], links: &[SleepLink], what:
         .filter(|l| l.touching)
         .map(|l| (l.a, l.b))
         .collect();
-    let twin = island_search_cpu(&linkable, &pairs, ISLAND_ROUNDS);
+    let twin = island_search(&linkable, &pairs, ISLAND_ROUNDS);
     assert_eq!(labels, twin.labels, "{what}: labels differ from the twin's");
     assert_eq!(finished, twin.finished, "{what}: finished flag");
     if finished {
@@ -311,7 +312,7 @@ fn the_sleep_stage_equals_its_cpu_twin_step_by_step() {
         let mut sleep = GpuSleep::new(&ctx);
         let gpu: Vec<_> = bodies.iter().map(gpu_body).collect();
         sleep.enable(&gpu, dt).unwrap();
-        let mut twin = SleepCpu::new(n);
+        let mut twin = SleepLabels::new(n);
         let mut slept = 0;
         let mut woke = 0;
         let base: Vec<(u32, u32)> = (0..n)
@@ -365,7 +366,7 @@ fn the_sleep_stage_equals_its_cpu_twin_step_by_step() {
             twin.update_rest(&kinds, &velocities, dt);
             twin.touch_sleepers(&links, &kinds, &velocities);
             twin.kinematic_wake(&kinds, &velocities, &aabbs);
-            slept += twin.fall_asleep(&links, &kinds).len();
+            slept += twin.fall_asleep(&links, &kinds, ISLAND_ROUNDS).len();
             let what = format!("case {case} step {step}");
             assert_eq!(island, twin.island, "{what}: island labels");
             let bits = |r: &[f32]| r.iter().map(|x| x.to_bits()).collect::<Vec<_>>();

@@ -10,11 +10,11 @@ use tumble_geometry::{ContactPoint, Cuboid, FeatureKind, Manifold, Point3, Pose,
 use tumble_gpu::GpuContext;
 use tumble_gpu::constants::NO_PREVIOUS;
 use tumble_gpu::solver::SolvePath;
-use tumble_gpu::solver::color::{ColorCandidate, color_rounds_cpu};
 use tumble_gpu::solver::constants::{COLOR_OFFSETS_LEN, GRAPH_COLOR_COUNT, OVERFLOW_COLOR};
 use tumble_gpu::solver::layout::ColorSlot;
 use tumble_gpu::step::{GpuWorld, GpuWorldConfig, PathPolicy};
 use tumble_solver::{Body, BodyKind, BodyState, Coloring, Contact, Material, validate_coloring};
+use tumble_solver::{ColorCandidate, color_in_rounds};
 use tumble_tests::gpu_solver_util::{DT, assert_close, cube, gravity};
 
 /// A one-to-four point manifold between `a` and `b` somewhere between their centres, for
@@ -141,7 +141,7 @@ fn check_coloring(
         // Integers: the GPU rounds and the CPU twin agree exactly.
         assert_eq!(
             colors,
-            color_rounds_cpu(&candidates, &dynamic),
+            color_in_rounds(&candidates, &dynamic),
             "{path:?} step {step}"
         );
         validate_coloring(&pairs, &dynamic, &colors).unwrap_or_else(|e| panic!("{path:?}: {e}"));

@@ -15,7 +15,7 @@ use std::time::Instant;
 
 use tumble_geometry::{Aabb, Point3};
 use tumble_gpu::collision;
-use tumble_gpu::kernels::collide_cuboids::collide_pair_cpu;
+use tumble_gpu::kernels::{box_motion, cuboid_from_gpu, update_aabbs::pose_from_gpu};
 use tumble_gpu::{CollisionConfig, GpuCollision, GpuContext, ReadbackRequest, StageTimer};
 
 /// Steps timed per scene (after the warm-up), enough for a stable median.
@@ -145,14 +145,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let found = pairs
             .iter()
             .filter(|&&p| {
-                collide_pair_cpu(
-                    &poses,
-                    &velocities,
-                    &shapes,
-                    p,
-                    None,
+                let (a, b) = (p.0 as usize, p.1 as usize);
+                let margin = tumble_narrow::pair_margin(
+                    &box_motion(&shapes[a], &velocities[a]),
+                    &box_motion(&shapes[b], &velocities[b]),
                     config.margin,
                     config.dt,
+                );
+                tumble_narrow::collide_cuboids_cached(
+                    &cuboid_from_gpu(&shapes[a]),
+                    &pose_from_gpu(&poses[a]),
+                    &cuboid_from_gpu(&shapes[b]),
+                    &pose_from_gpu(&poses[b]),
+                    margin,
+                    None,
                 )
                 .is_some()
             })

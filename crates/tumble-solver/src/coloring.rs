@@ -10,6 +10,8 @@
 //! - the CPU assignment is greedy in constraint order (lowest free color), so it is
 //!   deterministic; any assignment that passes [`validate_coloring`] solves correctly.
 
+use std::collections::HashMap;
+
 use crate::InvalidParameter;
 
 /// Number of graph colors. Box2D v3 uses 24 (`B2_GRAPH_COLOR_COUNT`): enough for dense piles,
@@ -22,6 +24,22 @@ pub const GRAPH_COLOR_COUNT: usize = 24;
 pub const OVERFLOW_COLOR: u32 = GRAPH_COLOR_COUNT as u32;
 
 const _: () = assert!(GRAPH_COLOR_COUNT <= 32, "a body's color mask is one u32");
+
+/// Color and proposal of a constraint not decided yet (parallel rounds, [`color_in_rounds`]).
+pub const NO_COLOR: u32 = u32::MAX;
+
+/// The color of a manifold without points (a candidate pair not in contact): it is no
+/// constraint, sorts after the overflow set and lies in no color's range.
+pub const EMPTY_COLOR: u32 = OVERFLOW_COLOR + 1;
+
+/// Coloring rounds of [`color_in_rounds`] (the GPU's on every path); constraints still
+/// undecided after them overflow. Every round decides at least the undecided constraint of
+/// highest priority. Around a dynamic body touching many others (a star) every round decides
+/// one of its constraints, so it fills its 24 colors in 24 rounds and overflows on the 25th;
+/// the 8 rounds on top absorb chains of lost claims in dense piles. After the seeded first
+/// round a settled scene has almost nothing left to decide, and the GPU's finishing kernel
+/// stops at the first empty round.
+pub const COLOR_ROUNDS: u32 = GRAPH_COLOR_COUNT as u32 + 8;
 
 /// The result of coloring: a color per constraint and the constraints grouped by color.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -224,6 +242,112 @@ pub fn validate_coloring(
     Ok(())
 }
 
+/// Wellons' "lowbias32" hash, the same bijection as `hash_u32` in `coloring.wgsl`.
+pub fn hash_u32(mut x: u32) -> u32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb_352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846c_a68b);
+    x ^= x >> 16;
+    x
+}
+
+/// Constraint `i`'s priority in the rounds (distinct and nonzero).
+pub fn color_priority(i: u32) -> u32 {
+    hash_u32(i + 1)
+}
+
+/// One manifold as the coloring sees it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ColorCandidate {
+    /// Its two bodies.
+    pub bodies: (u32, u32),
+    /// False for a candidate pair not in contact (no points): it gets [`EMPTY_COLOR`].
+    pub touching: bool,
+    /// Last step's color of the pair, proposed in round 0 when free.
+    pub seed: Option<u32>,
+}
+
+/// Graph coloring in parallel rounds, the algorithm the GPU runs on every path (the CPU step's
+/// default is the greedy top-down [`crate::stages::color`]; this is the GPU's CPU twin):
+/// [`COLOR_ROUNDS`] rounds in which every undecided constraint proposes its lowest free color
+/// (round 0: last step's color when still free) and keeps it when it holds the highest
+/// [`color_priority`] among the proposals for that color on each of its dynamic bodies; the
+/// constraints still undecided go to [`OVERFLOW_COLOR`]. `dynamic[b]` says whether body `b`
+/// counts.
+pub fn color_in_rounds(candidates: &[ColorCandidate], dynamic: &[bool]) -> Vec<u32> {
+    let all = if GRAPH_COLOR_COUNT >= 32 {
+        u32::MAX
+    } else {
+        (1u32 << GRAPH_COLOR_COUNT) - 1
+    };
+    let mut colors = vec![NO_COLOR; candidates.len()];
+    let mut used = vec![0u32; dynamic.len()];
+    let mut undecided = Vec::with_capacity(candidates.len());
+    for (i, c) in candidates.iter().enumerate() {
+        if c.touching {
+            undecided.push(i);
+        } else {
+            colors[i] = EMPTY_COLOR;
+        }
+    }
+    for round in 0..COLOR_ROUNDS {
+        if undecided.is_empty() {
+            break;
+        }
+        // Proposals, and the highest priority claiming each (body, color).
+        let mut proposals = Vec::with_capacity(undecided.len());
+        let mut claims: HashMap<(u32, u32), u32> = HashMap::new();
+        for &i in &undecided {
+            let (a, b) = candidates[i].bodies;
+            let (da, db) = (dynamic[a as usize], dynamic[b as usize]);
+            let taken =
+                if da { used[a as usize] } else { 0 } | if db { used[b as usize] } else { 0 };
+            let free = !taken & all;
+            if free == 0 {
+                colors[i] = OVERFLOW_COLOR;
+                continue;
+            }
+            let mut color = free.trailing_zeros();
+            if round == 0
+                && let Some(seed) = candidates[i].seed
+                && seed < OVERFLOW_COLOR
+                && (free >> seed) & 1 != 0
+            {
+                color = seed;
+            }
+            proposals.push((i, color));
+            for (body, counts) in [(a, da), (b, db)] {
+                if counts {
+                    let claim = claims.entry((body, color)).or_insert(0);
+                    *claim = (*claim).max(color_priority(i as u32));
+                }
+            }
+        }
+        let mut next = Vec::new();
+        for (i, color) in proposals {
+            let (a, b) = candidates[i].bodies;
+            let priority = color_priority(i as u32);
+            let holds = |body: u32| !dynamic[body as usize] || claims[&(body, color)] == priority;
+            if holds(a) && holds(b) {
+                colors[i] = color;
+                for body in [a, b] {
+                    if dynamic[body as usize] {
+                        used[body as usize] |= 1 << color;
+                    }
+                }
+            } else {
+                next.push(i);
+            }
+        }
+        undecided = next;
+    }
+    for i in undecided {
+        colors[i] = OVERFLOW_COLOR;
+    }
+    colors
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -307,5 +431,44 @@ mod tests {
         ));
         // Overflow may share anything.
         assert!(validate_coloring(&pairs, &dynamic, &[OVERFLOW_COLOR; 3]).is_ok());
+    }
+
+    #[test]
+    fn rounds_give_a_valid_coloring_keep_free_seeds_and_skip_empty_pairs() {
+        // A star of 30 dynamic bodies around body 0, plus a chain on a fixed floor (body 31).
+        let mut pairs: Vec<(u32, u32)> = (1..31).map(|i| (0, i)).collect();
+        pairs.extend((1..30).map(|i| (i, i + 1)));
+        pairs.extend((1..31).map(|i| (i, 31)));
+        let mut dynamic = vec![true; 31];
+        dynamic.push(false);
+        let mut candidates: Vec<ColorCandidate> = pairs
+            .iter()
+            .map(|&bodies| ColorCandidate {
+                bodies,
+                touching: true,
+                seed: None,
+            })
+            .collect();
+        candidates.push(ColorCandidate {
+            bodies: (2, 5),
+            touching: false,
+            seed: None,
+        });
+        let colors = color_in_rounds(&candidates, &dynamic);
+        assert_eq!(colors[pairs.len()], EMPTY_COLOR);
+        validate_coloring(&pairs, &dynamic, &colors[..pairs.len()]).unwrap();
+        // The star's centre holds only 24 colors: the rest of its constraints overflow.
+        let overflow = colors[..30]
+            .iter()
+            .filter(|&&c| c == OVERFLOW_COLOR)
+            .count();
+        assert_eq!(overflow, 30 - GRAPH_COLOR_COUNT);
+        // A free seed is taken in round 0.
+        let seeded = [ColorCandidate {
+            bodies: (0, 1),
+            touching: true,
+            seed: Some(7),
+        }];
+        assert_eq!(color_in_rounds(&seeded, &[true, true]), vec![7]);
     }
 }

@@ -9,7 +9,8 @@
 //!
 //! The step's stages are named once, in order, by [`Stage`]; [`stages`] holds the CPU stages
 //! on the body arrays (narrow phase through the [`ContactCache`], top-down coloring, finish)
-//! and [`SleepState`] the islands, rest timers and wake rules of the sleep stage.
+//! and [`SleepState`] the islands, rest timers and wake rules of the sleep stage
+//! ([`SleepLabels`]: the same stage by label propagation, the form the GPU runs).
 #![warn(missing_docs)]
 
 mod body;
@@ -38,8 +39,9 @@ mod tests;
 
 pub use body::{Body, BodyKind, BodyState, Locks};
 pub use coloring::{
-    Coloring, ColoringError, GRAPH_COLOR_COUNT, OVERFLOW_COLOR, color_constraints,
-    color_constraints_in_order, validate_coloring,
+    COLOR_ROUNDS, ColorCandidate, Coloring, ColoringError, EMPTY_COLOR, GRAPH_COLOR_COUNT,
+    NO_COLOR, OVERFLOW_COLOR, color_constraints, color_constraints_in_order, color_in_rounds,
+    color_priority, hash_u32, validate_coloring,
 };
 pub use config::{
     DEFAULT_BAUMGARTE, DEFAULT_BAUMGARTE_ITERATIONS, DEFAULT_CONTACT_HERTZ, DEFAULT_DAMPING_RATIO,
@@ -64,9 +66,10 @@ pub use integrate::{
 pub use islands::Islands;
 pub use mass::MassProperties;
 pub use material::{DEFAULT_FRICTION, Material, mix_friction, mix_restitution};
+pub use sleep::labels::{IslandSearch, SleepLabels, SleepLink, island_search};
 pub use sleep::{
     ANGULAR_SLEEP_TOLERANCE, AWAKE, Gathered, LINEAR_SLEEP_TOLERANCE, SleepState, TIME_TO_SLEEP,
-    is_resting,
+    is_moving_kinematic, is_resting,
 };
 pub use softness::Softness;
 pub use solve::{SolveStats, solve, solve_with_effects};

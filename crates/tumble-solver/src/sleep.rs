@@ -10,6 +10,8 @@ use tumble_geometry::{Real, Vec3};
 
 use crate::{Body, BodyKind, BodyState, Contact, Islands, PairKey, finalize_bodies};
 
+pub mod labels;
+
 /// Box2D's `b2_timeToSleep`: an island sleeps after half a second at rest.
 pub const TIME_TO_SLEEP: Real = 0.5;
 
@@ -25,8 +27,15 @@ pub fn is_resting(linear_speed: Real, angular_speed: Real) -> bool {
     linear_speed < LINEAR_SLEEP_TOLERANCE && angular_speed < ANGULAR_SLEEP_TOLERANCE
 }
 
-/// Island label of an awake body.
+/// Island label of an awake body, on every backend (a sleeping body holds its island's
+/// label; the GPU's labels are body indices, below any body count it allows).
 pub const AWAKE: u32 = u32::MAX;
+
+/// True for a kinematic body that moves (any nonzero velocity): what it touches or reaches
+/// stays or wakes up, on the CPU step and in the GPU's sleep kernels.
+pub fn is_moving_kinematic(kind: BodyKind, linear: &Vec3, angular: &Vec3) -> bool {
+    kind == BodyKind::Kinematic && (*linear != Vec3::zeros() || *angular != Vec3::zeros())
+}
 
 /// The sleep state of a world on the CPU: per body (dense order, parallel to the body arrays)
 /// its rest time and sleeping island, and the manifolds of the sleeping islands.
@@ -129,8 +138,7 @@ impl Gathered {
         let mut out = Vec::new();
         for (g, b) in self.bodies[..self.awake].iter().enumerate() {
             let s = &self.states[g];
-            let moves = s.linear_velocity != Vec3::zeros() || s.angular_velocity != Vec3::zeros();
-            if b.kind == BodyKind::Kinematic && moves {
+            if is_moving_kinematic(b.kind, &s.linear_velocity, &s.angular_velocity) {
                 let mine = aabb(g);
                 for (k, other) in sleepers.iter().enumerate() {
                     if mine.intersects(other) {
@@ -290,9 +298,8 @@ impl SleepState {
         // A body carried or pushed by a moving kinematic body stays awake.
         if kinematic {
             let moving = |i: usize| {
-                bodies[i].kind == BodyKind::Kinematic
-                    && (states[i].linear_velocity != Vec3::zeros()
-                        || states[i].angular_velocity != Vec3::zeros())
+                let s = &states[i];
+                is_moving_kinematic(bodies[i].kind, &s.linear_velocity, &s.angular_velocity)
             };
             for c in contacts {
                 let (a, b) = (c.body_a as usize, c.body_b as usize);

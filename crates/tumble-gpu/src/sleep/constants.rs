@@ -3,9 +3,9 @@
 
 use tumble_solver::{ANGULAR_SLEEP_TOLERANCE, LINEAR_SLEEP_TOLERANCE, TIME_TO_SLEEP};
 
-/// The island label of an awake body; a sleeping body holds its island's label, the smallest
-/// body index of the island when it fell asleep (below any body count the GPU allows).
-pub const AWAKE: u32 = u32::MAX;
+/// The island label of an awake body (tumble-solver's); a sleeping body holds its island's
+/// label, the smallest body index of the island when it fell asleep.
+pub use tumble_solver::AWAKE;
 
 /// The bits of `f32::INFINITY`: an island's shortest rest time before any of its bodies
 /// reported one (the minimum over the bits of non-negative floats is the minimum float).

@@ -6,7 +6,7 @@
 //! `check_labels` flags a search in which some link still joins two labels.
 //!
 //! Each round reads one buffer and writes another, and atomicMin is commutative, so a round's
-//! result does not depend on thread order: the GPU's labels equal [`island_search_cpu`]'s
+//! result does not depend on thread order: the GPU's labels equal `tumble_solver::island_search`'s
 //! bit for bit. A finished search labels each island with its smallest body index, the
 //! labels `tumble_solver::Islands` gives.
 
@@ -66,38 +66,4 @@ kernel! {
     }
     /// Kernel: one thread per body.
     pub static JUMP_LABELS = "sleep/jump_labels.wgsl";
-}
-
-/// The result of an island search.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct IslandSearch {
-    /// Each body's label after the last round (a body index of its island).
-    pub labels: Vec<u32>,
-    /// True when no link joins two labels: each island is labelled with its smallest body.
-    pub finished: bool,
-}
-
-/// The CPU twin of the search: `rounds` rounds of `hook_labels` and `jump_labels` over
-/// `links` (pairs of body indices; a link counts when both its bodies are `linkable`), then
-/// `check_labels`. Bit-for-bit the labels the kernels compute.
-pub fn island_search_cpu(linkable: &[bool], links: &[(u32, u32)], rounds: u32) -> IslandSearch {
-    let n = linkable.len();
-    let counts = |&(a, b): &(u32, u32)| linkable[a as usize] && linkable[b as usize];
-    let mut labels: Vec<u32> = (0..n as u32).collect();
-    for _ in 0..rounds {
-        let mut next = labels.clone();
-        for &(a, b) in links.iter().filter(|l| counts(l)) {
-            let (la, lb) = (labels[a as usize], labels[b as usize]);
-            if la != lb {
-                let slot = &mut next[la.max(lb) as usize];
-                *slot = (*slot).min(la.min(lb));
-            }
-        }
-        labels = (0..n).map(|i| next[next[i] as usize]).collect();
-    }
-    let finished = links
-        .iter()
-        .filter(|l| counts(l))
-        .all(|&(a, b)| labels[a as usize] == labels[b as usize]);
-    IslandSearch { labels, finished }
 }

@@ -1,6 +1,6 @@
 //! `kinematic_wake`: moving kinematic bodies wake the sleeping islands their AABBs reach (the
 //! broad phase pairs neither with the other). The CPU twin is
-//! [`super::cpu::SleepCpu::kinematic_wake`].
+//! [`tumble_solver::SleepLabels::kinematic_wake`].
 
 use crate::kernel::kernel;
 

@@ -15,10 +15,9 @@
 //! another sleeping or fixed body, the narrow phase and the solver see only its pairs with
 //! awake bodies (it is an immovable obstacle to them), and integration leaves it where it is.
 //! The awake copy of every body is kept here for waking. See `docs/gpu.md` for why the island
-//! search is deterministic.
+//! search is deterministic. The CPU twin of the stage is `tumble_solver::SleepLabels`.
 
 pub mod constants;
-pub mod cpu;
 pub mod islands;
 pub mod kinematic;
 pub mod layout;
@@ -29,6 +28,5 @@ pub mod stage;
 pub mod touch;
 pub mod wake;
 
-pub use cpu::{SleepCpu, SleepLink};
-pub use islands::{IslandSearch, island_search_cpu};
 pub use stage::{GpuSleep, SleepInputs};
+pub use tumble_solver::{IslandSearch, SleepLabels, SleepLink, island_search};

@@ -1,6 +1,6 @@
 //! `plan_search`: the island search and the kernels after it are dispatched indirectly, with
 //! zero workgroups in a step where no body has rested for `TIME_TO_SLEEP` (most steps of a
-//! moving scene). The CPU twin is the early return of [`super::cpu::SleepCpu::fall_asleep`].
+//! moving scene). The CPU twin is the early return of [`tumble_solver::SleepLabels::fall_asleep`].
 
 use crate::kernel::kernel;
 use crate::layout::DispatchArgs;

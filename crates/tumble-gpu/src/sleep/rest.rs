@@ -1,6 +1,6 @@
 //! Rest times and falling asleep: `update_rest` (rest timers, and each body its own island),
 //! `island_rest` (each island's shortest rest time), `fall_asleep` (islands that rested long
-//! enough leave the step). Their CPU twins are the methods of [`super::cpu::SleepCpu`] of the
+//! enough leave the step). Their CPU twins are the methods of [`tumble_solver::SleepLabels`] of the
 //! same names.
 
 use crate::kernel::kernel;

@@ -1,6 +1,6 @@
 //! `touch_sleepers`: the step's manifolds wake the sleeping islands awake bodies reached, and
 //! moving kinematic bodies keep what they touch from resting. The CPU twin is
-//! [`super::cpu::SleepCpu::touch_sleepers`].
+//! [`tumble_solver::SleepLabels::touch_sleepers`].
 
 use crate::kernel::kernel;
 

@@ -1,7 +1,7 @@
 //! Waking: `wake_bodies` flags the islands of the bodies the host touched, `wake_islands`
 //! wakes every body of a flagged island at the start of a step and counts the bodies the
 //! step moves. Their CPU twins are
-//! [`super::cpu::SleepCpu::wake_bodies`] and [`super::cpu::SleepCpu::wake_islands`].
+//! [`tumble_solver::SleepLabels::wake_bodies`] and [`tumble_solver::SleepLabels::wake_islands`].
 
 use crate::kernel::kernel;
 

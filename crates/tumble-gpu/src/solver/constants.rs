@@ -13,20 +13,18 @@ pub const COLOR_SLOTS: u32 = GRAPH_COLOR_COUNT + 1;
 /// Entries of the color offsets buffer: `offsets[c]..offsets[c + 1]` for every slot.
 pub const COLOR_OFFSETS_LEN: u32 = COLOR_SLOTS + 1;
 
-/// Color and proposal of a constraint not decided yet.
-pub const NO_COLOR: u32 = u32::MAX;
+/// Color and proposal of a constraint not decided yet (tumble-solver's `NO_COLOR`).
+pub const NO_COLOR: u32 = tumble_solver::NO_COLOR;
 
-/// The color of a manifold without points (a candidate pair not in contact): it is no
-/// constraint, sorts after the overflow set and lies in no color's range.
-pub const EMPTY_COLOR: u32 = COLOR_SLOTS;
+/// The color of a manifold without points (tumble-solver's `EMPTY_COLOR`, one past the
+/// overflow set): no constraint, in no color's range.
+pub const EMPTY_COLOR: u32 = tumble_solver::EMPTY_COLOR;
 
-/// Coloring rounds per step, on every path; constraints still undecided after them overflow.
-/// Every round decides at least the undecided constraint of highest priority. Around a
-/// dynamic body touching many others (a star) every round decides one of its constraints, so
-/// it fills its 24 colors in 24 rounds and overflows on the 25th; the 8 rounds on top absorb
-/// chains of lost claims in dense piles. After the seeded first round a settled scene has
-/// almost nothing left to decide, and the finishing kernel stops at the first empty round.
-pub const COLOR_ROUNDS: u32 = GRAPH_COLOR_COUNT + 8;
+/// Coloring rounds per step, on every path (tumble-solver's `COLOR_ROUNDS`, the rounds of
+/// `tumble_solver::color_in_rounds`).
+pub const COLOR_ROUNDS: u32 = tumble_solver::COLOR_ROUNDS;
+
+const _: () = assert!(EMPTY_COLOR == COLOR_SLOTS);
 
 /// `GpuBody::kind` of a fixed body.
 pub const BODY_FIXED: u32 = 0;

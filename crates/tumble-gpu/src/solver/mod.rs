@@ -4,7 +4,7 @@
 //! and pass) or as one fused single-workgroup kernel for small scenes.
 //!
 //! The math mirrors tumble-solver step for step; each kernel has a CPU twin (tumble-solver's
-//! own function, or [`color::color_rounds_cpu`] for the coloring).
+//! own function, `tumble_solver::color_in_rounds` for the coloring).
 
 pub mod apply_impulses;
 pub mod color;

@@ -1,12 +1,13 @@
-//! [`GpuWorld`]: the whole step on the GPU. Bodies are uploaded once; each step records
-//! `update_aabbs -> broad_phase -> narrow_phase (with matching) -> color -> prepare ->
-//! substeps -> finish` into ONE command encoder, submits it once, and reads nothing back
-//! unless asked (asynchronously, double-buffered).
+//! [`GpuWorld`]: the whole step on the GPU. Bodies are uploaded once; each step records the
+//! wake, then walks `tumble_solver::Stage::ALL` (`update_aabbs -> broad_phase ->
+//! narrow_phase (with matching) -> color -> solve -> finish -> sleep`), into ONE command
+//! encoder, submits it once, and reads nothing back unless asked (asynchronously,
+//! double-buffered).
 
 use std::collections::VecDeque;
 
 use tumble_geometry::{Point3, Pose, Vec3};
-use tumble_solver::{Body, BodyState};
+use tumble_solver::{Body, BodyState, Stage};
 
 use crate::buffer_pool::{BufferPool, STORAGE_USAGE};
 use crate::collision::GpuCollision;
@@ -285,30 +286,52 @@ impl GpuWorld {
         self.sleep
             .record_wake(&mut encoder, &mut self.timer, self.pool.get(BODIES), shapes);
         self.record_impulses(&mut encoder);
-        self.collision.record(&mut encoder, &mut self.timer)?;
-        let buffers = self.collision.buffers();
-        let inputs = SolverInputs {
-            bodies: self.pool.get(BODIES),
-            poses: buffers.poses,
-            velocities: buffers.velocities,
-            manifolds: buffers.manifolds,
-            contacts: buffers.contacts,
-            contact_work: buffers.pair_work,
-            body_count: self.bodies.len() as u32,
-            contact_capacity: self.collision.pair_capacity(),
-        };
-        self.solver
-            .record(&mut encoder, &mut self.timer, &inputs, &params.params, path)?;
-        let sleep_inputs = SleepInputs {
-            bodies: self.pool.get(BODIES),
-            shapes: buffers.shapes,
-            velocities: buffers.velocities,
-            pair_work: buffers.pair_work,
-            manifolds: buffers.manifolds,
-            aabbs: buffers.aabbs,
-        };
-        self.sleep
-            .record_update(&mut encoder, &mut self.timer, &sleep_inputs);
+        // The step's stages in the one order every backend runs them. A recorder may record
+        // several consecutive stages (the collision stages share their parity and clears, the
+        // fused solve path is one kernel for color, solve and finish): its first stage records
+        // them all, the others record nothing of their own.
+        for stage in Stage::ALL {
+            match stage {
+                // update_aabbs, broad_phase, narrow_phase.
+                Stage::UpdateAabbs => self.collision.record(&mut encoder, &mut self.timer)?,
+                Stage::BroadPhase | Stage::NarrowPhase => {}
+                // color, solve (prepare, substeps, restitution), finish (stored impulses, poses).
+                Stage::Color => {
+                    let buffers = self.collision.buffers();
+                    let inputs = SolverInputs {
+                        bodies: self.pool.get(BODIES),
+                        poses: buffers.poses,
+                        velocities: buffers.velocities,
+                        manifolds: buffers.manifolds,
+                        contacts: buffers.contacts,
+                        contact_work: buffers.pair_work,
+                        body_count: self.bodies.len() as u32,
+                        contact_capacity: self.collision.pair_capacity(),
+                    };
+                    self.solver.record(
+                        &mut encoder,
+                        &mut self.timer,
+                        &inputs,
+                        &params.params,
+                        path,
+                    )?;
+                }
+                Stage::Solve | Stage::Finish => {}
+                Stage::Sleep => {
+                    let buffers = self.collision.buffers();
+                    let sleep_inputs = SleepInputs {
+                        bodies: self.pool.get(BODIES),
+                        shapes: buffers.shapes,
+                        velocities: buffers.velocities,
+                        pair_work: buffers.pair_work,
+                        manifolds: buffers.manifolds,
+                        aabbs: buffers.aabbs,
+                    };
+                    self.sleep
+                        .record_update(&mut encoder, &mut self.timer, &sleep_inputs);
+                }
+            }
+        }
         self.source = ContactSource::Collision;
         self.finish_step(encoder, path)
     }

@@ -1,13 +1,17 @@
-//! The CPU twin of the sleep stage: the same state (an island label and a rest time per
-//! body, a wake flag per label) and one method per kernel, in the order a step records them.
-//! Apart from the rest-time test, whose speeds may round differently in the last bit on the
-//! GPU, every result is integer and equals the kernels' exactly.
+//! The label-propagation form of the sleep stage, the one the GPU runs (its kernels' CPU
+//! twin): the same state (an island label and a rest time per body, a wake flag per label)
+//! and one method per kernel, in the order a step records them. Where [`SleepState`] finds
+//! islands with union-find on the gathered bodies, this finds them by a bounded number of
+//! label-propagation rounds ([`island_search`]) on every body in place. Apart from the
+//! rest-time test, whose speeds may round differently in the last bit on the GPU, every result
+//! is integer and equals the kernels' exactly.
+//!
+//! [`SleepState`]: super::SleepState
 
 use tumble_geometry::{Aabb, Vec3};
-use tumble_solver::{BodyKind, TIME_TO_SLEEP, is_resting};
 
-use super::constants::{AWAKE, ISLAND_ROUNDS};
-use super::islands::island_search_cpu;
+use super::{AWAKE, TIME_TO_SLEEP, is_moving_kinematic, is_resting};
+use crate::BodyKind;
 
 /// A manifold as the sleep stage sees it: its two bodies, and whether it has points.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -20,9 +24,9 @@ pub struct SleepLink {
     pub touching: bool,
 }
 
-/// The sleep state of a world on the CPU.
+/// The label-propagation sleep state of a world.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct SleepCpu {
+pub struct SleepLabels {
     /// Each body's island label, [`AWAKE`] for an awake body.
     pub island: Vec<u32>,
     /// Each body's rest time, s.
@@ -31,7 +35,7 @@ pub struct SleepCpu {
     pub wake: Vec<bool>,
 }
 
-impl SleepCpu {
+impl SleepLabels {
     /// `n` awake bodies that have not rested.
     pub fn new(n: usize) -> Self {
         Self {
@@ -92,10 +96,8 @@ impl SleepCpu {
         kinds: &[BodyKind],
         velocities: &[(Vec3, Vec3)],
     ) {
-        let moving_kinematic = |i: usize| {
-            kinds[i] == BodyKind::Kinematic
-                && (velocities[i].0 != Vec3::zeros() || velocities[i].1 != Vec3::zeros())
-        };
+        let moving_kinematic =
+            |i: usize| is_moving_kinematic(kinds[i], &velocities[i].0, &velocities[i].1);
         for link in links.iter().filter(|l| l.touching) {
             let (a, b) = (link.a as usize, link.b as usize);
             for i in [a, b] {
@@ -119,10 +121,7 @@ impl SleepCpu {
         aabbs: &[Aabb],
     ) {
         let moving: Vec<usize> = (0..kinds.len())
-            .filter(|&k| {
-                kinds[k] == BodyKind::Kinematic
-                    && (velocities[k].0 != Vec3::zeros() || velocities[k].1 != Vec3::zeros())
-            })
+            .filter(|&k| is_moving_kinematic(kinds[k], &velocities[k].0, &velocities[k].1))
             .collect();
         for (i, aabb) in aabbs.iter().enumerate() {
             let label = self.island[i];
@@ -132,11 +131,16 @@ impl SleepCpu {
         }
     }
 
-    /// The island search, `island_rest` and `fall_asleep`: islands of linkable bodies whose
-    /// shortest rest time reached [`TIME_TO_SLEEP`] fall asleep under their label (nothing
-    /// does when the search did not finish). Returns the bodies that fell asleep (the kernel
-    /// zeroes their velocities and makes them fixed and static).
-    pub fn fall_asleep(&mut self, links: &[SleepLink], kinds: &[BodyKind]) -> Vec<usize> {
+    /// The island search (`rounds` rounds), `island_rest` and `fall_asleep`: islands of
+    /// linkable bodies whose shortest rest time reached [`TIME_TO_SLEEP`] fall asleep under
+    /// their label (nothing does when the search did not finish). Returns the bodies that fell
+    /// asleep (the kernel zeroes their velocities and makes them fixed and static).
+    pub fn fall_asleep(
+        &mut self,
+        links: &[SleepLink],
+        kinds: &[BodyKind],
+        rounds: u32,
+    ) -> Vec<usize> {
         let linkable: Vec<bool> = kinds
             .iter()
             .zip(&self.island)
@@ -153,7 +157,7 @@ impl SleepCpu {
         if !ready {
             return Vec::new();
         }
-        let search = island_search_cpu(&linkable, &pairs, ISLAND_ROUNDS);
+        let search = island_search(&linkable, &pairs, rounds);
         if !search.finished {
             return Vec::new();
         }
@@ -173,4 +177,40 @@ impl SleepCpu {
         }
         asleep
     }
+}
+
+/// The result of an island search.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct IslandSearch {
+    /// Each body's label after the last round (a body index of its island).
+    pub labels: Vec<u32>,
+    /// True when no link joins two labels: each island is labelled with its smallest body.
+    pub finished: bool,
+}
+
+/// The island search by label propagation: `rounds` rounds over `links` (pairs of body
+/// indices; a link counts when both its bodies are `linkable`) in which, for each link whose
+/// two labels differ, the larger label is hooked onto the smaller, then every label is
+/// replaced by the label it points at; then the check that no link still joins two labels.
+/// The GPU's `hook_labels`, `jump_labels` and `check_labels` compute these labels bit for bit.
+pub fn island_search(linkable: &[bool], links: &[(u32, u32)], rounds: u32) -> IslandSearch {
+    let n = linkable.len();
+    let counts = |&(a, b): &(u32, u32)| linkable[a as usize] && linkable[b as usize];
+    let mut labels: Vec<u32> = (0..n as u32).collect();
+    for _ in 0..rounds {
+        let mut next = labels.clone();
+        for &(a, b) in links.iter().filter(|l| counts(l)) {
+            let (la, lb) = (labels[a as usize], labels[b as usize]);
+            if la != lb {
+                let slot = &mut next[la.max(lb) as usize];
+                *slot = (*slot).min(la.min(lb));
+            }
+        }
+        labels = (0..n).map(|i| next[next[i] as usize]).collect();
+    }
+    let finished = links
+        .iter()
+        .filter(|l| counts(l))
+        .all(|&(a, b)| labels[a as usize] == labels[b as usize]);
+    IslandSearch { labels, finished }
 }

@@ -153,17 +153,35 @@ impl Readback {
     pub fn try_mapped(&mut self, ticket: &Ticket) -> Option<Result<Mapped<'_>, GpuError>> {
         // A non-blocking poll lets the map callback run.
         let _ = self.ctx.device.poll(wgpu::PollType::Poll);
-        let done = self.slots[ticket.slot]
-            .mapped
-            .as_ref()
-            .is_some_and(|m| m.lock().expect("map lock").is_some());
-        done.then(|| self.take(ticket))
+        self.is_mapped(ticket).then(|| self.take(ticket))
     }
 
     /// Waits for the map and returns the mapped staging buffer.
+    ///
+    /// An idle device is not enough: when another thread shares the device, its own poll may
+    /// have collected this map's callback and not yet run it when ours returns, so this polls
+    /// until the callback has run (or [`READ_TIMEOUT`] passes).
     pub fn wait_mapped(&mut self, ticket: Ticket) -> Result<Mapped<'_>, GpuError> {
-        self.ctx.wait_idle()?;
-        self.take(&ticket)
+        let deadline = std::time::Instant::now() + READ_TIMEOUT;
+        loop {
+            self.ctx.wait_idle()?;
+            // A slot with no map pending fails at once in `take`.
+            if self.slots[ticket.slot].mapped.is_none() || self.is_mapped(&ticket) {
+                return self.take(&ticket);
+            }
+            if std::time::Instant::now() > deadline {
+                return Err(GpuError::Device("readback was not mapped in time".into()));
+            }
+            std::thread::yield_now();
+        }
+    }
+
+    /// Whether the map of `ticket`'s slot has completed (its callback has run).
+    fn is_mapped(&self, ticket: &Ticket) -> bool {
+        self.slots[ticket.slot]
+            .mapped
+            .as_ref()
+            .is_some_and(|m| m.lock().expect("map lock").is_some())
     }
 
     fn take(&mut self, ticket: &Ticket) -> Result<Mapped<'_>, GpuError> {

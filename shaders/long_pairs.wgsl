@@ -13,12 +13,8 @@
 @group(0) @binding(5) var<storage, read> long_boxes: array<u32>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn main(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let q = linear_index(workgroup, groups, local);
+fn main(thread: Thread) {
+    let q = thread_index(thread);
     let count = long_boxes[0];
     if q >= params.body_count || count == 0u || !long_boxes_listed(count) {
         return;

@@ -36,15 +36,11 @@ fn test_pair(me: GpuSweepBox, other: GpuSweepBox) {
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn main(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
+fn main(thread: Thread) {
     let n = params.body_count;
     let listed = long_boxes_listed(long_boxes[0]);
-    let first = linear_group(workgroup, groups) * WORKGROUP_SIZE;
-    let p = first + local;
+    let first = thread_group(thread) * WORKGROUP_SIZE;
+    let p = first + thread.local;
     var scanning = p < n;
     var me: GpuSweepBox;
     if scanning {
@@ -54,11 +50,11 @@ fn main(
     // Candidates start right after the workgroup's first body.
     var start = first + 1u;
     loop {
-        if local == 0u {
+        if thread.local == 0u {
             atomicStore(&still_scanning, 0u);
         }
-        if start + local < n {
-            candidates[local] = sweep_boxes[start + local];
+        if start + thread.local < n {
+            candidates[thread.local] = sweep_boxes[start + thread.local];
         }
         workgroupBarrier();
         if scanning {
@@ -85,7 +81,7 @@ fn main(
             atomicOr(&still_scanning, 1u);
         }
         workgroupBarrier();
-        if local == 0u {
+        if thread.local == 0u {
             continue_flag = atomicLoad(&still_scanning);
         }
         // The barrier inside the uniform load also keeps the next tile's loads after every

@@ -41,12 +41,8 @@ fn inherit(slot: u32, source: u32) {
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn main(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let k = linear_index(workgroup, groups, local);
+fn main(thread: Thread) {
+    let k = thread_index(thread);
     if k >= work.count {
         return;
     }

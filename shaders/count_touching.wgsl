@@ -8,21 +8,17 @@
 @group(0) @binding(2) var<storage, read_write> tile_totals: array<vec2<u32>>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn main(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let tile = linear_group(workgroup, groups);
+fn main(thread: Thread) {
+    let tile = thread_group(thread);
     let tiles = (work.count + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE;
-    let k = tile * WORKGROUP_SIZE + local;
+    let k = tile * WORKGROUP_SIZE + thread.local;
     var value = vec2<u32>(0u);
     if tile < tiles && k < work.count {
         let len = manifolds[k].len;
         value = vec2<u32>(u32(len > 0u), len);
     }
-    let total = tile_inclusive_scan(local, value);
-    if tile < tiles && local == WORKGROUP_SIZE - 1u {
+    let total = tile_inclusive_scan(thread.local, value);
+    if tile < tiles && thread.local == WORKGROUP_SIZE - 1u {
         tile_totals[tile] = total;
     }
 }

@@ -15,12 +15,8 @@
 @group(0) @binding(7) var<storage, read_write> long_boxes: array<atomic<u32>>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn main(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let p = linear_index(workgroup, groups, local);
+fn main(thread: Thread) {
+    let p = thread_index(thread);
     if p >= work.count {
         return;
     }

@@ -1,24 +1,15 @@
-// requires: common/indexing.wgsl common/layout.wgsl common/sweep.wgsl
+// requires: common/indexing.wgsl common/pair_output.wgsl
 // long_pairs: one thread per sorted position tests its box against every long box that
 // gather_sweep_boxes listed (common/sweep.wgsl) and appends each overlapping pair, as
 // sweep_pairs does, through the same counter. A pair of two long boxes is appended by the
 // thread of the one with the larger body index only. Nothing happens when the list could not
 // hold every long box (the sweep did all the pairs then).
 
-@group(0) @binding(0) var<uniform> params: SweepParams;
-@group(0) @binding(1) var<storage, read> sweep_boxes: array<GpuSweepBox>;
-@group(0) @binding(2) var<storage, read_write> counter: array<atomic<u32>>;
-@group(0) @binding(3) var<storage, read_write> pair_a: array<u32>;
-@group(0) @binding(4) var<storage, read_write> pair_b: array<u32>;
-@group(0) @binding(5) var<storage, read> long_boxes: array<u32>;
+// The bindings are common/pair_output.wgsl's.
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn main(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let q = linear_index(workgroup, groups, local);
+fn main(thread: Thread) {
+    let q = thread_index(thread);
     let count = long_boxes[0];
     if q >= params.body_count || count == 0u || !long_boxes_listed(count) {
         return;
@@ -39,10 +30,6 @@ fn main(
         if !overlaps || both_static(me, long_box) {
             continue;
         }
-        let slot = atomicAdd(&counter[0], 1u);
-        if slot < params.pair_capacity {
-            pair_a[slot] = min(me.body, long_box.body);
-            pair_b[slot] = max(me.body, long_box.body);
-        }
+        append_pair(me, long_box);
     }
 }

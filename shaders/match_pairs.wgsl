@@ -17,12 +17,8 @@ fn pair_less(a1: u32, b1: u32, a2: u32, b2: u32) -> bool {
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn main(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let k = linear_index(workgroup, groups, local);
+fn main(thread: Thread) {
+    let k = thread_index(thread);
     if k >= work.count {
         return;
     }

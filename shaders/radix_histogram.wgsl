@@ -11,22 +11,18 @@
 var<workgroup> counts: array<atomic<u32>, RADIX>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn main(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
+fn main(thread: Thread) {
     // Counts start at zero: every workgroup's memory is zero-initialized (the pipelines are
     // built with zero_initialize_workgroup_memory).
-    let tile = linear_group(workgroup, groups);
+    let tile = thread_group(thread);
     let tiles = (work.count + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE;
-    let i = tile * WORKGROUP_SIZE + local;
+    let i = tile * WORKGROUP_SIZE + thread.local;
     if tile < tiles && i < work.count {
         let digit = (keys[i] >> pass_params.shift) & (RADIX - 1u);
         atomicAdd(&counts[digit], 1u);
     }
     workgroupBarrier();
-    if tile < tiles && local < RADIX {
-        tile_counts[local * tiles + tile] = atomicLoad(&counts[local]);
+    if tile < tiles && thread.local < RADIX {
+        tile_counts[thread.local * tiles + tile] = atomicLoad(&counts[thread.local]);
     }
 }

@@ -15,14 +15,10 @@
 var<workgroup> digits: array<u32, WORKGROUP_SIZE>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn main(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let tile = linear_group(workgroup, groups);
+fn main(thread: Thread) {
+    let tile = thread_group(thread);
     let tiles = (work.count + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE;
-    let i = tile * WORKGROUP_SIZE + local;
+    let i = tile * WORKGROUP_SIZE + thread.local;
     let valid = tile < tiles && i < work.count;
     var key = 0u;
     // Past the end, a digit no real key has, so it never counts toward a real key's rank.
@@ -31,11 +27,11 @@ fn main(
         key = keys_in[i];
         digit = (key >> pass_params.shift) & (RADIX - 1u);
     }
-    digits[local] = digit;
+    digits[thread.local] = digit;
     workgroupBarrier();
     if valid {
         var rank = 0u;
-        for (var j = 0u; j < local; j++) {
+        for (var j = 0u; j < thread.local; j++) {
             rank += u32(digits[j] == digit);
         }
         let slot = tile_offsets[digit * tiles + tile] + rank;

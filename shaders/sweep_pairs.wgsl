@@ -1,4 +1,4 @@
-// requires: common/indexing.wgsl common/layout.wgsl common/sweep.wgsl
+// requires: common/indexing.wgsl common/pair_output.wgsl
 // sweep_pairs: each body, in sorted order, scans forward while the next box's lower bound
 // on the sweep axis is not past its upper bound, tests the other two axes (closed
 // intervals: touching boxes pair, as on the CPU), and appends each overlapping pair as
@@ -12,12 +12,7 @@
 // its threads, until no thread's window reaches the next tile: one global read per box per
 // workgroup instead of one per box per thread.
 
-@group(0) @binding(0) var<uniform> params: SweepParams;
-@group(0) @binding(1) var<storage, read> sweep_boxes: array<GpuSweepBox>;
-@group(0) @binding(2) var<storage, read_write> counter: array<atomic<u32>>;
-@group(0) @binding(3) var<storage, read_write> pair_a: array<u32>;
-@group(0) @binding(4) var<storage, read_write> pair_b: array<u32>;
-@group(0) @binding(5) var<storage, read> long_boxes: array<u32>;
+// The bindings are common/pair_output.wgsl's.
 
 var<workgroup> candidates: array<GpuSweepBox, WORKGROUP_SIZE>;
 var<workgroup> still_scanning: atomic<u32>;
@@ -28,23 +23,15 @@ fn test_pair(me: GpuSweepBox, other: GpuSweepBox) {
     if !overlap_12(me, other) || both_static(me, other) {
         return;
     }
-    let slot = atomicAdd(&counter[0], 1u);
-    if slot < params.pair_capacity {
-        pair_a[slot] = min(me.body, other.body);
-        pair_b[slot] = max(me.body, other.body);
-    }
+    append_pair(me, other);
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn main(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
+fn main(thread: Thread) {
     let n = params.body_count;
     let listed = long_boxes_listed(long_boxes[0]);
-    let first = linear_group(workgroup, groups) * WORKGROUP_SIZE;
-    let p = first + local;
+    let first = thread_group(thread) * WORKGROUP_SIZE;
+    let p = first + thread.local;
     var scanning = p < n;
     var me: GpuSweepBox;
     if scanning {
@@ -54,11 +41,11 @@ fn main(
     // Candidates start right after the workgroup's first body.
     var start = first + 1u;
     loop {
-        if local == 0u {
+        if thread.local == 0u {
             atomicStore(&still_scanning, 0u);
         }
-        if start + local < n {
-            candidates[local] = sweep_boxes[start + local];
+        if start + thread.local < n {
+            candidates[thread.local] = sweep_boxes[start + thread.local];
         }
         workgroupBarrier();
         if scanning {
@@ -85,7 +72,7 @@ fn main(
             atomicOr(&still_scanning, 1u);
         }
         workgroupBarrier();
-        if local == 0u {
+        if thread.local == 0u {
             continue_flag = atomicLoad(&still_scanning);
         }
         // The barrier inside the uniform load also keeps the next tile's loads after every

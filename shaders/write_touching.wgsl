@@ -12,20 +12,16 @@
 @group(0) @binding(6) var<storage, read_write> touching_points: array<GpuContact>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn main(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let tile = linear_group(workgroup, groups);
+fn main(thread: Thread) {
+    let tile = thread_group(thread);
     let tiles = (work.count + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE;
-    let k = tile * WORKGROUP_SIZE + local;
+    let k = tile * WORKGROUP_SIZE + thread.local;
     var len = 0u;
     if tile < tiles && k < work.count {
         len = manifolds[k].len;
     }
     let value = vec2<u32>(u32(len > 0u), len);
-    let before = tile_inclusive_scan(local, value) - value;
+    let before = tile_inclusive_scan(thread.local, value) - value;
     if len == 0u {
         return;
     }

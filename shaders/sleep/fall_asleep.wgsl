@@ -17,12 +17,8 @@
 @group(0) @binding(8) var<storage, read_write> shapes: array<GpuShape>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn main(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let i = linear_index(workgroup, groups, local);
+fn main(thread: Thread) {
+    let i = thread_index(thread);
     if i >= params.body_count || unfinished[0] != 0u {
         return;
     }

@@ -18,12 +18,8 @@ fn overlaps(a: GpuAabb, b: GpuAabb) -> bool {
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn main(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let i = linear_index(workgroup, groups, local);
+fn main(thread: Thread) {
+    let i = thread_index(thread);
     if i >= params.body_count {
         return;
     }

@@ -23,13 +23,9 @@
 var<workgroup> group_moving: atomic<u32>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn main(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let i = linear_index(workgroup, groups, local);
-    if local == 0u {
+fn main(thread: Thread) {
+    let i = thread_index(thread);
+    if thread.local == 0u {
         atomicStore(&group_moving, 0u);
     }
     workgroupBarrier();
@@ -50,7 +46,7 @@ fn main(
         }
     }
     workgroupBarrier();
-    if local == 0u {
+    if thread.local == 0u {
         let count = atomicLoad(&group_moving);
         if count != 0u {
             atomicAdd(&moving[0], count);

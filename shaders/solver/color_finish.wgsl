@@ -1,17 +1,11 @@
-// requires: common/indexing.wgsl solver/common/color_workgroup.wgsl
+// requires: common/indexing.wgsl solver/common/color_bindings.wgsl solver/common/color_workgroup.wgsl
 // color_finish: a single workgroup withdraws the first round's claims, runs the remaining
 // coloring rounds over the constraints still undecided (few, after the seeded first round),
 // sends what is left to the overflow set, counts each color, writes the per-color offsets and
 // the indirect dispatch size of every per-color pass, and lays out (color, index) keys for
 // the stable radix sort that produces the constraint order by color.
 
-@group(0) @binding(0) var<uniform> params: SolverParams;
-@group(0) @binding(1) var<storage, read> contact_work: WorkList;
-@group(0) @binding(2) var<storage, read> manifolds: array<GpuManifold>;
-@group(0) @binding(3) var<storage, read> bodies: array<GpuBody>;
-@group(0) @binding(4) var<storage, read> previous_colors: array<ColorSlot>;
-@group(0) @binding(5) var<storage, read_write> color_state: array<ColorSlot>;
-@group(0) @binding(6) var<storage, read_write> color_marks: array<atomic<u32>>;
+// Bindings 0 to 6 are color_bindings.wgsl's.
 @group(0) @binding(7) var<storage, read_write> color_scratch: array<u32>;
 @group(0) @binding(8) var<storage, read_write> color_offsets: array<u32>;
 @group(0) @binding(9) var<storage, read_write> color_args: array<DispatchArgs>;

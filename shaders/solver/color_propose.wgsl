@@ -1,24 +1,14 @@
-// requires: common/indexing.wgsl solver/common/coloring.wgsl
+// requires: common/indexing.wgsl solver/common/color_bindings.wgsl
 // color_propose: the first coloring round's proposals, one thread per constraint. Round 0
 // proposes last step's color where the pair had a manifold, so a scene that changed little
 // is colored by this round alone; color_resolve keeps the proposals whose claims held and
 // color_finish runs the remaining rounds.
 
-@group(0) @binding(0) var<uniform> params: SolverParams;
-@group(0) @binding(1) var<storage, read> contact_work: WorkList;
-@group(0) @binding(2) var<storage, read> manifolds: array<GpuManifold>;
-@group(0) @binding(3) var<storage, read> bodies: array<GpuBody>;
-@group(0) @binding(4) var<storage, read> previous_colors: array<ColorSlot>;
-@group(0) @binding(5) var<storage, read_write> color_state: array<ColorSlot>;
-@group(0) @binding(6) var<storage, read_write> color_marks: array<atomic<u32>>;
+// The bindings are color_bindings.wgsl's.
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn main(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let i = linear_index(workgroup, groups, local);
+fn main(thread: Thread) {
+    let i = thread_index(thread);
     if i >= contact_work.count {
         return;
     }

@@ -1,4 +1,4 @@
-// requires: common/indexing.wgsl solver/common/contact_math.wgsl
+// requires: common/indexing.wgsl solver/common/prepare_constraint.wgsl
 // prepare_contacts: one thread per manifold (a manifold without points gives an empty
 // constraint) builds its constraint: normal and two friction rows per point, effective
 // masses, anchors, softness, and the warm-start impulses the collision stage carried over.
@@ -15,26 +15,10 @@
 @group(0) @binding(9) var<storage, read_write> constraints: array<GpuConstraint>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn main(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let i = linear_index(workgroup, groups, local);
+fn main(thread: Thread) {
+    let i = thread_index(thread);
     if i >= contact_work.count {
         return;
     }
-    let manifold = manifolds[i];
-    let a = manifold.body_a;
-    let b = manifold.body_b;
-    let sim_a = body_sim(velocities[a], solver_bodies[a]);
-    let sim_b = body_sim(velocities[b], solver_bodies[b]);
-    let tilt = carried_tilt(manifold, previous_tilts[min(manifold.previous, arrayLength(&previous_tilts) - 1u)], poses[a].rotation);
-    var c = begin_constraint(manifold, bodies[a], bodies[b], tilt, params);
-    for (var p = 0u; p < c.point_count; p++) {
-        let point = contacts[i * MAX_MANIFOLD_POINTS + p];
-        c.points[p] = prepare_point(c, point, poses[a].position.xyz, poses[b].position.xyz, sim_a, sim_b, params.warm_start_scale);
-    }
-    finish_constraint(&c, sim_a, sim_b);
-    constraints[i] = c;
+    prepare_constraint(i);
 }

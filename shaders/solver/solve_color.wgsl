@@ -16,12 +16,8 @@
 override PASS: u32;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn main(
-    @builtin(workgroup_id) workgroup: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) local: u32,
-) {
-    let t = linear_index(workgroup, groups, local);
+fn main(thread: Thread) {
+    let t = thread_index(thread);
     let color = pass_color.color;
     let begin = color_offsets[color];
     let end = color_offsets[color + 1u];

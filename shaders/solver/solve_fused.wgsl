@@ -1,10 +1,12 @@
-// requires: common/indexing.wgsl solver/common/constraint_access.wgsl solver/common/color_workgroup.wgsl
+// requires: common/indexing.wgsl solver/common/constraint_access.wgsl
+// requires: solver/common/color_workgroup.wgsl solver/common/prepare_constraint.wgsl
 // solve_fused: the whole color-and-solve stage in ONE workgroup and one dispatch, for small
 // scenes. Per-dispatch overhead, not arithmetic, made the thesis's GPU solver slow: a step of
 // the wide path issues about 80 dispatches per substep (one per color and pass), while here
 // the colors are visited in a loop separated by barriers. The per-constraint and per-body
 // functions are the wide path's own (coloring.wgsl, body_math.wgsl, contact_math.wgsl,
-// constraint_access.wgsl), in the same order, so both paths compute the same result.
+// constraint_access.wgsl, prepare_constraint.wgsl), in the same order, so both paths compute
+// the same result.
 
 @group(0) @binding(0) var<uniform> params: SolverParams;
 @group(0) @binding(1) var<storage, read> contact_work: WorkList;
@@ -73,19 +75,7 @@ fn main(@builtin(local_invocation_index) local: u32) {
     }
     sync_workgroup();
     for (var i = local; i < n; i += WORKGROUP_SIZE) {
-        let manifold = manifolds[i];
-        let a = manifold.body_a;
-        let b = manifold.body_b;
-        let sim_a = body_sim(velocities[a], solver_bodies[a]);
-        let sim_b = body_sim(velocities[b], solver_bodies[b]);
-        let tilt = carried_tilt(manifold, previous_tilts[min(manifold.previous, arrayLength(&previous_tilts) - 1u)], poses[a].rotation);
-        var c = begin_constraint(manifold, bodies[a], bodies[b], tilt, params);
-        for (var p = 0u; p < c.point_count; p++) {
-            let point = contacts[i * MAX_MANIFOLD_POINTS + p];
-            c.points[p] = prepare_point(c, point, poses[a].position.xyz, poses[b].position.xyz, sim_a, sim_b, params.warm_start_scale);
-        }
-        finish_constraint(&c, sim_a, sim_b);
-        constraints[i] = c;
+        prepare_constraint(i);
     }
     sync_workgroup();
 

@@ -8,6 +8,7 @@ pub mod bad_input;
 pub mod gpu_scene;
 pub mod gpu_solver_util;
 pub mod scene_support;
+pub mod shader_checks;
 pub mod stability;
 
 /// Instantiates the stability suite as a test module `$name` for `$backend` and `$solver`

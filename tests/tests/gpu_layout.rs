@@ -13,6 +13,7 @@ use tumble_gpu::registry::{
     KERNELS, all_common_files, all_kernels, all_struct_layouts, host_shared_files,
 };
 use tumble_gpu::shader::{FILES, ShaderSource, reflect_bindings};
+use tumble_tests::shader_checks::{assert_same_layout, compute_spirv, is_vec3};
 
 fn shaders_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../shaders")
@@ -93,16 +94,7 @@ fn every_kernel_parses_validates_specializes_and_translates() {
             spec.name
         );
         assert_eq!(module.entry_points[0].name, "main", "{}", spec.name);
-        let words = naga::back::spv::write_vec(
-            &module,
-            &info,
-            &naga::back::spv::Options::default(),
-            Some(&naga::back::spv::PipelineOptions {
-                shader_stage: naga::ShaderStage::Compute,
-                entry_point: "main".into(),
-            }),
-        )
-        .unwrap_or_else(|e| panic!("{}: SPIR-V: {e}", spec.name));
+        let words = compute_spirv(&module, &info, spec.name);
         assert!(!words.is_empty(), "{}: empty SPIR-V", spec.name);
     }
 }
@@ -222,21 +214,7 @@ fn shared_structs_have_the_same_layout_in_rust_and_wgsl() {
                 .iter()
                 .find(|l| l.name == name)
                 .unwrap_or_else(|| panic!("WGSL struct {name} ({path}) has no Rust twin"));
-            assert_eq!(rust.size, *span as usize, "{name}: size");
-            assert_eq!(
-                rust.size, layouter[handle].size as usize,
-                "{name}: layouter size"
-            );
-            let wgsl_fields: Vec<(String, usize)> = members
-                .iter()
-                .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
-                .collect();
-            let rust_fields: Vec<(String, usize)> = rust
-                .fields
-                .iter()
-                .map(|&(n, o)| (n.to_string(), o))
-                .collect();
-            assert_eq!(rust_fields, wgsl_fields, "{name}: field names and offsets");
+            assert_same_layout(name, rust, members, *span, layouter[handle].size);
         }
     }
     for l in &host {
@@ -262,15 +240,8 @@ fn storage_structs_hold_no_vec3() {
         for (_, ty) in module.types.iter() {
             if let naga::TypeInner::Struct { members, .. } = &ty.inner {
                 for m in members {
-                    let inner = &module.types[m.ty].inner;
                     assert!(
-                        !matches!(
-                            inner,
-                            naga::TypeInner::Vector {
-                                size: naga::VectorSize::Tri,
-                                ..
-                            }
-                        ),
+                        !is_vec3(&module, m),
                         "{path}: {:?}.{:?} is a vec3",
                         ty.name,
                         m.name

@@ -11,6 +11,7 @@ use tumble_gpu::shader::ShaderSource;
 use tumble_gpu::solver::constants::solver_constants;
 use tumble_gpu::solver::layout::solver_struct_layouts;
 use tumble_gpu::solver::{Effects, effect_overrides};
+use tumble_tests::shader_checks::{assert_same_layout, compute_spirv, is_vec3};
 
 /// The solver's kernels: those of the registry under `shaders/solver/`.
 fn kernels() -> Vec<&'static KernelSpec> {
@@ -55,16 +56,7 @@ fn every_solver_kernel_parses_validates_specializes_and_translates() {
             );
         }
         assert_eq!(module.entry_points.len(), 1, "{}", spec.name);
-        naga::back::spv::write_vec(
-            &module,
-            &info,
-            &naga::back::spv::Options::default(),
-            Some(&naga::back::spv::PipelineOptions {
-                shader_stage: naga::ShaderStage::Compute,
-                entry_point: "main".into(),
-            }),
-        )
-        .unwrap_or_else(|e| panic!("{}: SPIR-V: {e}", spec.name));
+        compute_spirv(&module, &info, spec.name);
     }
 }
 
@@ -156,34 +148,10 @@ fn solver_structs_have_the_same_layout_in_rust_and_wgsl() {
             .iter()
             .find(|l| l.name == name)
             .unwrap_or_else(|| panic!("WGSL struct {name} has no Rust twin in solver/layout.rs"));
-        assert_eq!(rust.size, *span as usize, "{name}: size");
-        assert_eq!(
-            rust.size, layouter[handle].size as usize,
-            "{name}: layouter size"
-        );
-        let wgsl: Vec<(String, usize)> = members
-            .iter()
-            .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
-            .collect();
-        let rust_fields: Vec<(String, usize)> = rust
-            .fields
-            .iter()
-            .map(|&(n, o)| (n.to_string(), o))
-            .collect();
-        assert_eq!(rust_fields, wgsl, "{name}: field names and offsets");
+        assert_same_layout(name, rust, members, *span, layouter[handle].size);
         // No vec3 members: their 16-byte alignment would hide padding from the host.
         for m in members {
-            assert!(
-                !matches!(
-                    module.types[m.ty].inner,
-                    naga::TypeInner::Vector {
-                        size: naga::VectorSize::Tri,
-                        ..
-                    }
-                ),
-                "{name}.{:?} is a vec3",
-                m.name
-            );
+            assert!(!is_vec3(&module, m), "{name}.{:?} is a vec3", m.name);
         }
         checked.insert(name.clone());
     }

@@ -27,7 +27,6 @@
 //! `TUMBLE_REQUIRE_GPU=1`.
 
 use tumble_geometry::{Cuboid, Pose, Real, Rot, Vec3};
-use tumble_gpu::naga;
 use tumble_gpu::solver::prepare::PREPARE_CONTACTS;
 use tumble_gpu::solver::solve_color::{PassKind, SOLVE_COLOR};
 use tumble_gpu::solver::store::STORE_IMPULSES;
@@ -37,6 +36,7 @@ use tumble_gpu::{GpuContext, KernelSpec};
 use tumble_solver::{Body, BodyKind, BodyState, Material};
 use tumble_tests::gpu_solver_util::floor;
 use tumble_tests::scene_support::thrown_pile_pose;
+use tumble_tests::shader_checks::compute_spirv;
 
 /// Steps per run: 0.5 s at 60 Hz, in which the bottom layer lands and the thrown boxes
 /// collide, so every stage has work; short because lavapipe, the CI adapter, is slow.
@@ -439,16 +439,7 @@ fn specialized_spirv(spec: &'static KernelSpec, effects: Effects, pass: Option<u
     let (module, info) = spec
         .check_specialized(&values)
         .unwrap_or_else(|e| panic!("{e}"));
-    naga::back::spv::write_vec(
-        &module,
-        &info,
-        &naga::back::spv::Options::default(),
-        Some(&naga::back::spv::PipelineOptions {
-            shader_stage: naga::ShaderStage::Compute,
-            entry_point: "main".into(),
-        }),
-    )
-    .unwrap_or_else(|e| panic!("{}: SPIR-V: {e}", spec.name))
+    compute_spirv(&module, &info, spec.name)
 }
 
 /// The wide path's per-contact kernels, each with its `PASS` values.

@@ -23,25 +23,9 @@ fn run_rapier(scene: &Scene, world: &mut RapierWorld, steps: u32) -> CheckTracke
     let mut tracker = CheckTracker::new(scene);
     for _ in 0..steps {
         world.step();
-        tracker.observe(&rapier_states(world)).unwrap();
+        tracker.observe(&world.body_states()).unwrap();
     }
     tracker
-}
-
-fn rapier_states(world: &RapierWorld) -> Vec<BodyState> {
-    world
-        .body_poses()
-        .into_iter()
-        .zip(world.body_velocities())
-        .map(
-            |((position, rotation), (linear_velocity, angular_velocity))| BodyState {
-                position,
-                rotation,
-                linear_velocity,
-                angular_velocity,
-            },
-        )
-        .collect()
 }
 
 fn field_of(err: SceneError) -> String {
@@ -297,7 +281,7 @@ fn rapier_builder_copies_sizes_masses_and_steps_finite() {
             world.step();
         }
         assert!(
-            rapier_states(&world).iter().all(BodyState::is_finite),
+            world.body_states().iter().all(BodyState::is_finite),
             "{}",
             scene.name
         );

@@ -68,16 +68,12 @@ pub fn preferred_axis(
         };
     }
     let best_face = sa.max(sb);
-    let edge_slack = if is_face_like(pair, sat, e, choice.axis) {
-        tolerance(
-            best_face,
-            HYSTERESIS_REL_TOL,
-            HYSTERESIS_ABS_TOL,
-            pair.feature_scale(),
-        )
-    } else {
-        tolerance(best_face, EDGE_REL_TOL, EDGE_ABS_TOL, noise)
-    };
+    let edge_slack = edge_slack(
+        pair,
+        best_face,
+        is_face_like(pair, sat, e, choice.axis),
+        noise,
+    );
     if se > best_face + edge_slack {
         choice = AxisChoice {
             axis: SatAxis::Edge(e),
@@ -121,16 +117,7 @@ pub fn preference_slack(pair: &BoxPair, sat: &SatQuery) -> Real {
     let best_face = sa.max(sb);
     let face_like = is_face_like(pair, sat, e, SatAxis::FaceA(fa))
         || is_face_like(pair, sat, e, SatAxis::FaceB(fb));
-    let edge_slack = if face_like {
-        tolerance(
-            best_face,
-            HYSTERESIS_REL_TOL,
-            HYSTERESIS_ABS_TOL,
-            pair.feature_scale(),
-        )
-    } else {
-        tolerance(best_face, EDGE_REL_TOL, EDGE_ABS_TOL, noise)
-    };
+    let edge_slack = edge_slack(pair, best_face, face_like, noise);
     tolerance(sa, FACE_B_REL_TOL, FACE_B_ABS_TOL, noise).max(edge_slack)
 }
 
@@ -152,6 +139,21 @@ fn is_face_like(pair: &BoxPair, sat: &SatQuery, edge: usize, face: SatAxis) -> b
     };
     edge_axis(pair, edge / 3, edge % 3)
         .is_some_and(|n| n.dot(&face_normal).abs() >= FACE_LIKE_EDGE_COS)
+}
+
+/// How far an edge axis must beat the best face separation `best_face` to be chosen: the
+/// hysteresis tolerance when the edge is `face_like`, the edge tolerance otherwise.
+fn edge_slack(pair: &BoxPair, best_face: Real, face_like: bool, noise: Real) -> Real {
+    if face_like {
+        tolerance(
+            best_face,
+            HYSTERESIS_REL_TOL,
+            HYSTERESIS_ABS_TOL,
+            pair.feature_scale(),
+        )
+    } else {
+        tolerance(best_face, EDGE_REL_TOL, EDGE_ABS_TOL, noise)
+    }
 }
 
 #[cfg(test)]

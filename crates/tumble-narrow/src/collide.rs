@@ -154,15 +154,7 @@ fn build(pair: &BoxPair, pose_a: &Pose, pose_b: &Pose, axis: SatAxis, margin: Re
             polygon.normal = pose_a.rotation * c.normal;
             polygon.kind = FeatureKind::FaceA;
             polygon.feature = f as u32;
-            for p in c.points() {
-                push(
-                    &mut polygon,
-                    ContactPoint {
-                        position: pose_a * p.position,
-                        ..*p
-                    },
-                );
-            }
+            push_in_world(&mut polygon, pose_a, c.points());
             witness = c.min_separation;
             separation = face_a_separation(pair, f);
         }
@@ -173,15 +165,7 @@ fn build(pair: &BoxPair, pose_a: &Pose, pose_b: &Pose, axis: SatAxis, margin: Re
             polygon.normal = -(pose_b.rotation * c.normal);
             polygon.kind = FeatureKind::FaceB;
             polygon.feature = f as u32;
-            for p in c.points() {
-                push(
-                    &mut polygon,
-                    ContactPoint {
-                        position: pose_b * p.position,
-                        ..*p
-                    },
-                );
-            }
+            push_in_world(&mut polygon, pose_b, c.points());
             witness = c.min_separation;
             separation = face_b_separation(pair, f);
         }
@@ -246,6 +230,19 @@ fn vertex_candidate(pair: &BoxPair, pose_a: &Pose, min_distance: Real) -> Candid
         polygon,
         separation: v.distance,
         witness: v.distance,
+    }
+}
+
+/// Pushes `points`, given in the frame of `pose`, in world coordinates.
+fn push_in_world(polygon: &mut ContactPolygon, pose: &Pose, points: &[ContactPoint]) {
+    for p in points {
+        push(
+            polygon,
+            ContactPoint {
+                position: pose * p.position,
+                ..*p
+            },
+        );
     }
 }
 

@@ -7,7 +7,7 @@
 
 use std::time::Instant;
 
-use tumble_scenes::{BodyState, CheckTracker, RapierOptions, build_rapier_with, canonical};
+use tumble_scenes::{CheckTracker, RapierOptions, build_rapier_with, canonical};
 
 fn main() {
     let filter = std::env::args().nth(1).unwrap_or_default();
@@ -21,19 +21,7 @@ fn main() {
         let start = Instant::now();
         for _ in 0..scene.steps {
             world.step();
-            let states: Vec<BodyState> = world
-                .body_poses()
-                .into_iter()
-                .zip(world.body_velocities())
-                .map(
-                    |((position, rotation), (linear_velocity, angular_velocity))| BodyState {
-                        position,
-                        rotation,
-                        linear_velocity,
-                        angular_velocity,
-                    },
-                )
-                .collect();
+            let states = world.body_states();
             tracker.observe(&states).expect("one state per scene body");
         }
         println!(

@@ -13,7 +13,7 @@
 
 use rapier3d::prelude::*;
 
-use crate::{BodyKind, BodySpec, Scene};
+use crate::{BodyKind, BodySpec, BodyState, Scene};
 
 /// How to configure rapier beyond what the scene fixes.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -181,6 +181,23 @@ impl RapierWorld {
                 let body = &self.bodies[h];
                 (body.linvel().to_array(), body.angvel().to_array())
             })
+            .collect()
+    }
+
+    /// Every body's pose and velocities as a [`BodyState`], in scene body order (what a
+    /// [`crate::CheckTracker`] observes).
+    pub fn body_states(&self) -> Vec<BodyState> {
+        self.body_poses()
+            .into_iter()
+            .zip(self.body_velocities())
+            .map(
+                |((position, rotation), (linear_velocity, angular_velocity))| BodyState {
+                    position,
+                    rotation,
+                    linear_velocity,
+                    angular_velocity,
+                },
+            )
             .collect()
     }
 

@@ -12,20 +12,10 @@ use tumble_geometry::{Real, Vec3};
 
 use crate::{
     Batch, Body, BodyState, Coloring, Contact, ContactConstraint, Effects, Mat3, OVERFLOW_COLOR,
-    PassContext, PrepareContext, Softness, SolveOrder, SolverConfig, SolverKind, begin_step,
-    integrate_positions, integrate_velocities_with, prepare_contact, restitution_contact,
-    solve_contact, sweep, warm_start_contact,
+    PassContext, PrepareContext, SolveOrder, SolverConfig, begin_step, integrate_positions,
+    integrate_velocities_with, prepare_contact, restitution_contact, solve_contact, sweep,
+    warm_start_contact,
 };
-
-/// Box2D v3 caps the contact stiffness at a quarter of the substep rate: a stiffer spring
-/// would not be resolved by the substep and would ring.
-const MAX_HERTZ_PER_SUBSTEP_RATE: Real = 0.25;
-
-/// Box2D v3 makes contacts against fixed (and here kinematic) bodies twice as stiff, to keep
-/// piles from sinking into the ground. Here they are held to the same quarter-rate cap as the
-/// others: at half the substep rate the floor contacts under a loaded row of cubes ring (the
-/// 100 kg plank on four 1 kg cubes jitters at 112 mm/s at 4 substeps, 60 Hz).
-const STATIC_STIFFNESS_FACTOR: Real = 2.0;
 
 /// Constraint preparation goes wide from this many manifolds (below, the pool costs more).
 const PARALLEL_PREPARE_MIN: usize = 512;
@@ -115,22 +105,7 @@ pub fn solve_with_effects(
     let substeps = config.substeps.max(1);
     let h = dt / substeps as Real;
     let inv_h = 1.0 / h;
-    let max_hertz = MAX_HERTZ_PER_SUBSTEP_RATE * inv_h;
-    let contact_hertz = config.contact_hertz.min(max_hertz);
-    let static_hertz = (STATIC_STIFFNESS_FACTOR * contact_hertz).min(max_hertz);
-    let (contact_softness, static_softness) = match config.kind {
-        SolverKind::SoftStep => (
-            Softness::new(contact_hertz, config.damping_ratio, h),
-            Softness::new(static_hertz, config.damping_ratio, h),
-        ),
-        SolverKind::Baumgarte => {
-            let rigid = Softness {
-                bias_rate: config.baumgarte * inv_h,
-                ..Softness::RIGID
-            };
-            (rigid, rigid)
-        }
-    };
+    let (contact_softness, static_softness) = config.softness(h);
     let prepare_ctx = PrepareContext {
         kind: config.kind,
         h,

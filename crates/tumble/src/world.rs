@@ -2,7 +2,7 @@
 
 use tumble_geometry::Real;
 
-use crate::backend::{Host, StepBackend, new_backend};
+use crate::backend::{Host, StepArgs, StepBackend, new_backend};
 use crate::{
     BodyHandle, ContactPointReport, ContactReport, Error, StepStats, WorldConfig, handle::HandleMap,
 };
@@ -55,8 +55,12 @@ impl World {
     /// Advances the world by `config.dt`.
     pub fn step(&mut self) -> Result<(), Error> {
         let effects = self.effects();
-        self.backend
-            .step(&mut self.host, &self.handles, &self.config, &effects)?;
+        let args = StepArgs {
+            handles: &self.handles,
+            config: &self.config,
+            effects: &effects,
+        };
+        self.backend.step(&mut self.host, args)?;
         self.steps += 1;
         Ok(())
     }

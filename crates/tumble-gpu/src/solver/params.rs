@@ -7,16 +7,6 @@ use tumble_solver::{PrepareContext, Softness, SolverConfig, SolverKind};
 
 use super::layout::SolverParams;
 
-/// tumble-solver caps the contact stiffness at a quarter of the substep rate (Box2D v3): a
-/// stiffer spring would not be resolved by the substep. Mirrors its private constant; the
-/// GPU-versus-CPU solve test catches a drift.
-pub const MAX_HERTZ_PER_SUBSTEP_RATE: Real = 0.25;
-
-/// tumble-solver makes contacts against fixed and kinematic bodies twice as stiff (Box2D v3),
-/// within the same quarter-rate cap. Mirrors its private constant, like
-/// [`MAX_HERTZ_PER_SUBSTEP_RATE`].
-pub const STATIC_STIFFNESS_FACTOR: Real = 2.0;
-
 /// One step's solver values in both forms.
 #[derive(Clone, Copy, Debug)]
 pub struct StepParams {
@@ -43,24 +33,7 @@ impl StepParams {
         let substeps = config.substeps.max(1);
         let h = dt / substeps as Real;
         let inv_h = 1.0 / h;
-        let (contact_softness, static_softness) = match config.kind {
-            SolverKind::SoftStep => {
-                let max_hertz = MAX_HERTZ_PER_SUBSTEP_RATE * inv_h;
-                let hertz = config.contact_hertz.min(max_hertz);
-                let static_hertz = (STATIC_STIFFNESS_FACTOR * hertz).min(max_hertz);
-                (
-                    Softness::new(hertz, config.damping_ratio, h),
-                    Softness::new(static_hertz, config.damping_ratio, h),
-                )
-            }
-            SolverKind::Baumgarte => {
-                let rigid = Softness {
-                    bias_rate: config.baumgarte * inv_h,
-                    ..Softness::RIGID
-                };
-                (rigid, rigid)
-            }
-        };
+        let (contact_softness, static_softness) = config.softness(h);
         let slop = match config.kind {
             SolverKind::Baumgarte => config.slop,
             SolverKind::SoftStep => 0.0,

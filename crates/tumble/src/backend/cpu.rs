@@ -1,13 +1,12 @@
 //! `Backend::Cpu`: every stage on the CPU, the reference.
 
 use tumble_broad::SweepAndPrune;
-use tumble_solver::{Body, Contact, ContactCache, Effects, PairKey, Stage, stages};
+use tumble_solver::{Body, Contact, ContactCache, PairKey, Stage, stages};
 
 use super::pipeline::{self, Collided, Collision, StepBodies};
-use super::{Host, StepBackend};
-use crate::handle::HandleMap;
+use super::{Host, StepArgs, StepBackend};
+use crate::Error;
 use crate::stats::StageClock;
-use crate::{Error, WorldConfig};
 
 /// The CPU collision stages: sweep-and-prune, the box-box test, the contact cache.
 #[derive(Debug, Default)]
@@ -65,14 +64,8 @@ pub(crate) struct CpuBackend {
 }
 
 impl StepBackend for CpuBackend {
-    fn step(
-        &mut self,
-        host: &mut Host,
-        handles: &HandleMap,
-        config: &WorldConfig,
-        effects: &Effects,
-    ) -> Result<(), Error> {
-        pipeline::step(host, handles, config, effects, &mut self.collision)
+    fn step(&mut self, host: &mut Host, args: StepArgs<'_>) -> Result<(), Error> {
+        pipeline::step(host, args, &mut self.collision)
     }
 
     fn forget_body(&mut self, id: u64) {

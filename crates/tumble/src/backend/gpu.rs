@@ -13,11 +13,10 @@ use std::sync::Mutex;
 
 use tumble_geometry::Pose;
 use tumble_gpu::step::{GpuWorld, GpuWorldConfig};
-use tumble_solver::{BodyState, Effects};
+use tumble_solver::BodyState;
 
-use super::{ContactsView, Host, StepBackend, shared_context, unavailable};
+use super::{ContactsView, Host, StepArgs, StepBackend, shared_context, unavailable};
 use crate::gpu_reads::{ContactView, Reads, Unread};
-use crate::handle::HandleMap;
 use crate::{Backend, BodyHandle, Error, StepStats, WorldConfig};
 
 fn failed(e: impl std::fmt::Display) -> Error {
@@ -84,13 +83,12 @@ impl GpuBackend {
 }
 
 impl StepBackend for GpuBackend {
-    fn step(
-        &mut self,
-        host: &mut Host,
-        handles: &HandleMap,
-        config: &WorldConfig,
-        effects: &Effects,
-    ) -> Result<(), Error> {
+    fn step(&mut self, host: &mut Host, args: StepArgs<'_>) -> Result<(), Error> {
+        let StepArgs {
+            handles,
+            config,
+            effects,
+        } = args;
         if let Some(e) = self.unread.as_ref().and_then(Unread::error) {
             return Err(failed(e));
         }

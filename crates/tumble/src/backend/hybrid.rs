@@ -6,11 +6,10 @@
 use tumble_broad::is_wanted_pair;
 use tumble_gpu::collision::CollisionConfig;
 use tumble_gpu::step::HybridCollision;
-use tumble_solver::{Body, Contact, Effects, PairKey, Stage, stages};
+use tumble_solver::{Body, Contact, PairKey, Stage, stages};
 
 use super::pipeline::{self, Collided, Collision, StepBodies};
-use super::{Host, StepBackend, shared_context, unavailable};
-use crate::handle::HandleMap;
+use super::{Host, StepArgs, StepBackend, shared_context, unavailable};
 use crate::stats::StageClock;
 use crate::{Backend, BodyHandle, Error, WorldConfig};
 
@@ -120,13 +119,7 @@ impl HybridBackend {
 }
 
 impl StepBackend for HybridBackend {
-    fn step(
-        &mut self,
-        host: &mut Host,
-        handles: &HandleMap,
-        config: &WorldConfig,
-        effects: &Effects,
-    ) -> Result<(), Error> {
-        pipeline::step(host, handles, config, effects, &mut self.collision)
+    fn step(&mut self, host: &mut Host, args: StepArgs<'_>) -> Result<(), Error> {
+        pipeline::step(host, args, &mut self.collision)
     }
 }

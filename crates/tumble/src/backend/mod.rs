@@ -45,18 +45,23 @@ pub(crate) struct Host {
 /// Last step's manifolds and the handles of their bodies.
 pub(crate) type ContactsView<'a> = (&'a [Contact], &'a [(BodyHandle, BodyHandle)]);
 
+/// What a step runs with besides the host copy: the world's handles, settings and effects.
+#[derive(Clone, Copy)]
+pub(crate) struct StepArgs<'a> {
+    /// The bodies' handles, in dense order.
+    pub handles: &'a HandleMap,
+    /// The world's settings (`config.dt` is the step).
+    pub config: &'a WorldConfig,
+    /// The effects the step runs.
+    pub effects: &'a Effects,
+}
+
 /// One of the three ways to run a step, with the reads and writes that depend on it. Every
 /// method but [`StepBackend::step`] has the host-side default: a backend whose state lives on
 /// the host ([`cpu::CpuBackend`], [`hybrid::HybridBackend`]) overrides nothing else.
 pub(crate) trait StepBackend: fmt::Debug + Send + Sync {
     /// Advances `host` by one step of `config.dt` running `effects`.
-    fn step(
-        &mut self,
-        host: &mut Host,
-        handles: &HandleMap,
-        config: &WorldConfig,
-        effects: &Effects,
-    ) -> Result<(), Error>;
+    fn step(&mut self, host: &mut Host, args: StepArgs<'_>) -> Result<(), Error>;
 
     /// The pose of the body at dense index `d` now.
     fn pose(&self, host: &Host, d: usize) -> Result<Pose, Error> {

@@ -10,12 +10,11 @@
 //! starting.
 
 use tumble_geometry::Real;
-use tumble_solver::{Body, BodyState, Contact, Effects, Gathered, PairKey, Stage, stages};
+use tumble_solver::{Body, BodyState, Contact, Gathered, PairKey, Stage, stages};
 
-use super::Host;
-use crate::handle::HandleMap;
+use super::{Host, StepArgs};
 use crate::stats::StageClock;
-use crate::{BodyHandle, Error, StepStats, WorldConfig};
+use crate::{BodyHandle, Error, StepStats};
 
 /// The bodies the collision stages run on.
 pub(crate) struct StepBodies<'a> {
@@ -72,11 +71,14 @@ pub(crate) trait Collision {
 /// One step of `host` on the CPU stages, collision by `collision`.
 pub(crate) fn step(
     host: &mut Host,
-    handles: &HandleMap,
-    config: &WorldConfig,
-    effects: &Effects,
+    args: StepArgs<'_>,
     collision: &mut dyn Collision,
 ) -> Result<(), Error> {
+    let StepArgs {
+        handles,
+        config,
+        effects,
+    } = args;
     let dense = |id: u64| handles.dense_of_bits(id);
     let all_handles = handles.handles();
     let dt = config.dt;

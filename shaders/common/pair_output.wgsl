@@ -1,0 +1,20 @@
+// requires: common/layout.wgsl common/sweep.wgsl
+// What the two pair-finding kernels, sweep_pairs and long_pairs, share: their bindings and
+// how they append a pair.
+
+@group(0) @binding(0) var<uniform> params: SweepParams;
+@group(0) @binding(1) var<storage, read> sweep_boxes: array<GpuSweepBox>;
+@group(0) @binding(2) var<storage, read_write> counter: array<atomic<u32>>;
+@group(0) @binding(3) var<storage, read_write> pair_a: array<u32>;
+@group(0) @binding(4) var<storage, read_write> pair_b: array<u32>;
+@group(0) @binding(5) var<storage, read> long_boxes: array<u32>;
+
+// Appends the pair of `a` and `b` as (smaller index, larger index) through the counter,
+// which keeps counting past the capacity.
+fn append_pair(a: GpuSweepBox, b: GpuSweepBox) {
+    let slot = atomicAdd(&counter[0], 1u);
+    if slot < params.pair_capacity {
+        pair_a[slot] = min(a.body, b.body);
+        pair_b[slot] = max(a.body, b.body);
+    }
+}

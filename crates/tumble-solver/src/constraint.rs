@@ -233,6 +233,11 @@ pub fn prepare_contact(
             ctx.warm_start_scale * contact.tilt_impulse.dot(&tangent2),
         ],
     };
+    // Tilt rows exist only for a patch (three or more points, a nonzero radius): an impulse
+    // carried from an earlier patch onto an edge or a point would act unclamped every substep.
+    if c.patch_radius <= 0.0 {
+        c.tilt_impulse = [0.0; 2];
+    }
     let angular = inverse_inertia[ia] + inverse_inertia[ib];
     for (mass, t) in c.tilt_mass.iter_mut().zip([&tangent1, &tangent2]) {
         let k = t.dot(&(angular * t));

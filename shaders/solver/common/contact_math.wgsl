@@ -170,6 +170,12 @@ fn finish_constraint(c: ptr<function, GpuConstraint>, a: BodySim, b: BodySim) {
         }
         (*c).patch_radius = nearest * cos(PI / f32(n));
     }
+    // Tilt rows exist only for a patch with a nonzero radius: an impulse carried from an
+    // earlier patch onto an edge or a point would act unclamped every substep (as on the CPU).
+    if (*c).patch_radius <= 0.0 {
+        (*c).tilt_impulse_1 = 0.0;
+        (*c).tilt_impulse_2 = 0.0;
+    }
     let angular = a.inverse_inertia + b.inverse_inertia;
     let k1 = dot((*c).tangent1.xyz, angular * (*c).tangent1.xyz);
     let k2 = dot((*c).tangent2.xyz, angular * (*c).tangent2.xyz);

@@ -9,10 +9,13 @@
 //! their output to the CPU `color`, `solve` and `finish`). The order they run in is
 //! [`tumble_solver::Stage::ALL`].
 
-use tumble_geometry::{Real, Vec3};
-use tumble_solver::{Body, BodyState, Coloring, Contact, Effects, SolveStats, SolverConfig};
+use tumble_geometry::Real;
+use tumble_solver::{Body, BodyState};
 
 pub use tumble_solver::Stage;
+/// Stage `solve`: the configured solver for one step ([`tumble_solver::solve`], and with only
+/// some effects [`tumble_solver::solve_with_effects`]).
+pub use tumble_solver::{solve, solve_with_effects};
 pub use tumble_solver::stages::{
     NarrowPhaseOutput, broad_phase, color, finish, narrow_phase, top_down_order, update_aabbs,
 };
@@ -25,32 +28,3 @@ pub fn pair_margin(a: (&Body, &BodyState), b: (&Body, &BodyState), margin: Real,
     tumble_narrow::pair_margin(&box_motion(a.0, a.1), &box_motion(b.0, b.1), margin, dt)
 }
 
-/// Stage 6: runs the configured solver (see [`tumble_solver::solve`]) for one step.
-pub fn solve(
-    bodies: &[Body],
-    states: &mut [BodyState],
-    contacts: &mut [Contact],
-    coloring: &Coloring,
-    config: &SolverConfig,
-    dt: Real,
-    gravity: &Vec3,
-) -> SolveStats {
-    tumble_solver::solve(bodies, states, contacts, coloring, config, dt, gravity)
-}
-
-/// [`solve`] running only `effects` (see [`tumble_solver::solve_with_effects`]).
-#[allow(clippy::too_many_arguments)]
-pub fn solve_with_effects(
-    bodies: &[Body],
-    states: &mut [BodyState],
-    contacts: &mut [Contact],
-    coloring: &Coloring,
-    config: &SolverConfig,
-    dt: Real,
-    gravity: &Vec3,
-    effects: &Effects,
-) -> SolveStats {
-    tumble_solver::solve_with_effects(
-        bodies, states, contacts, coloring, config, dt, gravity, effects,
-    )
-}

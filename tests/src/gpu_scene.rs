@@ -3,7 +3,7 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use tumble_geometry::{Aabb, Point3, Pose, Rot, Vec3, nalgebra::Translation3};
+use tumble_geometry::{Aabb, Pose, Rot, Vec3, nalgebra::Translation3};
 use tumble_gpu::collision::CollisionConfig;
 use tumble_gpu::layout::{GpuAabb, GpuPose, GpuShape, GpuVelocity};
 use tumble_gpu::{CollisionSnapshot, GpuCollision, GpuContext, ReadbackRequest};
@@ -97,10 +97,7 @@ pub fn collision(ctx: &GpuContext, scene: &Scene, config: CollisionConfig) -> Gp
 
 /// A GPU AABB as `tumble_geometry`'s.
 pub fn to_aabb(b: &GpuAabb) -> Aabb {
-    Aabb::new(
-        Point3::new(b.min[0], b.min[1], b.min[2]),
-        Point3::new(b.max[0], b.max[1], b.max[2]),
-    )
+    tumble_gpu::kernels::aabb_from_gpu(b)
 }
 
 /// Each body's static flag.

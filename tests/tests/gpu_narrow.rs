@@ -106,7 +106,7 @@ fn is_near_tie(
             ));
             *p = GpuPose::from_pose(&Pose::from_parts(pose.translation, nudge * pose.rotation));
         }
-        let cpu = collide_cpu(
+        let cpu = tumble_gpu::kernels::collide_gpu_pair(
             &poses,
             &scene.velocities,
             &scene.shapes,
@@ -134,7 +134,7 @@ fn compare_manifolds(
     let mut unexplained = Vec::new();
     for (k, &pair) in snap.pairs.iter().enumerate() {
         let gpu = snap.manifold(k);
-        let cpu = collide_cpu(
+        let cpu = tumble_gpu::kernels::collide_gpu_pair(
             &scene.poses,
             &scene.velocities,
             &scene.shapes,
@@ -260,7 +260,7 @@ fn second_step_keeps_features_by_hysteresis_and_carries_impulses_by_id_and_posit
             let m = &second.manifolds[k];
             m.len > 0 && kind_code(kind) == m.kind && feature == m.feature && {
                 let pair = second.pairs[k];
-                let fresh = collide_cpu(
+                let fresh = tumble_gpu::kernels::collide_gpu_pair(
                     &scene.poses,
                     &scene.velocities,
                     &scene.shapes,
@@ -327,33 +327,4 @@ fn second_step_keeps_features_by_hysteresis_and_carries_impulses_by_id_and_posit
         "most points persist over a small motion"
     );
     let _ = MAX_MANIFOLD_POINTS;
-}
-
-/// The CPU twin of `collide_cuboids` for one pair: `tumble_narrow::collide_cuboids_cached` with
-/// the pair's margin (`tumble_narrow::pair_margin`) and last step's `(kind, feature)`.
-fn collide_cpu(
-    poses: &[GpuPose],
-    velocities: &[tumble_gpu::layout::GpuVelocity],
-    shapes: &[tumble_gpu::layout::GpuShape],
-    (a, b): (u32, u32),
-    previous: Option<(tumble_geometry::FeatureKind, u32)>,
-    margin: f32,
-    dt: f32,
-) -> Option<tumble_geometry::Manifold> {
-    use tumble_gpu::kernels::{box_motion, cuboid_from_gpu, update_aabbs::pose_from_gpu};
-    let (a, b) = (a as usize, b as usize);
-    let margin = tumble_narrow::pair_margin(
-        &box_motion(&shapes[a], &velocities[a]),
-        &box_motion(&shapes[b], &velocities[b]),
-        margin,
-        dt,
-    );
-    tumble_narrow::collide_cuboids_cached(
-        &cuboid_from_gpu(&shapes[a]),
-        &pose_from_gpu(&poses[a]),
-        &cuboid_from_gpu(&shapes[b]),
-        &pose_from_gpu(&poses[b]),
-        margin,
-        previous,
-    )
 }

@@ -13,9 +13,8 @@ mod random_pile;
 
 use std::time::Instant;
 
-use tumble_geometry::{Aabb, Point3};
+use tumble_geometry::Aabb;
 use tumble_gpu::collision;
-use tumble_gpu::kernels::{box_motion, cuboid_from_gpu, update_aabbs::pose_from_gpu};
 use tumble_gpu::{CollisionConfig, GpuCollision, GpuContext, ReadbackRequest, StageTimer};
 
 /// Steps timed per scene (after the warm-up), enough for a stable median.
@@ -130,12 +129,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let aabbs: Vec<Aabb> = gpu
             .read_aabbs()?
             .iter()
-            .map(|b| {
-                Aabb::new(
-                    Point3::new(b.min[0], b.min[1], b.min[2]),
-                    Point3::new(b.max[0], b.max[1], b.max[2]),
-                )
-            })
+            .map(tumble_gpu::kernels::aabb_from_gpu)
             .collect();
         let statics: Vec<bool> = shapes.iter().map(|s| s.is_static()).collect();
         let start = Instant::now();
@@ -145,20 +139,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let found = pairs
             .iter()
             .filter(|&&p| {
-                let (a, b) = (p.0 as usize, p.1 as usize);
-                let margin = tumble_narrow::pair_margin(
-                    &box_motion(&shapes[a], &velocities[a]),
-                    &box_motion(&shapes[b], &velocities[b]),
+                tumble_gpu::kernels::collide_gpu_pair(
+                    &poses,
+                    &velocities,
+                    &shapes,
+                    p,
+                    None,
                     config.margin,
                     config.dt,
-                );
-                tumble_narrow::collide_cuboids_cached(
-                    &cuboid_from_gpu(&shapes[a]),
-                    &pose_from_gpu(&poses[a]),
-                    &cuboid_from_gpu(&shapes[b]),
-                    &pose_from_gpu(&poses[b]),
-                    margin,
-                    None,
                 )
                 .is_some()
             })

@@ -13,12 +13,12 @@ use tumble_geometry::Real;
 use tumble_solver::{Body, BodyState};
 
 pub use tumble_solver::Stage;
-/// Stage `solve`: the configured solver for one step ([`tumble_solver::solve`], and with only
-/// some effects [`tumble_solver::solve_with_effects`]).
-pub use tumble_solver::{solve, solve_with_effects};
 pub use tumble_solver::stages::{
     NarrowPhaseOutput, broad_phase, color, finish, narrow_phase, top_down_order, update_aabbs,
 };
+/// Stage `solve`: the configured solver for one step ([`tumble_solver::solve`], and with only
+/// some effects [`tumble_solver::solve_with_effects`]).
+pub use tumble_solver::{solve, solve_with_effects};
 
 /// The speculative margin of a pair: the base margin plus how far the two boxes can close in
 /// one step (relative speed of the centres plus the rim speed of each spin, times `dt`); see
@@ -27,4 +27,3 @@ pub fn pair_margin(a: (&Body, &BodyState), b: (&Body, &BodyState), margin: Real,
     use tumble_solver::stages::box_motion;
     tumble_narrow::pair_margin(&box_motion(a.0, a.1), &box_motion(b.0, b.1), margin, dt)
 }
-

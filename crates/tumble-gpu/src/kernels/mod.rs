@@ -1,10 +1,10 @@
 //! The kernels of the collision stages, one module per kernel: its spec, its typed buffer
 //! arguments; the CPU twins are the layer crates' stages, fed by the conversions below.
 
-use tumble_geometry::{Cuboid, Vec3};
+use tumble_geometry::{Aabb, Cuboid, FeatureKind, Manifold, Point3, Vec3};
 use tumble_narrow::BoxMotion;
 
-use crate::layout::{GpuShape, GpuVelocity};
+use crate::layout::{GpuAabb, GpuPose, GpuShape, GpuVelocity};
 
 pub mod carry_impulses;
 pub mod choose_axis;
@@ -28,6 +28,44 @@ pub fn velocity_from_gpu(v: &GpuVelocity) -> (Vec3, Vec3) {
     let [lx, ly, lz, _] = v.linear;
     let [ax, ay, az, _] = v.angular;
     (Vec3::new(lx, ly, lz), Vec3::new(ax, ay, az))
+}
+
+/// The host form of a GPU AABB.
+pub fn aabb_from_gpu(b: &GpuAabb) -> Aabb {
+    Aabb::new(
+        Point3::new(b.min[0], b.min[1], b.min[2]),
+        Point3::new(b.max[0], b.max[1], b.max[2]),
+    )
+}
+
+/// The narrow-phase stage's pair test on GPU body arrays, what `collide_cuboids` computes for
+/// pair `(a, b)`: `tumble_narrow::collide_cuboids_cached` at the pair's margin
+/// (`tumble_narrow::pair_margin`) with last step's `(kind, feature)`.
+pub fn collide_gpu_pair(
+    poses: &[GpuPose],
+    velocities: &[GpuVelocity],
+    shapes: &[GpuShape],
+    (a, b): (u32, u32),
+    previous: Option<(FeatureKind, u32)>,
+    margin: f32,
+    dt: f32,
+) -> Option<Manifold> {
+    use crate::solver::convert::pose_from_gpu;
+    let (a, b) = (a as usize, b as usize);
+    let margin = tumble_narrow::pair_margin(
+        &box_motion(&shapes[a], &velocities[a]),
+        &box_motion(&shapes[b], &velocities[b]),
+        margin,
+        dt,
+    );
+    tumble_narrow::collide_cuboids_cached(
+        &cuboid_from_gpu(&shapes[a]),
+        &pose_from_gpu(&poses[a]),
+        &cuboid_from_gpu(&shapes[b]),
+        &pose_from_gpu(&poses[b]),
+        margin,
+        previous,
+    )
 }
 
 /// What `tumble_narrow::pair_margin` needs of a GPU body.

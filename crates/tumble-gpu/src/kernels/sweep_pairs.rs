@@ -125,7 +125,7 @@ mod tests {
     use crate::kernels::write_sort_keys::write_sort_keys_cpu;
     use crate::layout::{GpuAabb, GpuShape};
     use rand::{Rng, SeedableRng};
-    use tumble_geometry::{Aabb, Point3};
+    use tumble_geometry::Aabb;
 
     #[test]
     fn cpu_twin_equals_the_brute_force_reference() {
@@ -148,15 +148,7 @@ mod tests {
             })
             .collect();
         let statics: Vec<bool> = shapes.iter().map(GpuShape::is_static).collect();
-        let boxes: Vec<Aabb> = aabbs
-            .iter()
-            .map(|b| {
-                Aabb::new(
-                    Point3::new(b.min[0], b.min[1], b.min[2]),
-                    Point3::new(b.max[0], b.max[1], b.max[2]),
-                )
-            })
-            .collect();
+        let boxes: Vec<Aabb> = aabbs.iter().map(crate::kernels::aabb_from_gpu).collect();
         let want = tumble_broad::brute_force_pairs_filtered(&boxes, &statics).unwrap();
         assert!(want.len() > n / 2, "a scene with pairs");
         for axis in 0..3 {

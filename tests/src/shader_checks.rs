@@ -1,8 +1,29 @@
 //! Checks of WGSL modules shared by the shader tests (`gpu_layout.rs`,
 //! `gpu_solver_shaders.rs`, `gpu_wide_effects.rs`).
 
+use tumble_gpu::kernel::KernelSpec;
 use tumble_gpu::layout::StructLayout;
 use tumble_gpu::naga;
+
+/// `spec` specialized with `values`, as wgpu builds its pipeline; panics when it does not
+/// validate, or when an override is left without a value (none may be left to the driver).
+pub fn fully_specialized(
+    spec: &KernelSpec,
+    values: &[(&'static str, f64)],
+) -> (naga::Module, naga::valid::ModuleInfo) {
+    let (module, info) = spec
+        .check_specialized(values)
+        .unwrap_or_else(|e| panic!("{e}"));
+    for (_, o) in module.overrides.iter() {
+        assert!(
+            o.init.is_some(),
+            "{}: override {:?} has no value",
+            spec.name,
+            o.name
+        );
+    }
+    (module, info)
+}
 
 /// `module`'s entry point `main` as compute SPIR-V; panics, naming kernel `name`, when naga
 /// cannot write it.

@@ -430,7 +430,7 @@ fn touching_readback_is_the_dense_list_of_the_per_pair_manifolds_and_impulses_sc
         .collect();
     gpu.store_touching_impulses(&impulses).unwrap();
     let per_pair = ctx
-        .read_buffer::<GpuContact>(gpu.buffers().contacts, 0, snap.contacts.len() as u64)
+        .read_buffer::<GpuContact>(gpu.contacts(), 0, snap.contacts.len() as u64)
         .unwrap();
     let mut want = snap.contacts.clone();
     scatter_impulses_cpu(&snap.touching, &impulses, &mut want);

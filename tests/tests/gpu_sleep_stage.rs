@@ -11,9 +11,10 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tumble_geometry::{Aabb, Cuboid, Point3, Pose, Vec3};
+use tumble_gpu::collision::StepBuffers;
 use tumble_gpu::layout::{GpuAabb, GpuManifold, GpuShape, GpuVelocity, WorkList};
+use tumble_gpu::sleep::GpuSleep;
 use tumble_gpu::sleep::constants::{AWAKE, ISLAND_ROUNDS};
-use tumble_gpu::sleep::{GpuSleep, SleepInputs};
 use tumble_gpu::solver::convert::{gpu_body, gpu_shape};
 use tumble_gpu::{GpuContext, StageTimer};
 use tumble_solver::{Body, BodyKind, Islands, Material, TIME_TO_SLEEP};
@@ -104,6 +105,8 @@ fn run_stage(
         ctx.storage_buffer("work", &[work]),
         ctx.storage_buffer("manifolds", &manifolds),
         ctx.storage_buffer("aabbs", &boxes),
+        // The sleep stage reads neither poses nor contact points.
+        ctx.storage_buffer("unused", &[0u32; 4]),
     );
     for &q in queued {
         sleep.queue_wake(q);
@@ -113,13 +116,15 @@ fn run_stage(
         .create_command_encoder(&tumble_gpu::wgpu::CommandEncoderDescriptor { label: None });
     let mut timer = StageTimer::disabled(ctx);
     sleep.record_wake(&mut encoder, &mut timer, &buffers.0, &buffers.1);
-    let inputs = SleepInputs {
+    let inputs = StepBuffers {
         bodies: &buffers.0,
         shapes: &buffers.1,
         velocities: &buffers.2,
-        pair_work: &buffers.3,
+        contact_work: &buffers.3,
         manifolds: &buffers.4,
         aabbs: &buffers.5,
+        poses: &buffers.6,
+        contacts: &buffers.6,
     };
     sleep.record_update(&mut encoder, &mut timer, &inputs);
     ctx.queue.submit([encoder.finish()]);

@@ -19,26 +19,23 @@ pub struct AxisChoice {
     pub separation: Real,
 }
 
+impl AxisChoice {
+    fn new(axis: SatAxis, separation: Real) -> Self {
+        Self { axis, separation }
+    }
+}
+
 /// The axis of largest separation, without preferences (ties: A's faces, then B's, then edges).
 pub fn deepest_axis(pair: &BoxPair, sat: &SatQuery) -> AxisChoice {
     let (fa, sa) = sat.best_face_a(pair);
     let (fb, sb) = sat.best_face_b(pair);
     let (e, se) = sat.best_edge();
-    let mut choice = AxisChoice {
-        axis: SatAxis::FaceA(fa),
-        separation: sa,
-    };
+    let mut choice = AxisChoice::new(SatAxis::FaceA(fa), sa);
     if sb > choice.separation {
-        choice = AxisChoice {
-            axis: SatAxis::FaceB(fb),
-            separation: sb,
-        };
+        choice = AxisChoice::new(SatAxis::FaceB(fb), sb);
     }
     if se > choice.separation {
-        choice = AxisChoice {
-            axis: SatAxis::Edge(e),
-            separation: se,
-        };
+        choice = AxisChoice::new(SatAxis::Edge(e), se);
     }
     choice
 }
@@ -57,15 +54,9 @@ pub fn preferred_axis(
     let (fa, sa) = sat.best_face_a(pair);
     let (fb, sb) = sat.best_face_b(pair);
     let (e, se) = sat.best_edge();
-    let mut choice = AxisChoice {
-        axis: SatAxis::FaceA(fa),
-        separation: sa,
-    };
+    let mut choice = AxisChoice::new(SatAxis::FaceA(fa), sa);
     if sb > sa + tolerance(sa, FACE_B_REL_TOL, FACE_B_ABS_TOL, noise) {
-        choice = AxisChoice {
-            axis: SatAxis::FaceB(fb),
-            separation: sb,
-        };
+        choice = AxisChoice::new(SatAxis::FaceB(fb), sb);
     }
     let best_face = sa.max(sb);
     let edge_slack = edge_slack(
@@ -75,10 +66,7 @@ pub fn preferred_axis(
         noise,
     );
     if se > best_face + edge_slack {
-        choice = AxisChoice {
-            axis: SatAxis::Edge(e),
-            separation: se,
-        };
+        choice = AxisChoice::new(SatAxis::Edge(e), se);
     }
 
     let kept = match previous {

@@ -12,7 +12,7 @@
 
 use std::collections::HashMap;
 
-use crate::InvalidParameter;
+use crate::{Body, Contact, InvalidParameter};
 
 /// Number of graph colors. Box2D v3 uses 24 (`B2_GRAPH_COLOR_COUNT`): enough for dense piles,
 /// where a box has at most about a dozen neighbours, while a body touching more than this
@@ -112,6 +112,14 @@ impl Coloring {
 /// `pairs[i]` are constraint `i`'s body indices; `dynamic[b]` says whether body `b` counts.
 pub fn color_constraints(pairs: &[(u32, u32)], dynamic: &[bool]) -> Coloring {
     color_constraints_in_order(pairs, dynamic, 0..pairs.len())
+}
+
+/// Colors `contacts` over `bodies` greedily in manifold order: [`color_constraints`] on
+/// their body pairs, with the bodies that [`Body::is_dynamic`] counting.
+pub fn color_contacts(contacts: &[Contact], bodies: &[Body]) -> Coloring {
+    let pairs: Vec<(u32, u32)> = contacts.iter().map(|c| (c.body_a, c.body_b)).collect();
+    let dynamic: Vec<bool> = bodies.iter().map(Body::is_dynamic).collect();
+    color_constraints(&pairs, &dynamic)
 }
 
 /// Colors constraints greedily, visiting them in `visit` order (a permutation of

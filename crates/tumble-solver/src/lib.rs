@@ -40,8 +40,8 @@ mod tests;
 pub use body::{Body, BodyKind, BodyState, Locks};
 pub use coloring::{
     COLOR_ROUNDS, ColorCandidate, Coloring, ColoringError, EMPTY_COLOR, GRAPH_COLOR_COUNT,
-    NO_COLOR, OVERFLOW_COLOR, color_constraints, color_constraints_in_order, color_in_rounds,
-    color_priority, hash_u32, validate_coloring,
+    NO_COLOR, OVERFLOW_COLOR, color_constraints, color_constraints_in_order, color_contacts,
+    color_in_rounds, color_priority, hash_u32, validate_coloring,
 };
 pub use config::{
     DEFAULT_BAUMGARTE, DEFAULT_BAUMGARTE_ITERATIONS, DEFAULT_CONTACT_HERTZ, DEFAULT_DAMPING_RATIO,

@@ -216,7 +216,7 @@ pub fn solve_with_effects(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{BodyKind, Material, color_constraints, finalize_bodies};
+    use crate::{BodyKind, Material, color_constraints, color_contacts, finalize_bodies};
     use tumble_geometry::{ContactPoint, Cuboid, FeatureKind, Manifold, Point3, Pose};
 
     const GRAVITY: Real = 9.81;
@@ -371,9 +371,7 @@ mod tests {
     #[test]
     fn colored_parallel_solve_does_not_depend_on_threads() {
         let (bodies, states0, contacts0) = columns(300);
-        let pairs: Vec<(u32, u32)> = contacts0.iter().map(|c| (c.body_a, c.body_b)).collect();
-        let dynamic: Vec<bool> = bodies.iter().map(Body::is_dynamic).collect();
-        let coloring = color_constraints(&pairs, &dynamic);
+        let coloring = color_contacts(&contacts0, &bodies);
         let run = |threshold: u32, threads: usize| {
             let config = SolverConfig {
                 parallel_threshold: threshold,

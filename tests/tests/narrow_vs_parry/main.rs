@@ -260,98 +260,26 @@ fn degenerate_configurations_agree_with_parry() {
     let roll45 = Rot::from_euler_angles(q, 0.0, 0.0);
     let pitch45 = Rot::from_euler_angles(0.0, 0.0, q);
     let edge_down = roll45; // a cube standing on an edge along x
+    let o = at(0.0, 0.0, 0.0, id);
+    // Heights of a cube's centre on its edge, and of crossed edges, when just touching.
+    let on_edge = 0.5 + 0.5 * 2f32.sqrt();
+    let crossed = 2.0 * 0.5 * 2f32.sqrt();
+    // A table, one case a line: (label, first box and pose, second box and pose).
+    #[rustfmt::skip]
     let cases: Vec<(&str, Cuboid, Pose, Cuboid, Pose)> = vec![
-        (
-            "face on face, aligned, 1 cm deep",
-            cube,
-            at(0.0, 0.0, 0.0, id),
-            cube,
-            at(0.2, 0.99, -0.1, id),
-        ),
-        (
-            "face on face, exactly touching",
-            cube,
-            at(0.0, 0.0, 0.0, id),
-            cube,
-            at(0.2, 1.0, -0.1, id),
-        ),
-        (
-            "face on face, 1 cm apart",
-            cube,
-            at(0.0, 0.0, 0.0, id),
-            cube,
-            at(0.2, 1.01, -0.1, id),
-        ),
-        (
-            "face on face rotated 45 degrees",
-            cube,
-            at(0.0, 0.0, 0.0, id),
-            cube,
-            at(0.0, 0.995, 0.0, yaw45),
-        ),
-        (
-            "edge across edge",
-            cube,
-            at(0.0, 0.0, 0.0, pitch45),
-            cube,
-            at(0.0, 2.0 * 0.5 * 2f32.sqrt() - 0.01, 0.0, roll45),
-        ),
-        (
-            "edge parallel to a face",
-            slab,
-            at(0.0, 0.0, 0.0, id),
-            cube,
-            at(1.0, 0.5 + 0.5 * 2f32.sqrt() - 0.005, 0.3, edge_down),
-        ),
-        (
-            "edge parallel to a face, apart",
-            slab,
-            at(0.0, 0.0, 0.0, id),
-            cube,
-            at(1.0, 0.5 + 0.5 * 2f32.sqrt() + 0.01, 0.3, edge_down),
-        ),
-        (
-            "identical boxes at the same pose",
-            cube,
-            at(1.0, 2.0, 3.0, yaw45),
-            cube,
-            at(1.0, 2.0, 3.0, yaw45),
-        ),
-        (
-            "one box inside the other",
-            huge,
-            at(0.0, 0.0, 0.0, id),
-            cube,
-            at(1.0, -2.0, 3.0, pitch45),
-        ),
-        (
-            "tiny box on a huge one",
-            huge,
-            at(0.0, 0.0, 0.0, id),
-            tiny,
-            at(3.0, 10.0 + 0.01 - 0.001, -4.0, id),
-        ),
-        (
-            "tiny box tilted on a huge one",
-            huge,
-            at(0.0, 0.0, 0.0, id),
-            tiny,
-            at(3.0, 10.0 + 0.0139, -4.0, pitch45),
-        ),
-        (
-            "corner to corner, apart within the margin",
-            cube,
-            at(0.0, 0.0, 0.0, id),
-            cube,
-            at(1.006, 1.008, 0.0, id),
-        ),
-        (
-            "corner to corner, apart beyond the margin",
-            cube,
-            at(0.0, 0.0, 0.0, id),
-            cube,
-            at(1.015, 1.02, 0.0, id),
-        ),
+        ("face on face, aligned, 1 cm deep", cube, o, cube, at(0.2, 0.99, -0.1, id)),
+        ("face on face, exactly touching", cube, o, cube, at(0.2, 1.0, -0.1, id)),
+        ("face on face, 1 cm apart", cube, o, cube, at(0.2, 1.01, -0.1, id)),
+        ("face on face rotated 45 degrees", cube, o, cube, at(0.0, 0.995, 0.0, yaw45)),
+        ("edge across edge", cube, at(0.0, 0.0, 0.0, pitch45), cube, at(0.0, crossed - 0.01, 0.0, roll45)),
+        ("edge parallel to a face", slab, o, cube, at(1.0, on_edge - 0.005, 0.3, edge_down)),
+        ("edge parallel to a face, apart", slab, o, cube, at(1.0, on_edge + 0.01, 0.3, edge_down)),
+        ("identical boxes at the same pose", cube, at(1.0, 2.0, 3.0, yaw45), cube, at(1.0, 2.0, 3.0, yaw45)),
+        ("one box inside the other", huge, o, cube, at(1.0, -2.0, 3.0, pitch45)),
+        ("tiny box on a huge one", huge, o, tiny, at(3.0, 10.0 + 0.01 - 0.001, -4.0, id)),
+        ("tiny box tilted on a huge one", huge, o, tiny, at(3.0, 10.0 + 0.0139, -4.0, pitch45)),
+        ("corners apart within the margin", cube, o, cube, at(1.006, 1.008, 0.0, id)),
+        ("corners apart beyond the margin", cube, o, cube, at(1.015, 1.02, 0.0, id)),
     ];
     let mut stats = Stats {
         min_area_ratio: 1.0,

@@ -164,40 +164,43 @@ pub fn ensure_pair_buffers(pool: &mut BufferPool, capacity: u32) -> Result<bool,
     Ok(grew)
 }
 
-/// The buffers the collision stages read and write, for stages recorded after them (the GPU
-/// solver reads pairs and manifolds, and writes poses, velocities and contact impulses).
+/// The buffers one step's stages hand to each other: the world's bodies and what the
+/// collision stages write (the GPU solver reads the manifolds and writes poses, velocities
+/// and contact impulses; the sleep stage reads the manifolds and AABBs).
 #[derive(Clone, Copy, Debug)]
-pub struct CollisionBuffers<'a> {
+pub struct StepBuffers<'a> {
+    /// `array<GpuBody>`: the solver's bodies (sleeping ones are made fixed in it).
+    pub bodies: &'a wgpu::Buffer,
     /// `array<GpuPose>`, one per body.
     pub poses: &'a wgpu::Buffer,
     /// `array<GpuVelocity>`, one per body.
     pub velocities: &'a wgpu::Buffer,
-    /// `array<GpuShape>`, one per body.
+    /// `array<GpuShape>`, one per body (sleeping ones are flagged static in it).
     pub shapes: &'a wgpu::Buffer,
     /// `array<GpuAabb>`, one per body.
     pub aabbs: &'a wgpu::Buffer,
-    /// The last recorded step's pair `WorkList` (count and indirect dispatch size).
-    pub pair_work: &'a wgpu::Buffer,
-    /// Its sorted pairs, first bodies.
-    pub pair_a: &'a wgpu::Buffer,
-    /// Its sorted pairs, second bodies.
-    pub pair_b: &'a wgpu::Buffer,
-    /// Its manifolds (one per pair; `len == 0` for pairs not in contact).
+    /// The manifolds' `WorkList` (count and indirect dispatch size, produced on the GPU).
+    pub contact_work: &'a wgpu::Buffer,
+    /// `array<GpuManifold>`: one per candidate pair (`len == 0` when not in contact).
     pub manifolds: &'a wgpu::Buffer,
-    /// Its contact points, `MAX_MANIFOLD_POINTS` per manifold, with carried impulses.
+    /// `array<GpuContact>`, `MAX_MANIFOLD_POINTS` per manifold: carried impulses in,
+    /// solved impulses out.
     pub contacts: &'a wgpu::Buffer,
 }
 
-/// The buffers of the step recorded with `parity`.
-pub fn collision_buffers(pool: &BufferPool, parity: usize) -> CollisionBuffers<'_> {
-    CollisionBuffers {
+/// The buffers of the step recorded with `parity`, beside the world's `bodies`.
+pub fn step_buffers<'a>(
+    pool: &'a BufferPool,
+    parity: usize,
+    bodies: &'a wgpu::Buffer,
+) -> StepBuffers<'a> {
+    StepBuffers {
+        bodies,
         poses: pool.get(POSES),
         velocities: pool.get(VELOCITIES),
         shapes: pool.get(SHAPES),
         aabbs: pool.get(AABBS),
-        pair_work: pool.get(PAIR_WORK[parity]),
-        pair_a: pool.get(PAIR_A[parity][PAIR_RESULT_COPY]),
-        pair_b: pool.get(PAIR_B[parity][PAIR_RESULT_COPY]),
+        contact_work: pool.get(PAIR_WORK[parity]),
         manifolds: pool.get(MANIFOLDS[parity]),
         contacts: pool.get(CONTACTS[parity]),
     }

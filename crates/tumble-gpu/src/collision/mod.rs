@@ -20,6 +20,7 @@ pub mod validate;
 
 mod reads;
 
+pub use buffers::StepBuffers;
 use buffers::*;
 use kernels::{CollisionGroups, CollisionKernels, build_groups};
 pub use snapshot::{CollisionSnapshot, ReadbackRequest};
@@ -447,8 +448,14 @@ impl GpuCollision {
         Ok(())
     }
 
-    /// The buffers of the last recorded step, for stages recorded after it.
-    pub fn buffers(&self) -> CollisionBuffers<'_> {
-        collision_buffers(&self.pool, self.last_parity())
+    /// The buffers of the last recorded step beside the world's `bodies`, for the stages
+    /// recorded after it.
+    pub fn buffers<'a>(&'a self, bodies: &'a wgpu::Buffer) -> StepBuffers<'a> {
+        step_buffers(&self.pool, self.last_parity(), bodies)
+    }
+
+    /// The last recorded step's contact points (`array<GpuContact>`).
+    pub fn contacts(&self) -> &wgpu::Buffer {
+        self.pool.get(CONTACTS[self.last_parity()])
     }
 }

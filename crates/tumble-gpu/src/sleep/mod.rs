@@ -28,5 +28,5 @@ pub mod stage;
 pub mod touch;
 pub mod wake;
 
-pub use stage::{GpuSleep, SleepInputs};
+pub use stage::GpuSleep;
 pub use tumble_solver::{IslandSearch, SleepLabels, SleepLink, island_search};

@@ -5,6 +5,7 @@
 //! step; the manifold kernels are dispatched indirectly from the pair work list.
 
 use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE};
+use crate::collision::StepBuffers;
 use crate::kernel::Kernel;
 use crate::layout::DispatchArgs;
 use crate::solver::constants::BODY_KINEMATIC;
@@ -43,23 +44,6 @@ const ACTIVE: &str = "sleep active bodies";
 
 /// Pair buffer sets the collision stages alternate between (this step's and last step's).
 const PAIR_SETS: usize = 2;
-
-/// Buffers of the step the sleep stage reads and writes.
-#[derive(Clone, Copy, Debug)]
-pub struct SleepInputs<'a> {
-    /// `array<GpuBody>`: the solver's bodies (sleeping ones are made fixed in it).
-    pub bodies: &'a wgpu::Buffer,
-    /// `array<GpuShape>`: the collision shapes (sleeping ones are flagged static in it).
-    pub shapes: &'a wgpu::Buffer,
-    /// `array<GpuVelocity>`: the velocities (sleeping bodies' are zero).
-    pub velocities: &'a wgpu::Buffer,
-    /// The step's pair `WorkList` (manifold count and indirect dispatch size).
-    pub pair_work: &'a wgpu::Buffer,
-    /// `array<GpuManifold>`: the step's manifolds.
-    pub manifolds: &'a wgpu::Buffer,
-    /// `array<GpuAabb>`: the step's AABBs.
-    pub aabbs: &'a wgpu::Buffer,
-}
 
 /// The bind groups of one set of inputs.
 #[derive(Debug)]
@@ -250,14 +234,14 @@ impl GpuSleep {
     }
 
     /// The index in `groups` of the bind groups over `inputs`, built if missing.
-    fn ensure_groups(&mut self, inputs: &SleepInputs<'_>) -> usize {
+    fn ensure_groups(&mut self, inputs: &StepBuffers<'_>) -> usize {
         let key = (
             self.pool.generation(),
             vec![
                 inputs.bodies.clone(),
                 inputs.shapes.clone(),
                 inputs.velocities.clone(),
-                inputs.pair_work.clone(),
+                inputs.contact_work.clone(),
                 inputs.manifolds.clone(),
                 inputs.aabbs.clone(),
             ],
@@ -268,7 +252,7 @@ impl GpuSleep {
         let k = self.pipelines.as_ref().expect("enabled");
         let (ctx, p) = (&self.ctx, &self.pool);
         let hook = |next: usize| HookLabelsArgs {
-            work: inputs.pair_work,
+            work: inputs.contact_work,
             manifolds: inputs.manifolds,
             awake_bodies: p.get(AWAKE_BODIES),
             island: p.get(ISLAND),
@@ -299,7 +283,7 @@ impl GpuSleep {
             touch_sleepers: k.touch_sleepers.bind(
                 ctx,
                 &TouchSleepersArgs {
-                    work: inputs.pair_work,
+                    work: inputs.contact_work,
                     manifolds: inputs.manifolds,
                     awake_bodies: p.get(AWAKE_BODIES),
                     velocities: inputs.velocities,
@@ -323,7 +307,7 @@ impl GpuSleep {
                 ctx,
                 &PlanSearchArgs {
                     params: p.get(PARAMS),
-                    work: inputs.pair_work,
+                    work: inputs.contact_work,
                     ready: p.get(READY),
                     search_groups: p.get(SEARCH_GROUPS),
                 },
@@ -333,7 +317,7 @@ impl GpuSleep {
             check_labels: k.check_labels.bind(
                 ctx,
                 &CheckLabelsArgs {
-                    work: inputs.pair_work,
+                    work: inputs.contact_work,
                     manifolds: inputs.manifolds,
                     awake_bodies: p.get(AWAKE_BODIES),
                     island: p.get(ISLAND),
@@ -448,7 +432,7 @@ impl GpuSleep {
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         timer: &mut StageTimer,
-        inputs: &SleepInputs<'_>,
+        inputs: &StepBuffers<'_>,
     ) {
         if !self.is_enabled() || self.body_count == 0 {
             return;
@@ -457,7 +441,7 @@ impl GpuSleep {
         let k = self.pipelines.as_ref().expect("enabled");
         let g = &self.groups[index];
         let n = self.body_count;
-        let work = inputs.pair_work;
+        let work = inputs.contact_work;
         encoder.clear_buffer(self.pool.get(UNFINISHED), 0, None);
         encoder.clear_buffer(self.pool.get(READY), 0, None);
         let search = self.pool.get(SEARCH_GROUPS);

@@ -4,6 +4,7 @@
 use wgpu::util::DeviceExt;
 
 use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE, bytes_of};
+use crate::collision::StepBuffers;
 use crate::kernel::Kernel;
 use crate::kernels::radix_sort::{
     RadixBindGroups, RadixBuffers, RadixPass, RadixSort, index_bits, plan_passes, result_copy,
@@ -36,23 +37,12 @@ const SORT_KEYS: [&str; 2] = ["color_sort_keys_0", "color_sort_keys_1"];
 const SORT_VALUES: [&str; 2] = ["color_sort_values_0", "color_sort_values_1"];
 const SORT_TILES: &str = "color_sort_tiles";
 
-/// The buffers of the solver stage that belong to the caller (the world's bodies and the
-/// collision stage's contacts).
+/// What the solver stage is given by the caller: the step's buffers (the world's bodies and
+/// the collision stage's contacts, or contacts the host wrote) and their sizes.
 #[derive(Clone, Copy, Debug)]
 pub struct SolverInputs<'a> {
-    /// `array<GpuBody>`.
-    pub bodies: &'a wgpu::Buffer,
-    /// `array<GpuPose>`: read at the start of the step, written at its end.
-    pub poses: &'a wgpu::Buffer,
-    /// `array<GpuVelocity>`: read and written.
-    pub velocities: &'a wgpu::Buffer,
-    /// `array<GpuManifold>`: one per candidate pair (`len == 0` when not in contact).
-    pub manifolds: &'a wgpu::Buffer,
-    /// `array<GpuContact>`, `MAX_MANIFOLD_POINTS` per manifold: warm-start impulses in,
-    /// solved impulses out.
-    pub contacts: &'a wgpu::Buffer,
-    /// The manifolds' `WorkList` (count and dispatch size, produced on the GPU).
-    pub contact_work: &'a wgpu::Buffer,
+    /// The step's buffers; poses and velocities are read and written, impulses written.
+    pub buffers: StepBuffers<'a>,
     /// Bodies in the step.
     pub body_count: u32,
     /// Slots of the contact buffers: the most manifolds a step can have.
@@ -276,6 +266,8 @@ impl GpuSolver {
         path: SolvePath,
     ) -> Result<(), GpuError> {
         self.ensure(inputs.body_count, inputs.contact_capacity)?;
+        let n = inputs.body_count;
+        let inputs = &inputs.buffers;
         if self.last_params != Some(*params) {
             // Through the encoder, not the queue, so steps recorded back to back each see
             // their own values.
@@ -316,7 +308,7 @@ impl GpuSolver {
                 {
                     let mut pass = timer.begin_pass(encoder, "prepare");
                     k.prepare_bodies
-                        .dispatch(&mut pass, &groups.prepare_bodies, inputs.body_count);
+                        .dispatch(&mut pass, &groups.prepare_bodies, n);
                     k.prepare_contacts
                         .dispatch_work(&mut pass, &groups.prepare_contacts[p], work);
                 }
@@ -332,20 +324,14 @@ impl GpuSolver {
                         );
                     };
                     for _ in 0..params.substeps {
-                        k.integrate_velocities.dispatch(
-                            &mut pass,
-                            &groups.integrate_velocities,
-                            inputs.body_count,
-                        );
+                        k.integrate_velocities
+                            .dispatch(&mut pass, &groups.integrate_velocities, n);
                         sweep(&mut pass, PassKind::WarmStart);
                         for _ in 0..params.iterations {
                             sweep(&mut pass, PassKind::Solve);
                         }
-                        k.integrate_positions.dispatch(
-                            &mut pass,
-                            &groups.integrate_positions,
-                            inputs.body_count,
-                        );
+                        k.integrate_positions
+                            .dispatch(&mut pass, &groups.integrate_positions, n);
                         for _ in 0..params.relax_iterations {
                             sweep(&mut pass, PassKind::Relax);
                         }
@@ -358,11 +344,8 @@ impl GpuSolver {
                     let mut pass = timer.begin_pass(encoder, "finish");
                     k.store_impulses
                         .dispatch_work(&mut pass, &groups.store_impulses[p], work);
-                    k.finalize_bodies.dispatch(
-                        &mut pass,
-                        &groups.finalize_bodies,
-                        inputs.body_count,
-                    );
+                    k.finalize_bodies
+                        .dispatch(&mut pass, &groups.finalize_bodies, n);
                 }
             }
         }
@@ -371,7 +354,7 @@ impl GpuSolver {
     }
 
     /// Rebuilds the bind groups when a buffer or the pipelines changed.
-    fn rebind(&mut self, inputs: &SolverInputs<'_>) {
+    fn rebind(&mut self, inputs: &StepBuffers<'_>) {
         let key = BindKey {
             generation: self.pool.generation(),
             inputs: [
@@ -390,7 +373,7 @@ impl GpuSolver {
         self.bind = Some((key, groups));
     }
 
-    fn make_bind_groups(&self, inputs: &SolverInputs<'_>) -> BindGroups {
+    fn make_bind_groups(&self, inputs: &StepBuffers<'_>) -> BindGroups {
         let ctx = &self.ctx;
         let k = &self.pipelines;
         let get = |name| self.pool.get(name);

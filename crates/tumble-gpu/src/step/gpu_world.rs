@@ -10,11 +10,11 @@ use tumble_geometry::{Point3, Pose, Vec3};
 use tumble_solver::{Body, BodyState, Stage};
 
 use crate::buffer_pool::{BufferPool, STORAGE_USAGE};
-use crate::collision::GpuCollision;
+use crate::collision::{GpuCollision, StepBuffers};
 use crate::layout::{GpuContact, GpuManifold, GpuPose, GpuVelocity, WorkList};
 use crate::readback::{Readback, Region};
+use crate::sleep::GpuSleep;
 use crate::sleep::constants::AWAKE;
-use crate::sleep::{GpuSleep, SleepInputs};
 use crate::solver::apply_impulses::ApplyImpulsesArgs;
 use crate::solver::convert::{gpu_body, gpu_manifold, gpu_pose, gpu_shape, gpu_tilt, gpu_velocity};
 use crate::solver::layout::{GpuBody, GpuImpulse, GpuTilt};
@@ -157,8 +157,12 @@ impl GpuWorld {
         } else if !effects.sleep && self.sleep.is_enabled() {
             self.flush_impulses()?;
             // An empty world has no body buffers, and no body to wake.
-            let restore = (!self.bodies.is_empty())
-                .then(|| (self.pool.get(BODIES), self.collision.buffers().shapes));
+            let restore = (!self.bodies.is_empty()).then(|| {
+                (
+                    self.pool.get(BODIES),
+                    self.collision.buffers(self.pool.get(BODIES)).shapes,
+                )
+            });
             self.sleep.disable(restore)?;
         }
         Ok(())
@@ -281,11 +285,7 @@ impl GpuWorld {
         let params = self.params();
         let mut encoder = self.ctx.encoder("tumble step");
         self.timer.reset();
-        // Islands wake before the impulses, which skip bodies that are not dynamic.
-        let shapes = self.collision.buffers().shapes;
-        self.sleep
-            .record_wake(&mut encoder, &mut self.timer, self.pool.get(BODIES), shapes);
-        self.record_impulses(&mut encoder);
+        self.record_wakes_and_impulses(&mut encoder);
         // The step's stages in the one order every backend runs them. A recorder may record
         // several consecutive stages (the collision stages share their parity and clears, the
         // fused solve path is one kernel for color, solve and finish): its first stage records
@@ -297,14 +297,8 @@ impl GpuWorld {
                 Stage::BroadPhase | Stage::NarrowPhase => {}
                 // color, solve (prepare, substeps, restitution), finish (stored impulses, poses).
                 Stage::Color => {
-                    let buffers = self.collision.buffers();
                     let inputs = SolverInputs {
-                        bodies: self.pool.get(BODIES),
-                        poses: buffers.poses,
-                        velocities: buffers.velocities,
-                        manifolds: buffers.manifolds,
-                        contacts: buffers.contacts,
-                        contact_work: buffers.pair_work,
+                        buffers: self.collision.buffers(self.pool.get(BODIES)),
                         body_count: self.bodies.len() as u32,
                         contact_capacity: self.collision.pair_capacity(),
                     };
@@ -318,17 +312,9 @@ impl GpuWorld {
                 }
                 Stage::Solve | Stage::Finish => {}
                 Stage::Sleep => {
-                    let buffers = self.collision.buffers();
-                    let sleep_inputs = SleepInputs {
-                        bodies: self.pool.get(BODIES),
-                        shapes: buffers.shapes,
-                        velocities: buffers.velocities,
-                        pair_work: buffers.pair_work,
-                        manifolds: buffers.manifolds,
-                        aabbs: buffers.aabbs,
-                    };
+                    let buffers = self.collision.buffers(self.pool.get(BODIES));
                     self.sleep
-                        .record_update(&mut encoder, &mut self.timer, &sleep_inputs);
+                        .record_update(&mut encoder, &mut self.timer, &buffers);
                 }
             }
         }

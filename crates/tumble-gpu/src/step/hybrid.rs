@@ -168,10 +168,11 @@ impl HybridCollision {
                 self.last_tilts[k] = Some((contact.tilt_impulse, *normal));
             }
         }
-        let buffers = self.collision.buffers();
-        self.ctx
-            .queue
-            .write_buffer(buffers.contacts, 0, bytemuck::cast_slice(&self.last_points));
+        self.ctx.queue.write_buffer(
+            self.collision.contacts(),
+            0,
+            bytemuck::cast_slice(&self.last_points),
+        );
         Ok(())
     }
 }

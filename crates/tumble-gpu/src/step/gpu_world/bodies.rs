@@ -59,6 +59,25 @@ impl GpuWorld {
         Ok(())
     }
 
+    /// Writes body `i`'s record in one of the per-body arrays of the step's buffers, after
+    /// the impulses queued before it, and wakes its island.
+    fn write_body<T: bytemuck::Pod>(
+        &mut self,
+        i: usize,
+        array: for<'a> fn(&StepBuffers<'a>) -> &'a wgpu::Buffer,
+        record: &T,
+    ) -> Result<(), GpuError> {
+        self.flush_impulses()?;
+        self.idle.changed();
+        self.sleep.queue_wake(i as u32);
+        let offset = (i * std::mem::size_of::<T>()) as u64;
+        let buffer = array(&self.collision.buffers(self.pool.get(BODIES)));
+        self.ctx
+            .queue
+            .write_buffer(buffer, offset, bytemuck::bytes_of(record));
+        Ok(())
+    }
+
     /// Teleports body `i` (velocities kept). Takes effect before the next step.
     pub fn set_pose(&mut self, i: usize, pose: &Pose) -> Result<(), GpuError> {
         self.check_body(i)?;
@@ -67,15 +86,7 @@ impl GpuWorld {
         if !finite {
             return Err(invalid("pose", pose));
         }
-        self.flush_impulses()?;
-        self.idle.changed();
-        self.sleep.queue_wake(i as u32);
-        let offset = (i * std::mem::size_of::<GpuPose>()) as u64;
-        let poses = self.collision.buffers().poses;
-        self.ctx
-            .queue
-            .write_buffer(poses, offset, bytemuck::bytes_of(&gpu_pose(pose)));
-        Ok(())
+        self.write_body(i, |b| b.poses, &gpu_pose(pose))
     }
 
     /// Sets body `i`'s linear and angular velocity. Takes effect before the next step.
@@ -86,22 +97,10 @@ impl GpuWorld {
         angular: &Vec3,
     ) -> Result<(), GpuError> {
         self.check_body(i)?;
-        if !linear.iter().all(|c| c.is_finite()) {
-            return Err(invalid("linear_velocity", linear));
-        }
-        if !angular.iter().all(|c| c.is_finite()) {
-            return Err(invalid("angular_velocity", angular));
-        }
-        self.flush_impulses()?;
-        self.idle.changed();
-        self.sleep.queue_wake(i as u32);
-        let offset = (i * std::mem::size_of::<GpuVelocity>()) as u64;
+        require_finite("linear_velocity", linear)?;
+        require_finite("angular_velocity", angular)?;
         let velocity = gpu_velocity(&BodyState::moving(*linear, *angular));
-        let velocities = self.collision.buffers().velocities;
-        self.ctx
-            .queue
-            .write_buffer(velocities, offset, bytemuck::bytes_of(&velocity));
-        Ok(())
+        self.write_body(i, |b| b.velocities, &velocity)
     }
 
     /// Queues an impulse (N s, world) at a world point on body `i`, applied on the GPU at
@@ -113,12 +112,8 @@ impl GpuWorld {
         point: &Point3,
     ) -> Result<(), GpuError> {
         self.check_body(i)?;
-        if !impulse.iter().all(|c| c.is_finite()) {
-            return Err(invalid("impulse", impulse));
-        }
-        if !point.iter().all(|c| c.is_finite()) {
-            return Err(invalid("point", point));
-        }
+        require_finite("impulse", impulse)?;
+        require_finite("point", &point.coords)?;
         self.idle.changed();
         self.sleep.queue_wake(i as u32);
         self.impulses.push(GpuImpulse {
@@ -130,6 +125,16 @@ impl GpuWorld {
         Ok(())
     }
 
+    /// Records the wakes of the islands queued to wake, then the queued impulses: an impulse
+    /// skips a body that is not dynamic, and a sleeping body is fixed to the kernels.
+    pub(super) fn record_wakes_and_impulses(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        let bodies = self.pool.get(BODIES);
+        let shapes = self.collision.buffers(bodies).shapes;
+        self.sleep
+            .record_wake(encoder, &mut self.timer, bodies, shapes);
+        self.record_impulses(encoder);
+    }
+
     /// Records the queued impulses (if any) and empties the queue.
     pub(super) fn record_impulses(&mut self, encoder: &mut wgpu::CommandEncoder) {
         if self.impulses.is_empty() {
@@ -137,7 +142,7 @@ impl GpuWorld {
         }
         let queued = self.ctx.storage_buffer("queued impulses", &self.impulses);
         let kernel = &self.solver.pipelines().apply_impulses;
-        let buffers = self.collision.buffers();
+        let buffers = self.collision.buffers(self.pool.get(BODIES));
         let group = kernel.bind(
             &self.ctx,
             &ApplyImpulsesArgs {
@@ -162,11 +167,17 @@ impl GpuWorld {
         }
         let mut encoder = self.ctx.encoder("impulses");
         self.timer.reset();
-        let shapes = self.collision.buffers().shapes;
-        self.sleep
-            .record_wake(&mut encoder, &mut self.timer, self.pool.get(BODIES), shapes);
-        self.record_impulses(&mut encoder);
+        self.record_wakes_and_impulses(&mut encoder);
         self.ctx.queue.submit([encoder.finish()]);
         Ok(())
+    }
+}
+
+/// An `Err` naming `field` unless every component of `v` is finite.
+fn require_finite(field: &str, v: &Vec3) -> Result<(), GpuError> {
+    if v.iter().all(|c| c.is_finite()) {
+        Ok(())
+    } else {
+        Err(invalid(field, v))
     }
 }

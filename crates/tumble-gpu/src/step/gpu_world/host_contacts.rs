@@ -107,18 +107,14 @@ impl GpuWorld {
         let mut encoder = self.ctx.encoder("tumble solver step");
         self.timer.reset();
         // Host wakes still apply; islands only fall asleep in `step`.
-        let shapes = self.collision.buffers().shapes;
-        self.sleep
-            .record_wake(&mut encoder, &mut self.timer, self.pool.get(BODIES), shapes);
-        self.record_impulses(&mut encoder);
-        let buffers = self.collision.buffers();
+        self.record_wakes_and_impulses(&mut encoder);
         let inputs = SolverInputs {
-            bodies: self.pool.get(BODIES),
-            poses: buffers.poses,
-            velocities: buffers.velocities,
-            manifolds: self.pool.get(HOST_MANIFOLDS),
-            contacts: self.pool.get(HOST_POINTS),
-            contact_work: self.pool.get(HOST_WORK),
+            buffers: StepBuffers {
+                manifolds: self.pool.get(HOST_MANIFOLDS),
+                contacts: self.pool.get(HOST_POINTS),
+                contact_work: self.pool.get(HOST_WORK),
+                ..self.collision.buffers(self.pool.get(BODIES))
+            },
             body_count: n,
             contact_capacity: capacity,
         };
@@ -134,11 +130,11 @@ impl GpuWorld {
     pub(super) fn contact_buffers(&self) -> (wgpu::Buffer, wgpu::Buffer, wgpu::Buffer, u32) {
         match self.source {
             ContactSource::Collision => {
-                let b = self.collision.buffers();
+                let b = self.collision.buffers(self.pool.get(BODIES));
                 (
                     b.manifolds.clone(),
                     b.contacts.clone(),
-                    b.pair_work.clone(),
+                    b.contact_work.clone(),
                     self.collision.pair_capacity(),
                 )
             }

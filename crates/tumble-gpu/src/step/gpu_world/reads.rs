@@ -22,7 +22,7 @@ impl GpuWorld {
         let sizes = ReadSizes::new(n, m);
         let slot = self.readback.begin(sizes.total(&request))?;
         let mut regions = Vec::new();
-        let buffers = self.collision.buffers();
+        let buffers = self.collision.buffers(self.pool.get(BODIES));
         let rb = &mut self.readback;
         if request.poses {
             regions.push(rb.copy(encoder, slot, buffers.poses, 0, sizes.poses));
@@ -100,7 +100,7 @@ impl GpuWorld {
         if n == 0 {
             return Ok(snapshot);
         }
-        let buffers = self.collision.buffers();
+        let buffers = self.collision.buffers(self.pool.get(BODIES));
         if request.poses {
             snapshot.poses = self.ctx.read_buffer(buffers.poses, 0, n)?;
         }

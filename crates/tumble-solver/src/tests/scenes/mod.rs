@@ -11,7 +11,7 @@ use tumble_geometry::{Manifold, Pose, Real, Vec3};
 
 use super::{DT, floor_center, floor_corners, gravity, material, unit_cube};
 use crate::{
-    Body, BodyState, Contact, Effects, SolveStats, SolverConfig, color_constraints,
+    Body, BodyState, Contact, Effects, SolveStats, SolverConfig, color_constraints, color_contacts,
     finalize_bodies, solve_with_effects,
 };
 
@@ -24,9 +24,7 @@ fn step(
     gravity: &Vec3,
     effects: &Effects,
 ) -> SolveStats {
-    let pairs: Vec<(u32, u32)> = contacts.iter().map(|c| (c.body_a, c.body_b)).collect();
-    let dynamic: Vec<bool> = bodies.iter().map(Body::is_dynamic).collect();
-    let coloring = color_constraints(&pairs, &dynamic);
+    let coloring = color_contacts(contacts, bodies);
     let stats = solve_with_effects(
         bodies, states, contacts, &coloring, config, DT, gravity, effects,
     );

@@ -44,9 +44,7 @@ fn column(n: usize) -> (Vec<Body>, Vec<BodyState>, Vec<Contact>) {
 #[test]
 fn the_colored_order_is_the_sequential_order_of_the_permuted_contacts() {
     let (bodies, states0, contacts0) = column(4);
-    let pairs: Vec<(u32, u32)> = contacts0.iter().map(|c| (c.body_a, c.body_b)).collect();
-    let dynamic: Vec<bool> = bodies.iter().map(Body::is_dynamic).collect();
-    let coloring = color_constraints(&pairs, &dynamic);
+    let coloring = color_contacts(&contacts0, &bodies);
     // A column alternates two colors: contacts 0, 2 then 1, 3.
     assert_eq!(coloring.order, vec![0, 2, 1, 3]);
     let run = |contacts: &[Contact], coloring: &Coloring, order: SolveOrder| {
@@ -87,7 +85,7 @@ fn the_colored_order_is_the_sequential_order_of_the_permuted_contacts() {
         run(&contacts0, &coloring, SolveOrder::Sequential).0,
         sequential_states
     );
-    let stale = color_constraints(&pairs[..2], &dynamic);
+    let stale = color_contacts(&contacts0[..2], &bodies);
     assert_eq!(
         run(&contacts0, &stale, SolveOrder::Colored).0,
         sequential_states

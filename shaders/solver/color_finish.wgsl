@@ -12,9 +12,10 @@
 @group(0) @binding(10) var<storage, read_write> sort_keys: array<u32>;
 @group(0) @binding(11) var<storage, read_write> sort_values: array<u32>;
 
-// Workgroups for one thread per item, folded past the per-dimension limit as plan_dispatch does.
+// Workgroups of a per-color pass for one thread per item, folded past the per-dimension limit
+// as plan_dispatch does.
 fn dispatch_for(items: u32) -> DispatchArgs {
-    let groups = (items + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE;
+    let groups = (items + COLOR_PASS_WORKGROUP_SIZE - 1u) / COLOR_PASS_WORKGROUP_SIZE;
     if groups > MAX_WORKGROUPS_PER_DIMENSION {
         return DispatchArgs(
             MAX_WORKGROUPS_PER_DIMENSION,

@@ -15,9 +15,9 @@
 // PASS_WARM_START, PASS_SOLVE, PASS_RELAX or PASS_RESTITUTION: one pipeline each.
 override PASS: u32;
 
-@compute @workgroup_size(WORKGROUP_SIZE)
+@compute @workgroup_size(COLOR_PASS_WORKGROUP_SIZE)
 fn main(thread: Thread) {
-    let t = thread_index(thread);
+    let t = linear_group(thread.workgroup, thread.groups) * COLOR_PASS_WORKGROUP_SIZE + thread.local;
     let color = pass_color.color;
     let begin = color_offsets[color];
     let end = color_offsets[color + 1u];

@@ -28,6 +28,9 @@ override MAX_LINEAR_SPEED: f32;
 // Smallest cosine between last step's normal and this step's (in body A's frame) for a
 // pair's tilt impulse to carry over (tumble-solver's PERSIST_NORMAL_COS).
 override PERSIST_NORMAL_COS: f32;
+// Threads per workgroup of the per-color passes (solve_color), whose dispatch sizes
+// color_finish writes.
+override COLOR_PASS_WORKGROUP_SIZE: u32;
 // What a per-color pass does to each constraint.
 override PASS_WARM_START: u32;
 override PASS_SOLVE: u32;

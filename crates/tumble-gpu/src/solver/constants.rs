@@ -10,6 +10,16 @@ pub const OVERFLOW_COLOR: u32 = tumble_solver::OVERFLOW_COLOR;
 /// Colors plus the overflow set: the per-color passes dispatched per sweep.
 pub const COLOR_SLOTS: u32 = GRAPH_COLOR_COUNT + 1;
 
+/// Threads per workgroup of the per-color passes (`solve_color`). Each thread visits one
+/// constraint, a chain of dependent loads, so a pass is latency-bound: a color of a few
+/// thousand constraints in 256-thread workgroups sits on a handful of SMs, and one-warp
+/// workgroups spread the same threads over many more. The results do not depend on it.
+/// Measured on an H200 (Vulkan; `benches/src/bin/dispatch_probe.rs`, wide path, 4 substeps,
+/// solve pass per step, with the passes writing back only impulses): pyramid of 24 (35,720
+/// manifolds) 2.97 / 2.16 / 1.82 ms at 128 / 64 / 32 threads against 6.17 ms at 256 with
+/// whole-constraint writes; pyramid of 50 (328,235) 5.58 / 4.95 / 4.78 against 7.78 ms.
+pub const COLOR_PASS_WORKGROUP_SIZE: u32 = 32;
+
 /// Entries of the color offsets buffer: `offsets[c]..offsets[c + 1]` for every slot.
 pub const COLOR_OFFSETS_LEN: u32 = COLOR_SLOTS + 1;
 
@@ -60,6 +70,10 @@ pub const PASS_RESTITUTION: u32 = 3;
 pub fn solver_constants() -> Vec<(&'static str, f64)> {
     vec![
         ("GRAPH_COLOR_COUNT", f64::from(GRAPH_COLOR_COUNT)),
+        (
+            "COLOR_PASS_WORKGROUP_SIZE",
+            f64::from(COLOR_PASS_WORKGROUP_SIZE),
+        ),
         ("OVERFLOW_COLOR", f64::from(OVERFLOW_COLOR)),
         ("NO_COLOR", f64::from(NO_COLOR)),
         ("COLOR_ROUNDS", f64::from(COLOR_ROUNDS)),

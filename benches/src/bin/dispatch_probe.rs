@@ -1,0 +1,182 @@
+//! How the GPU solve's time splits between a fixed cost per dispatch and a cost per
+//! constraint: per-pass GPU times (timestamp queries) of `GpuWorld` on the wide path, for
+//! pyramids of several sizes and several sweep counts.
+//!
+//! ```sh
+//! cargo run --release -p tumble-benches --bin dispatch_probe -- 4,12,24,50 1,4 wide,fused
+//! ```
+//!
+//! The first argument lists pyramid heights, the second biased iterations per substep (one
+//! relax iteration each, 4 substeps), the third the solver paths (`wide`, `fused`). Each scene settles for 30 steps, then 10 are profiled.
+//! The solve pass records `4 * (2 + COLOR_SLOTS * (2 + iterations))` dispatches whatever the
+//! scene, so a solve time that hardly grows from the smallest pyramid to the largest is the
+//! cost of the dispatches and their barriers, and the growth with the height is the cost of
+//! the constraints.
+
+use std::collections::BTreeMap;
+
+use tumble_benches::bodies_of;
+use tumble_geometry::Vec3;
+use tumble_gpu::GpuContext;
+use tumble_gpu::solver::SolvePath;
+use tumble_gpu::solver::constants::COLOR_SLOTS;
+use tumble_gpu::step::{GpuWorld, GpuWorldConfig, PathPolicy, ReadRequest};
+use tumble_solver::SolverConfig;
+
+/// Steps before profiling.
+const SETTLE_STEPS: usize = 30;
+/// Steps profiled.
+const PROFILED_STEPS: usize = 10;
+/// Substeps per step, as in the speed targets.
+const SUBSTEPS: u32 = 4;
+
+fn list(arg: Option<String>, default: &str) -> Result<Vec<u32>, std::num::ParseIntError> {
+    arg.as_deref()
+        .unwrap_or(default)
+        .split(',')
+        .map(str::parse)
+        .collect()
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let heights = list(args.next(), "4,12,24,50")?;
+    let iterations = list(args.next(), "1,4")?;
+    let paths: Vec<SolvePath> = args
+        .next()
+        .as_deref()
+        .unwrap_or("wide")
+        .split(',')
+        .map(|p| match p {
+            "wide" => Ok(SolvePath::Wide),
+            "fused" => Ok(SolvePath::Fused),
+            other => Err(format!("unknown path {other}: wide or fused")),
+        })
+        .collect::<Result<_, _>>()?;
+    let ctx = GpuContext::new()?;
+    println!("device: {} ({:?})", ctx.info.name, ctx.info.backend);
+    println!(
+        "| height | bodies | manifolds | iterations | solve dispatches | solve ms | per dispatch us | prepare ms | color ms | collision ms | GPU total ms |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    for &h in &heights {
+        let scene = tumble_scenes::pyramid(h as usize);
+        let (bodies, states) = bodies_of(&scene);
+        for (&iters, &path) in iterations
+            .iter()
+            .flat_map(|i| paths.iter().map(move |p| (i, p)))
+        {
+            let mut world = GpuWorld::new(
+                &ctx,
+                GpuWorldConfig {
+                    gravity: Vec3::from(scene.gravity),
+                    dt: scene.dt,
+                    timestamps: true,
+                    path: PathPolicy::Always(path),
+                    solver: SolverConfig {
+                        substeps: SUBSTEPS,
+                        iterations: iters,
+                        relax_iterations: 1,
+                        ..Default::default()
+                    },
+                    ..Default::default()
+                },
+            )?;
+            world.set_bodies(&bodies, &states)?;
+            for _ in 0..SETTLE_STEPS {
+                world.step()?;
+            }
+            ctx.wait_idle()?;
+            let mut sums: BTreeMap<&'static str, f64> = BTreeMap::new();
+            for _ in 0..PROFILED_STEPS {
+                world.step()?;
+                for (name, seconds) in world.timings()? {
+                    *sums.entry(name).or_default() += seconds / PROFILED_STEPS as f64;
+                }
+            }
+            let snapshot = world.read_now(ReadRequest {
+                contacts: true,
+                ..Default::default()
+            })?;
+            let manifolds = snapshot
+                .contacts
+                .as_ref()
+                .map_or(0, |c| c.manifolds.iter().filter(|m| m.len > 0).count());
+            let ms = |name: &str| sums.get(name).copied().unwrap_or(0.0) * 1e3;
+            let total: f64 = sums.values().sum::<f64>() * 1e3;
+            let solver: f64 = ["color", "prepare", "solve", "finish"]
+                .iter()
+                .map(|n| ms(n))
+                .sum();
+            let dispatches = match path {
+                SolvePath::Wide => SUBSTEPS * (2 + COLOR_SLOTS * (2 + iters)),
+                SolvePath::Fused => 1,
+            };
+            println!(
+                "| {h} | {} | {manifolds} | {iters} | {path:?} | {dispatches} | {:.3} | {:.1} | {:.3} | {:.3} | {solver:.3} | {:.3} | {total:.3} |",
+                bodies.len(),
+                ms("solve") + ms("solve_fused"),
+                (ms("solve") + ms("solve_fused")) * 1e3 / f64::from(dispatches),
+                ms("prepare"),
+                ms("color"),
+                total - solver,
+            );
+        }
+    }
+    host_times(&ctx, &heights)?;
+    Ok(())
+}
+
+/// Where a step's wall time goes on the host, timestamps off, default path choice: recording
+/// and submitting (`step`), then waiting for the poses (`wait_snapshot`, which includes the GPU
+/// time), medians over 30 steps after 30 settling ones.
+fn host_times(ctx: &GpuContext, heights: &[u32]) -> Result<(), Box<dyn std::error::Error>> {
+    println!("\n| height | path | record and submit ms | wait for poses ms | step ms |");
+    println!("|---|---|---|---|---|");
+    for &h in heights {
+        let scene = tumble_scenes::pyramid(h as usize);
+        let (bodies, states) = bodies_of(&scene);
+        let mut world = GpuWorld::new(
+            ctx,
+            GpuWorldConfig {
+                gravity: Vec3::from(scene.gravity),
+                dt: scene.dt,
+                solver: SolverConfig {
+                    substeps: SUBSTEPS,
+                    ..Default::default()
+                },
+                ..Default::default()
+            },
+        )?;
+        world.set_bodies(&bodies, &states)?;
+        let poses = ReadRequest {
+            poses: true,
+            ..Default::default()
+        };
+        let mut record = Vec::new();
+        let mut wait = Vec::new();
+        for k in 0..60 {
+            let start = std::time::Instant::now();
+            world.request_reads(poses);
+            world.step()?;
+            let submitted = start.elapsed().as_secs_f64();
+            world.wait_snapshot()?;
+            let done = start.elapsed().as_secs_f64();
+            if k >= 30 {
+                record.push(submitted);
+                wait.push(done - submitted);
+            }
+        }
+        let median = |v: &mut Vec<f64>| {
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2] * 1e3
+        };
+        let (r, w) = (median(&mut record), median(&mut wait));
+        println!(
+            "| {h} | {:?} | {r:.3} | {w:.3} | {:.3} |",
+            world.last_path().unwrap_or(SolvePath::Wide),
+            r + w
+        );
+    }
+    Ok(())
+}

@@ -447,6 +447,11 @@ impl GpuCollision {
         Ok(())
     }
 
+    /// Bytes of the stage's pooled device buffers (for memory reports).
+    pub(crate) fn buffer_bytes(&self) -> u64 {
+        self.pool.bytes()
+    }
+
     /// The buffers of the last recorded step, for stages recorded after it.
     pub fn buffers(&self) -> CollisionBuffers<'_> {
         collision_buffers(&self.pool, self.last_parity())

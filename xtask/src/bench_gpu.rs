@@ -45,6 +45,8 @@ const MIN_TIMED_STEPS: usize = 5;
 /// Steps of the timestamped GPU run before its profiled steps, and the profiled steps.
 const PROFILE_SETTLE_STEPS: usize = 10;
 const PROFILE_STEPS: usize = 10;
+/// The fewest profiled steps, whatever the budget.
+const MIN_PROFILED_STEPS: usize = 3;
 /// Layers of the generated box pool: columns of this many unit cubes resting on the floor.
 const POOL_LAYERS: usize = 16;
 /// Horizontal gap between neighbouring columns of the pool, as between the cubes of a
@@ -99,6 +101,11 @@ pub struct BenchGpuArgs {
     /// Make no new runs: rebuild the table and plot from DIR/results.csv (with --nexus-csv).
     #[arg(long)]
     pub report_only: bool,
+    /// Internal: run only the timestamped GPU profile of this scene and print it as JSON. The
+    /// profile runs in a process of its own because wgpu device handles from different
+    /// instances are not told apart by the engine's pipeline cache.
+    #[arg(long, hide = true, value_name = "SCENE")]
+    pub profile_scene: Option<String>,
 }
 
 /// An engine of a row.
@@ -383,7 +390,12 @@ struct GpuProfile {
 /// Steps `scene` on a [`GpuWorld`] with timestamps, as the facade's GPU backend does, and
 /// returns the per-pass times (empty without timestamp queries), the counts of the traffic
 /// model and the world's buffer bytes.
-fn profile_gpu(ctx: &GpuContext, scene: &Scene, substeps: u32) -> Result<GpuProfile, String> {
+fn profile_gpu(
+    ctx: &GpuContext,
+    scene: &Scene,
+    substeps: u32,
+    budget: Duration,
+) -> Result<GpuProfile, String> {
     let err = |e: tumble_gpu::GpuError| e.to_string();
     let (bodies, states) = tumble_tests::scene_support::bodies_of(scene);
     let defaults = WorldConfig::default();
@@ -403,14 +415,23 @@ fn profile_gpu(ctx: &GpuContext, scene: &Scene, substeps: u32) -> Result<GpuProf
     )
     .map_err(err)?;
     world.set_bodies(&bodies, &states).map_err(err)?;
-    for _ in 0..PROFILE_SETTLE_STEPS {
+    // Settling and profiled steps, fewer where a step is slow (as `timed_steps` does).
+    let start = Instant::now();
+    let mut last = Duration::ZERO;
+    let mut settled = 0;
+    while settled < PROFILE_SETTLE_STEPS && (settled < 2 || start.elapsed() < budget / 4) {
+        let t0 = Instant::now();
         world.step().map_err(err)?;
+        // Each step's timestamps are read, as in the profiled steps.
+        world.timings().map_err(err)?;
+        last = t0.elapsed();
+        settled += 1;
     }
-    ctx.wait_idle().map_err(err)?;
-    // Drop the timestamps of the settling steps.
-    world.timings().map_err(err)?;
+    let left = budget.saturating_sub(start.elapsed());
+    let affordable = (left.as_secs_f64() / last.as_secs_f64().max(1e-6)) as usize;
+    let profiled = PROFILE_STEPS.min(affordable.max(MIN_PROFILED_STEPS));
     let mut sums: BTreeMap<&'static str, (f64, usize)> = BTreeMap::new();
-    for _ in 0..PROFILE_STEPS {
+    for _ in 0..profiled {
         world.step().map_err(err)?;
         for (name, seconds) in world.timings().map_err(err)? {
             let e = sums.entry(name).or_default();
@@ -433,13 +454,7 @@ fn profile_gpu(ctx: &GpuContext, scene: &Scene, substeps: u32) -> Result<GpuProf
     });
     let mut passes: Vec<_> = sums
         .into_iter()
-        .map(|(name, (seconds, count))| {
-            (
-                name,
-                seconds * 1e3 / PROFILE_STEPS as f64,
-                count / PROFILE_STEPS,
-            )
-        })
+        .map(|(name, (seconds, count))| (name, seconds * 1e3 / profiled as f64, count / profiled))
         .collect();
     passes.sort_by(|a, b| b.1.total_cmp(&a.1));
     Ok(GpuProfile {
@@ -452,6 +467,89 @@ fn profile_gpu(ctx: &GpuContext, scene: &Scene, substeps: u32) -> Result<GpuProf
         },
         buffer_bytes: world.buffer_bytes(),
     })
+}
+
+/// The line a profile process prints its result on.
+const PROFILE_PREFIX: &str = "bench-gpu profile: ";
+
+/// Runs [`profile_gpu`] on `name` in this process (a fresh device) and prints the result.
+fn print_profile(name: &str, substeps: u32, budget: Duration) -> Result<bool, String> {
+    let scene = scene_named(name)?;
+    let ctx = GpuContext::new().map_err(|e| format!("no GPU adapter: {e}"))?;
+    let p = profile_gpu(&ctx, &scene, substeps, budget)?;
+    let passes: Vec<_> = p
+        .passes
+        .iter()
+        .map(|(name, ms, count)| serde_json::json!([name, ms, count]))
+        .collect();
+    let value = serde_json::json!({
+        "passes": passes,
+        "bodies": p.traffic.bodies,
+        "manifolds": p.traffic.manifolds,
+        "points": p.traffic.points,
+        "substeps": p.traffic.substeps,
+        "buffer_bytes": p.buffer_bytes,
+    });
+    println!("{PROFILE_PREFIX}{value}");
+    Ok(true)
+}
+
+/// What a profile process of the same binary measured on `name`.
+fn profile_in_child(name: &str, substeps: u32, budget_s: f64) -> Result<ChildProfile, String> {
+    let exe = std::env::current_exe().map_err(|e| format!("finding this binary: {e}"))?;
+    let output = std::process::Command::new(exe)
+        .args(["bench-gpu", "--profile-scene", name, "--substeps"])
+        .arg(substeps.to_string())
+        .arg("--budget-s")
+        .arg(budget_s.to_string())
+        .output()
+        .map_err(|e| format!("starting the profile process: {e}"))?;
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let Some(line) = stdout.lines().find_map(|l| l.strip_prefix(PROFILE_PREFIX)) else {
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        let last = stderr
+            .lines()
+            .rev()
+            .find(|l| !l.trim().is_empty())
+            .unwrap_or("");
+        return Err(format!(
+            "the profile process failed ({}): {last}",
+            output.status
+        ));
+    };
+    let v: serde_json::Value = serde_json::from_str(line).map_err(|e| e.to_string())?;
+    let count = |key: &str| v[key].as_u64().unwrap_or(0);
+    let passes = v["passes"]
+        .as_array()
+        .map(|list| {
+            list.iter()
+                .map(|p| {
+                    (
+                        p[0].as_str().unwrap_or("?").to_owned(),
+                        p[1].as_f64().unwrap_or(0.0),
+                        p[2].as_u64().unwrap_or(0) as usize,
+                    )
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    Ok(ChildProfile {
+        passes,
+        traffic: TrafficCounts {
+            bodies: count("bodies"),
+            manifolds: count("manifolds"),
+            points: count("points"),
+            substeps: count("substeps"),
+        },
+        buffer_bytes: count("buffer_bytes"),
+    })
+}
+
+/// [`GpuProfile`] as read back from a profile process.
+struct ChildProfile {
+    passes: Vec<(String, f64, usize)>,
+    traffic: TrafficCounts,
+    buffer_bytes: u64,
 }
 
 /// Writes the scenes as JSON (tumble-scenes' schema, compact) into `dir`.
@@ -479,6 +577,9 @@ pub fn bench_gpu(args: &BenchGpuArgs) -> Result<bool, String> {
         None if args.quick => QUICK_SCENES.iter().map(|s| (*s).to_owned()).collect(),
         None => DEFAULT_SCENES.iter().map(|s| (*s).to_owned()).collect(),
     };
+    if let Some(name) = &args.profile_scene {
+        return print_profile(name, args.substeps, Duration::from_secs_f64(args.budget_s));
+    }
     if let Some(dir) = &args.write_scenes {
         write_scenes(dir, &names)?;
         return Ok(true);
@@ -537,6 +638,8 @@ pub fn bench_gpu(args: &BenchGpuArgs) -> Result<bool, String> {
             limits.max_storage_buffer_binding_size >> 20
         ));
     }
+    // Only for the adapter's description: the runs open their own devices.
+    drop(ctx);
     println!("{header}");
     let mut rows = Vec::new();
     let mut passes = Vec::new();
@@ -553,10 +656,8 @@ pub fn bench_gpu(args: &BenchGpuArgs) -> Result<bool, String> {
         for &engine in &engines {
             let clock = Instant::now();
             let mut row = run_engine(&scene, engine, args, steps);
-            if let (Engine::Tumble(Backend::Gpu), Some(ctx), Some(_)) =
-                (engine, &ctx, row.median_ms)
-            {
-                match profile_gpu(ctx, &scene, args.substeps) {
+            if let (Engine::Tumble(Backend::Gpu), Some(_)) = (engine, row.median_ms) {
+                match profile_in_child(name, args.substeps, args.budget_s) {
                     Ok(profile) => {
                         row.gpu_ms = (!profile.passes.is_empty())
                             .then(|| profile.passes.iter().map(|p| p.1).sum());
@@ -565,7 +666,7 @@ pub fn bench_gpu(args: &BenchGpuArgs) -> Result<bool, String> {
                             Some(profile.buffer_bytes as f64 / scene.bodies.len() as f64);
                         row.manifolds = Some(profile.traffic.manifolds);
                         for (pass, ms, count) in profile.passes {
-                            passes.push((scene.name.clone(), pass.to_owned(), ms, count));
+                            passes.push((scene.name.clone(), pass, ms, count));
                         }
                     }
                     Err(e) => row.note = format!("{}; profile failed: {e}", row.note),

@@ -16,7 +16,7 @@
 //! | broad phase | `N * (4 radix passes * 2 * 8 + aabb) + M * 8` (sorted keys, the sweep, the pair list) |
 //! | narrow phase | `M * 2 * (pose + shape + manifold) + P * 2 * contact` (inputs, the previous manifold matched, the new one written) |
 //! | prepare | `M * (manifold + constraint) + P * contact` |
-//! | each substep | `N * 4 * (velocity + solver body)` (integrate velocities, positions) `+ 3 * M * (2 * constraint + 2 * (2 * velocity + solver body))` (warm start, solve, relax) |
+//! | each substep | `N * 4 * (velocity + solver body)` (integrate velocities, positions) `+ 3 * M * (constraint + 2 * (2 * velocity + solver body))` (warm start, solve, relax: each reads its constraint, whose impulse writes are counted nowhere, and reads and writes both bodies' velocities) |
 //! | restitution, finish | `M * (3 * constraint + 2 * (2 * velocity + solver body)) + N * (solver body + pose + velocity)` |
 //!
 //! The pair sort, the coloring rounds and the sleep stage are left out: the model is a floor,
@@ -245,7 +245,7 @@ impl TrafficCounts {
         let broad = n * (4 * 2 * 8 + aabb) + m * 8;
         let narrow = m * 2 * (pose + shape + manifold) + p * 2 * contact;
         let prepare = m * (manifold + constraint) + p * contact;
-        let substep = n * 4 * (velocity + solver_body) + 3 * m * (2 * constraint + body_pair);
+        let substep = n * 4 * (velocity + solver_body) + 3 * m * (constraint + body_pair);
         let finish = m * (3 * constraint + body_pair) + n * (solver_body + pose + velocity);
         update_aabbs + broad + narrow + prepare + s * substep + finish
     }
@@ -379,7 +379,12 @@ pub fn markdown_table(rows: &[Row], nexus: &[Row]) -> String {
         for r in &of_scene {
             let ratio = |peer: Option<f64>, over: bool| match (peer, r.median_ms) {
                 (Some(p), Some(m)) if m > 0.0 && p > 0.0 => {
-                    format!("{:.2}", if over { p / m } else { m / p })
+                    let x = if over { p / m } else { m / p };
+                    if x < 0.1 {
+                        format!("{x:.4}")
+                    } else {
+                        format!("{x:.2}")
+                    }
                 }
                 _ => String::new(),
             };

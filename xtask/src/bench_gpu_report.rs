@@ -479,7 +479,7 @@ pub fn write_outputs(
         write("results.csv", &csv_text(rows))?;
         let mut pass_csv = String::from("scene,pass,ms_per_step,passes_per_step\n");
         for (scene, pass, ms, count) in passes {
-            let _ = writeln!(pass_csv, "{},{},{ms:.6},{count}", scene, csv_escape(pass));
+            let _ = writeln!(pass_csv, "{scene},{},{ms:.6},{count}", csv_escape(pass));
         }
         write("passes.csv", &pass_csv)?;
     }

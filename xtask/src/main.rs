@@ -2,11 +2,14 @@
 //! - `validate`: every scene under every solver configuration and backend, beside rapier3d,
 //!   measured (docs/validation.md), tabled and plotted;
 //! - `bench`: the criterion benches;
+//! - `bench-gpu`: Tumble's GPU step beside rapier3d (and nexus, from its peer script's CSV);
 //! - `tidy`: formatting and the layer rule of docs/architecture.md.
 #![warn(missing_docs)]
 
 mod backends;
 mod bench;
+mod bench_gpu;
+mod bench_gpu_report;
 mod energy;
 mod engine;
 mod engine_rapier;
@@ -60,6 +63,10 @@ enum Task {
         #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
         args: Vec<String>,
     },
+    /// Times Tumble's GPU step beside rapier3d on all cores on the large scenes, with per-pass
+    /// GPU times, memory per body and the traffic model; joins nexus's rows from the CSV of
+    /// benches/peers/nexus_scenes.py.
+    BenchGpu(bench_gpu::BenchGpuArgs),
     /// Checks formatting (`cargo fmt --check`) and that no crate imports one to its right in
     /// the layer order of docs/architecture.md.
     Tidy,
@@ -125,6 +132,7 @@ fn main() -> ExitCode {
     let result = match cli.task {
         Task::Validate(v) => run_validate(v),
         Task::Bench { args } => bench::run_benches(&workspace_root(), &args),
+        Task::BenchGpu(args) => bench_gpu::bench_gpu(&args),
         Task::Tidy => tidy::tidy(&workspace_root()),
     };
     match result {

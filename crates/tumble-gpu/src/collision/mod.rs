@@ -458,4 +458,9 @@ impl GpuCollision {
     pub fn contacts(&self) -> &wgpu::Buffer {
         self.pool.get(CONTACTS[self.last_parity()])
     }
+
+    /// Bytes of the stage's pooled device buffers (for memory reports).
+    pub(crate) fn buffer_bytes(&self) -> u64 {
+        self.pool.bytes()
+    }
 }

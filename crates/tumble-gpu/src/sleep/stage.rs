@@ -95,6 +95,11 @@ impl GpuSleep {
         }
     }
 
+    /// Bytes of the stage's pooled device buffers (for memory reports).
+    pub(crate) fn buffer_bytes(&self) -> u64 {
+        self.pool.bytes()
+    }
+
     /// True when the stage runs in each step.
     pub fn is_enabled(&self) -> bool {
         self.pipelines.is_some()

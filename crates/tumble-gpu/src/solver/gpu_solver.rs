@@ -136,6 +136,11 @@ impl GpuSolver {
         })
     }
 
+    /// Bytes of the solver's pooled device buffers (for memory reports).
+    pub(crate) fn buffer_bytes(&self) -> u64 {
+        self.pool.bytes()
+    }
+
     /// The pipelines in use.
     pub fn pipelines(&self) -> &SolverPipelines {
         &self.pipelines

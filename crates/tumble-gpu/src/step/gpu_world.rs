@@ -208,6 +208,16 @@ impl GpuWorld {
         self.bytes_read
     }
 
+    /// Bytes of the device buffers the world's stages hold in their pools (bodies, collision,
+    /// solver, sleep): what the world costs in GPU memory, readback staging and small
+    /// parameter blocks aside.
+    pub fn buffer_bytes(&self) -> u64 {
+        self.pool.bytes()
+            + self.collision.buffer_bytes()
+            + self.solver.buffer_bytes()
+            + self.sleep.buffer_bytes()
+    }
+
     /// Steps whose work was skipped because they would repeat an idle step (see
     /// [`super::idle`]).
     pub fn idle_steps(&self) -> u64 {

@@ -56,9 +56,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let ctx = GpuContext::new()?;
     println!("device: {} ({:?})", ctx.info.name, ctx.info.backend);
     println!(
-        "| height | bodies | manifolds | iterations | solve dispatches | solve ms | per dispatch us | prepare ms | color ms | collision ms | GPU total ms |"
+        "| height | bodies | manifolds | iterations | path | solve dispatches | solve ms | per dispatch us | prepare ms | color ms | solver stages ms | collision ms | GPU total ms |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for &h in &heights {
         let scene = tumble_scenes::pyramid(h as usize);
         let (bodies, states) = bodies_of(&scene);

@@ -49,6 +49,8 @@ pub struct GpuContext {
     pub info: wgpu::AdapterInfo,
     /// True when per-pass timestamp queries were enabled.
     pub has_timestamps: bool,
+    /// The pipelines built on this device.
+    pub(crate) pipelines: crate::kernel::PipelineCache,
 }
 
 /// The instance settings: wgpu's defaults without indirect-call validation, then whatever the
@@ -174,6 +176,7 @@ impl GpuContext {
             queue,
             info,
             has_timestamps,
+            pipelines: Default::default(),
         })
     }
 

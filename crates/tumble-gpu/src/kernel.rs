@@ -39,7 +39,7 @@
 //! for extra `override` values) and listed in [`crate::registry::KERNELS`] for the checks.
 
 use std::collections::HashMap;
-use std::sync::{Mutex, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use crate::layout::WORK_LIST_GROUPS_OFFSET;
 use crate::shader::{Binding, ShaderSource, WgslFile, override_names, reflect_bindings};
@@ -354,16 +354,16 @@ pub struct Kernel {
     bindings: usize,
 }
 
-/// Pipelines by device, kernel and override values (as bits).
-type PipelineKey = (wgpu::Device, &'static str, Vec<(&'static str, u64)>);
+/// Pipelines by kernel and override values (as bits).
+type PipelineKey = (&'static str, Vec<(&'static str, u64)>);
 
-/// Every pipeline built, shared after (pipeline creation is the slow part of starting a
-/// world: on a software rasterizer the fused solver kernel alone takes a large fraction of
-/// a second to compile).
-fn pipeline_cache() -> &'static Mutex<HashMap<PipelineKey, Kernel>> {
-    static CACHE: OnceLock<Mutex<HashMap<PipelineKey, Kernel>>> = OnceLock::new();
-    CACHE.get_or_init(Default::default)
-}
+/// Every pipeline built on one device, shared after (pipeline creation is the slow part of
+/// starting a world: on a software rasterizer the fused solver kernel alone takes a large
+/// fraction of a second to compile). Each [`GpuContext`] holds its own, so a pipeline is never
+/// handed to another device (wgpu devices of two instances can compare equal) and the
+/// pipelines go with the device.
+#[derive(Clone, Debug, Default)]
+pub struct PipelineCache(Arc<Mutex<HashMap<PipelineKey, Kernel>>>);
 
 impl Kernel {
     /// The pipeline with the host constants.
@@ -381,11 +381,10 @@ impl Kernel {
     ) -> Result<Self, GpuError> {
         let constants = spec.override_values(overrides)?;
         let key: PipelineKey = (
-            ctx.device.clone(),
             spec.name,
             constants.iter().map(|&(n, v)| (n, v.to_bits())).collect(),
         );
-        let cache = pipeline_cache();
+        let cache = &ctx.pipelines.0;
         if let Some(found) = cache.lock().expect("pipeline cache lock").get(&key) {
             return Ok(found.clone());
         }

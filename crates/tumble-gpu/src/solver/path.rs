@@ -9,15 +9,16 @@ use super::constants::COLOR_SLOTS;
 /// The fused path is used up to this many manifolds. One workgroup visits a color in
 /// batches of `WORKGROUP_SIZE` constraints, so its cost grows with the manifold count, while
 /// the wide path pays a nearly fixed cost per dispatch (about 80 per substep). Measured on an
-/// H100 (Vulkan, `benches/benches/gpu_step.rs`, docs/gpu-solver.md): the solver stages take
-/// 6.0 ms fused against 6.7 ms wide at 4,324 manifolds and 27.7 ms against 7.8 ms at 20,540,
-/// so the two cross near 4,500 (the wide path's extra recording time moves the wall-clock
-/// crossover a little higher).
-pub const FUSED_MAX_CONSTRAINTS: u32 = 4096;
+/// H200 (Vulkan, `benches/src/bin/dispatch_probe.rs`, 4 substeps, the solver stages' GPU time
+/// per step): fused 0.87 ms at 140 manifolds and 2.45 ms at 1,240, against a wide path of
+/// 1.3 to 1.7 ms from 140 to 4,324 manifolds since its per-color passes run in one-warp
+/// workgroups (it was 5 ms at 4,324 before, when this bound was 4,096). The two cross near
+/// 600 manifolds.
+pub const FUSED_MAX_CONSTRAINTS: u32 = 600;
 
 /// The fused path is used up to this many bodies: its per-body stages also run in one
 /// workgroup, `WORKGROUP_SIZE` bodies at a time (a pile at the manifold bound above has
-/// about 600 bodies, so this bound only matters for sparse scenes).
+/// about 90 bodies, so this bound only matters for sparse scenes).
 pub const FUSED_MAX_BODIES: u32 = 4096;
 
 /// How the color and solve stages are dispatched.

@@ -254,7 +254,7 @@ pub fn out_of_bound_updates_are_rejected(backend: Backend, solver: SolverConfig)
             world.apply_impulse(cube, Vec3::x(), Point3::new(1e6, 0.0, 0.0)),
             "point",
         ),
-        (world.set_kinematic_target(kinematic, far), "target"),
+        (world.set_kinematic_target(kinematic, far), "pose"),
         // 100 m in one 1/60 s step is 6000 m/s.
         (
             world.set_kinematic_target(kinematic, Pose::translation(103.0, 0.5, 0.0)),
@@ -262,7 +262,7 @@ pub fn out_of_bound_updates_are_rejected(backend: Backend, solver: SolverConfig)
         ),
         (
             world.set_kinematic_target(kinematic, zero_rotation()),
-            "target",
+            "pose",
         ),
         (world.set_kinematic_target(cube, tiny), "kind"),
     ];

@@ -200,7 +200,8 @@ impl World {
     /// [`bounds::MAX_SPEED`] or a spin above [`bounds::max_angular_speed`] to reach.
     pub fn set_kinematic_target(&mut self, h: BodyHandle, target: Pose) -> Result<(), Error> {
         let d = self.handles.dense(h)?;
-        bounds::require_pose("target", &target)?;
+        // Named `pose`, as in `set_pose`: the same check of the same kind of value.
+        bounds::require_pose("pose", &target)?;
         let body = &self.host.bodies[d];
         if body.kind != BodyKind::Kinematic {
             return Err(InvalidParameter::new("kind", body.kind, "a kinematic body").into());

@@ -120,10 +120,10 @@ fn locate(text: &str, e: serde_json::Error) -> SceneError {
     else {
         return e.into();
     };
-    if let Some(v) = fields.get("version") {
-        if v.as_u64() != Some(u64::from(FORMAT_VERSION)) {
-            return SceneError::UnsupportedVersion(v.to_string());
-        }
+    if let Some(v) = fields.get("version")
+        && v.as_u64() != Some(u64::from(FORMAT_VERSION))
+    {
+        return SceneError::UnsupportedVersion(v.to_string());
     }
     if let Some(serde_json::Value::Array(bodies)) = fields.get("bodies") {
         for (index, body) in bodies.iter().enumerate() {

@@ -119,7 +119,8 @@ fn every_committed_scene_file_loads() {
 /// the error names the body's index and the field.
 #[test]
 fn scene_bodies_outside_the_engine_bounds_are_named_by_index() {
-    let cases: [(fn(&mut tumble::scenes::BodySpec), &str); 4] = [
+    type Edit = fn(&mut tumble::scenes::BodySpec);
+    let cases: [(Edit, &str); 4] = [
         (|b| b.half_extents[0] = 1e-6, "half_extents.x"),
         (|b| b.position[0] = 1e6, "pose"),
         (|b| b.density = 1e30, "density"),

@@ -4,7 +4,9 @@ use tumble_solver::InvalidParameter;
 
 use crate::{Backend, BodyHandle};
 
-/// Why a call on the world failed. The world is unchanged whenever a call returns `Err`.
+/// Why a call on the world failed. The world is unchanged whenever a call returns `Err`,
+/// with one exception: [`Error::InvalidGpuState`] reports a `Backend::Gpu` step that already
+/// ran (docs/errors.md).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum Error {
     /// A field holds a value outside its valid range (NaN, infinity, negative size, ...).

@@ -22,6 +22,7 @@ mod config;
 mod contact_report;
 mod effects;
 mod error;
+#[cfg(feature = "gpu")]
 mod gpu_reads;
 mod handle;
 mod scene;

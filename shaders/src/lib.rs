@@ -173,3 +173,8 @@ mod tests {
         assert_eq!(f.requires().collect::<Vec<_>>(), ["common/quat.wgsl"]);
     }
 }
+
+/// The README's examples, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -97,7 +97,9 @@ mod tests {
 
     #[test]
     fn misspelt_or_sizeless_scene_names_are_errors_naming_the_value() {
-        for bad in ["stak20", "pyramid", "pyramid0", "stack-3", "pool1k", "", "Stack20"] {
+        for bad in [
+            "stak20", "pyramid", "pyramid0", "stack-3", "pool1k", "", "Stack20",
+        ] {
             let err = bad.parse::<SceneName>().unwrap_err();
             assert!(err.contains(&format!("{bad:?}")), "{bad}: {err}");
         }

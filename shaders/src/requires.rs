@@ -25,9 +25,9 @@ pub fn order<'a>(
     root: &'a str,
     source_of: &dyn Fn(&str) -> Option<(&'a str, &'a str)>,
 ) -> Result<Vec<&'a str>, String> {
-    let source = source_of(root).map(|(_, source)| source).ok_or_else(|| {
-        format!("no WGSL file {root} under shaders/")
-    })?;
+    let source = source_of(root)
+        .map(|(_, source)| source)
+        .ok_or_else(|| format!("no WGSL file {root} under shaders/"))?;
     let mut out = Vec::new();
     visit(root, source, source_of, &mut Vec::new(), &mut out)?;
     Ok(out)

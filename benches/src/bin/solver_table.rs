@@ -94,7 +94,10 @@ fn parse_setting(key: &str) -> Result<Setting, String> {
         .find(|s| s.key() == key)
         .ok_or_else(|| {
             let keys: Vec<String> = SETTINGS.iter().map(|s| s.key()).collect();
-            format!("unknown setting {key:?}: expected one of {}", keys.join(", "))
+            format!(
+                "unknown setting {key:?}: expected one of {}",
+                keys.join(", ")
+            )
         })
 }
 

@@ -27,10 +27,19 @@ const WARMUP_STEPS: usize = 10;
 #[derive(Parser, Debug)]
 struct Args {
     /// Scenes, comma-separated: stackN, pyramidH or poolN.
-    #[arg(long, value_delimiter = ',', default_value = "stack20,pyramid24,pyramid50")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "stack20,pyramid24,pyramid50"
+    )]
     scenes: Vec<SceneName>,
     /// Engines, comma-separated, one row each.
-    #[arg(long, value_enum, value_delimiter = ',', default_value = "gpu,hybrid,cpu,rapier")]
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "gpu,hybrid,cpu,rapier"
+    )]
     backends: Vec<Engine>,
     /// Timed steps per row (after the warm-up steps).
     #[arg(long, default_value_t = 60, value_parser = count())]

@@ -42,7 +42,8 @@ impl FromStr for SceneName {
     /// `stackN`, `pyramidH` or `poolN` with a size of at least 1; anything else is an error
     /// naming the value and the families.
     fn from_str(name: &str) -> Result<Self, String> {
-        let families: [(&str, fn(usize) -> SceneName); 3] = [
+        type Family = (&'static str, fn(usize) -> SceneName);
+        let families: [Family; 3] = [
             ("stack", SceneName::Stack),
             ("pyramid", SceneName::Pyramid),
             ("pool", SceneName::Pool),

@@ -5,6 +5,8 @@
 //! cargo run --release -p tumble-benches --bin effects_table [-- --cubes 1000 --steps 40 --gpu]
 //! ```
 //!
+//! `--help` lists the flags and their defaults; an unknown flag or value is an error.
+//!
 //! `--gpu` runs the effect rows on `Backend::Gpu` (the asleep and awake rows are CPU only:
 //! `gpu_sleep_table` gives the GPU's). `--diff NAME` runs only row NAME, untimed, and reports
 //! the first step after which its two worlds differ in any bit, and how.
@@ -15,10 +17,60 @@
 
 use std::time::{Duration, Instant};
 
+use clap::{Parser, ValueEnum};
 use tumble::prelude::*;
 use tumble::{EffectOverrides, EffectSwitch, Effects};
-use tumble_benches::arg;
+use tumble_benches::cli::count;
 use tumble_benches::effect_pool::{PoolOptions, effect_pool, with_sleep};
+
+/// Step time of each effect forced on and skipped, and of a settled pool awake and asleep.
+#[derive(Parser, Debug)]
+struct Args {
+    /// Cubes in the pool.
+    #[arg(long, default_value_t = 1000, value_parser = count())]
+    cubes: usize,
+    /// Timed steps per world (after the warm-up steps).
+    #[arg(long, default_value_t = 40, value_parser = count())]
+    steps: usize,
+    /// Runs the effect rows on `Backend::Gpu` (the asleep and awake rows are CPU only).
+    #[arg(long)]
+    gpu: bool,
+    /// Runs only this row, untimed, and reports the first step after which its two worlds
+    /// differ in any bit.
+    #[arg(long, value_enum, value_name = "NAME")]
+    diff: Option<Row>,
+}
+
+/// A row of the table: the effect it forces on and skips.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Row {
+    /// Friction, on a frictionless pool.
+    Friction,
+    /// Restitution, on a pool that does not bounce.
+    Restitution,
+    /// Gravity, on a pool in zero gravity.
+    Gravity,
+    /// Rotation, on a pool whose rotations are locked.
+    Rotation,
+    /// Kinematic bodies, on a pool with none.
+    Kinematic,
+    /// Sleep, on a pool while it falls.
+    Sleep,
+}
+
+impl Row {
+    /// The row's name in the table, as `--diff` takes it.
+    fn name(self) -> &'static str {
+        match self {
+            Row::Friction => "friction",
+            Row::Restitution => "restitution",
+            Row::Gravity => "gravity",
+            Row::Rotation => "rotation",
+            Row::Kinematic => "kinematic",
+            Row::Sleep => "sleep",
+        }
+    }
+}
 
 /// Steps before timing: the cubes fall and pile up (1.5 s at 60 Hz), so the timed steps have
 /// the contacts of a pile.
@@ -131,19 +183,22 @@ fn ms(d: Duration) -> f64 {
 }
 
 fn main() {
-    let cubes = arg("--cubes", 1000);
-    let steps = arg("--steps", 40);
+    let Args {
+        cubes,
+        steps,
+        gpu,
+        diff: diff_row,
+    } = Args::parse();
     type Set = fn(&mut EffectOverrides, EffectSwitch);
     type Get = fn(&Effects) -> bool;
-    let gpu = std::env::args().any(|a| a == "--gpu");
     let pool = PoolOptions {
         cubes,
         backend: if gpu { Backend::Gpu } else { Backend::Cpu },
         ..Default::default()
     };
-    let rows: [(&str, &str, PoolOptions, EffectOverrides, Set, Get); 6] = [
+    let rows: [(Row, &str, PoolOptions, EffectOverrides, Set, Get); 6] = [
         (
-            "friction",
+            Row::Friction,
             "frictionless pool",
             PoolOptions {
                 friction: 0.0,
@@ -154,7 +209,7 @@ fn main() {
             |e| e.friction,
         ),
         (
-            "restitution",
+            Row::Restitution,
             "pool (no bounce)",
             pool,
             EffectOverrides::default(),
@@ -162,7 +217,7 @@ fn main() {
             |e| e.restitution,
         ),
         (
-            "gravity",
+            Row::Gravity,
             "pool in zero gravity",
             PoolOptions {
                 gravity: 0.0,
@@ -173,7 +228,7 @@ fn main() {
             |e| e.gravity,
         ),
         (
-            "rotation",
+            Row::Rotation,
             "pool, rotations locked",
             PoolOptions {
                 lock_rotations: true,
@@ -184,7 +239,7 @@ fn main() {
             |e| e.rotation,
         ),
         (
-            "kinematic",
+            Row::Kinematic,
             "pool, sleep on",
             pool,
             with_sleep(),
@@ -192,7 +247,7 @@ fn main() {
             |e| e.kinematic,
         ),
         (
-            "sleep",
+            Row::Sleep,
             "pool while falling",
             pool,
             EffectOverrides::default(),
@@ -204,13 +259,11 @@ fn main() {
     println!("{cubes} cubes, median of {steps} steps after {WARMUP_STEPS} warm-up steps, {side}\n");
     println!("| effect | scene | forced on, ms | skipped, ms | on / skipped | same bits |");
     println!("|---|---|---:|---:|---:|---|");
-    let diff_row = std::env::args()
-        .position(|a| a == "--diff")
-        .and_then(|i| std::env::args().nth(i + 1));
-    for (name, scene, options, base, set, get) in rows {
-        if diff_row.as_deref().is_some_and(|d| d != name) {
+    for (row, scene, options, base, set, get) in rows {
+        if diff_row.is_some_and(|d| d != row) {
             continue;
         }
+        let name = row.name();
         let mut on_fx = base;
         set(&mut on_fx, EffectSwitch::On);
         let mut off_fx = base;

@@ -6,13 +6,17 @@
 //! cargo run --release -p tumble-benches --bin gpu_profile -- 24 50
 //! ```
 //!
+//! `--help` lists the flags and their defaults; an unknown flag or value is an error.
+//!
 //! Arguments are pyramid heights (default 24 and 50). Each scene settles for 60 steps first so
 //! warm starts and color seeds are in their steady state, then 20 steps are profiled.
 
 use std::collections::BTreeMap;
 use std::time::Instant;
 
+use clap::Parser;
 use tumble_benches::bodies_of;
+use tumble_benches::cli::count;
 use tumble_geometry::Vec3;
 use tumble_gpu::GpuContext;
 use tumble_gpu::solver::constants::COLOR_OFFSETS_LEN;
@@ -23,16 +27,16 @@ const SETTLE_STEPS: usize = 60;
 /// Steps profiled.
 const PROFILED_STEPS: usize = 20;
 
+/// Per-pass GPU times of the whole GPU step on pyramids.
+#[derive(Parser, Debug)]
+struct Args {
+    /// Pyramid heights, one profile each.
+    #[arg(default_values_t = [24, 50], value_parser = count())]
+    heights: Vec<usize>,
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let heights: Vec<usize> = std::env::args()
-        .skip(1)
-        .map(|a| a.parse())
-        .collect::<Result<_, _>>()?;
-    let heights = if heights.is_empty() {
-        vec![24, 50]
-    } else {
-        heights
-    };
+    let Args { heights } = Args::parse();
     let ctx = GpuContext::new()?;
     println!("device: {} ({:?})", ctx.info.name, ctx.info.backend);
     for h in heights {

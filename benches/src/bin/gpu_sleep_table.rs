@@ -5,6 +5,8 @@
 //! cargo run --release -p tumble-benches --bin gpu_sleep_table [-- --cubes 1000 --steps 40 --stages]
 //! ```
 //!
+//! `--help` lists the flags and their defaults; an unknown flag or value is an error.
+//!
 //! `--stages` adds the GPU time of each stage in the last timed step of each world, from
 //! timestamp queries (where the device has them).
 //!
@@ -20,10 +22,25 @@
 
 use std::time::{Duration, Instant};
 
-use tumble_benches::arg;
+use clap::Parser;
+use tumble_benches::cli::count;
 use tumble_benches::gpu_pool::{PoolRun, gpu_pool};
 use tumble_gpu::GpuContext;
 use tumble_gpu::step::{GpuWorld, ReadRequest};
+
+/// The awake and asleep step of a settled pool on the GPU world.
+#[derive(Parser, Debug)]
+struct Args {
+    /// Cubes in the pool.
+    #[arg(long, default_value_t = 1000, value_parser = count())]
+    cubes: usize,
+    /// Timed steps per world (after the pool sleeps).
+    #[arg(long, default_value_t = 40, value_parser = count())]
+    steps: usize,
+    /// Adds the GPU time of each stage in the last timed step of each world.
+    #[arg(long)]
+    stages: bool,
+}
 
 /// Most steps to wait for the pool to sleep (30 s at 60 Hz), as the CPU measurement does.
 const MAX_SETTLE_STEPS: usize = 1800;
@@ -58,9 +75,11 @@ fn ms(d: Duration) -> f64 {
 }
 
 fn main() {
-    let cubes = arg("--cubes", 1000);
-    let steps = arg("--steps", 40);
-    let stages = std::env::args().any(|a| a == "--stages");
+    let Args {
+        cubes,
+        steps,
+        stages,
+    } = Args::parse();
     let ctx = GpuContext::new().expect("a GPU adapter");
     let run = |sleep, skip_idle| PoolRun {
         sleep,

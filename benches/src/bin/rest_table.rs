@@ -6,6 +6,8 @@
 //! cargo run --release -p tumble-benches --bin rest_table [-- --side 6 --layers 3 --seconds 30]
 //! ```
 //!
+//! `--help` lists the flags and their defaults; an unknown flag or value is an error.
+//!
 //! The pile: `side` x `side` columns of `layers` cubes of 0.5 m on a floor, each cube raised
 //! 3 cm per layer, shifted sideways by up to 8 mm and tilted by up to 0.02 rad about each axis
 //! (seeded), so the cubes fall, land unevenly and settle. Each row steps it with sleep on
@@ -15,11 +17,26 @@
 
 use std::time::{Duration, Instant};
 
+use clap::Parser;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tumble::prelude::*;
 use tumble::{EffectOverrides, EffectSwitch};
-use tumble_benches::arg;
+use tumble_benches::cli::count;
+
+/// How long an uneven pile takes to rest and fall asleep, by solver setting.
+#[derive(Parser, Debug)]
+struct Args {
+    /// Columns of the pile along x and along z.
+    #[arg(long, default_value_t = 6, value_parser = count())]
+    side: usize,
+    /// Cubes in each column.
+    #[arg(long, default_value_t = 3, value_parser = count())]
+    layers: usize,
+    /// Most simulated seconds to wait for the pile to sleep.
+    #[arg(long, default_value_t = 30, value_parser = count())]
+    seconds: usize,
+}
 
 /// The uneven pile in a world with `solver` and sleep on; the cubes' handles.
 fn pile(side: usize, layers: usize, solver: SolverConfig) -> (World, Vec<BodyHandle>) {
@@ -62,9 +79,11 @@ fn pile(side: usize, layers: usize, solver: SolverConfig) -> (World, Vec<BodyHan
 }
 
 fn main() {
-    let side = arg("--side", 6);
-    let layers = arg("--layers", 3);
-    let seconds = arg("--seconds", 30);
+    let Args {
+        side,
+        layers,
+        seconds,
+    } = Args::parse();
     let base = SolverConfig::default();
     let default_name = format!(
         "default ({} substeps at {} Hz, {} iteration, {} relax pass)",

@@ -7,6 +7,8 @@
 //!     --settings softstep4,rapier4 --steps 600
 //! ```
 //!
+//! `--help` lists the flags and their defaults; an unknown flag or value is an error.
+//!
 //! Every row runs a fresh world for the scene's full length (10 s, 600 steps at 60 Hz) on the
 //! CPU and reports the horizontal drift of the dynamic bodies (the largest x-z displacement of
 //! any body from its start, at the end and at its worst during the run), whether the scene's
@@ -19,12 +21,14 @@
 
 use std::time::Instant;
 
+use clap::Parser;
 use tumble::prelude::*;
-use tumble_scenes::{RapierOptions, Scene, SceneCheck, build_rapier_with, pyramid, stack};
+use tumble_benches::cli::SceneName;
+use tumble_scenes::{RapierOptions, Scene, SceneCheck, build_rapier_with};
 use tumble_tests::scene_support::horizontal_drift;
 
 /// One solver setting: its label in the table and how to run it.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Setting {
     /// The thesis's projected Gauss-Seidel with `iterations` passes, one substep.
     Baumgarte { iterations: u32 },
@@ -68,40 +72,33 @@ const SETTINGS: [Setting; 10] = [
     Setting::Rapier { iterations: 8 },
 ];
 
+/// Drift and cost of each solver setting on the resting canonical scenes.
+#[derive(Parser, Debug)]
 struct Args {
-    scenes: Vec<String>,
+    /// Scenes, comma-separated: stackN, pyramidH or poolN.
+    #[arg(long, value_delimiter = ',', default_value = "stack20,pyramid12")]
+    scenes: Vec<SceneName>,
+    /// Steps per row [default: the scene's own length, 600 for the canonical scenes].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     steps: Option<u32>,
-    /// Keys of the settings to run; empty runs them all.
-    settings: Vec<String>,
+    /// Settings to run by key, comma-separated (baumgarte5, softstep4, rapier4, ...; an
+    /// unknown key lists them all); all of them when left out.
+    #[arg(long, value_delimiter = ',', value_parser = parse_setting)]
+    settings: Vec<Setting>,
 }
 
-fn parse_args() -> Args {
-    let mut args = Args {
-        scenes: vec!["stack20".into(), "pyramid12".into()],
-        steps: None,
-        settings: Vec::new(),
-    };
-    let mut it = std::env::args().skip(1);
-    while let Some(flag) = it.next() {
-        let value = it.next().unwrap_or_default();
-        match flag.as_str() {
-            "--scenes" => args.scenes = value.split(',').map(str::to_owned).collect(),
-            "--steps" => args.steps = Some(value.parse().expect("--steps takes a count")),
-            "--settings" => args.settings = value.split(',').map(str::to_owned).collect(),
-            other => panic!("unknown flag {other}: see the module docs"),
-        }
-    }
-    args
-}
-
-fn scene_named(name: &str) -> Scene {
-    if let Some(n) = name.strip_prefix("stack") {
-        return stack(n.parse().expect("stackN"));
-    }
-    if let Some(h) = name.strip_prefix("pyramid") {
-        return pyramid(h.parse().expect("pyramidH"));
-    }
-    panic!("unknown scene {name}: stackN or pyramidH")
+/// The setting `--settings` names by `key`; an unknown key is an error listing the keys.
+fn parse_setting(key: &str) -> Result<Setting, String> {
+    SETTINGS
+        .into_iter()
+        .find(|s| s.key() == key)
+        .ok_or_else(|| {
+            let keys: Vec<String> = SETTINGS.iter().map(|s| s.key()).collect();
+            format!(
+                "unknown setting {key:?}: expected one of {}",
+                keys.join(", ")
+            )
+        })
 }
 
 /// What one row measured.
@@ -266,14 +263,14 @@ fn median(values: &[f64]) -> f64 {
 }
 
 fn main() {
-    let args = parse_args();
+    let args = Args::parse();
     let mut profiles = Vec::new();
     println!(
         "| scene | solver | final drift (mm) | peak drift (mm) | stands | median ms/step | mean ms/step | contact points (last step) |"
     );
     println!("|---|---|---|---|---|---|---|---|");
     for name in &args.scenes {
-        let scene = scene_named(name);
+        let scene = name.build();
         let steps = args.steps.unwrap_or(scene.steps);
         // The scene's own criterion: the stability suite's drift limit for this structure.
         let limit = match scene.check {
@@ -281,7 +278,7 @@ fn main() {
             _ => f32::INFINITY,
         };
         for setting in SETTINGS {
-            if !args.settings.is_empty() && !args.settings.contains(&setting.key()) {
+            if !args.settings.is_empty() && !args.settings.contains(&setting) {
                 continue;
             }
             let row = run_setting(&scene, setting, steps);
@@ -300,7 +297,7 @@ fn main() {
                 row.points,
             );
             if let Some(profile) = row.profile {
-                profiles.push((name.clone(), setting, profile));
+                profiles.push((*name, setting, profile));
             }
         }
     }

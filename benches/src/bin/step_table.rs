@@ -5,6 +5,8 @@
 //!     --scenes stack20,pyramid24,pyramid50 --steps 60
 //! ```
 //!
+//! `--help` lists the flags and their defaults; an unknown flag or value is an error.
+//!
 //! Every engine runs the same `tumble-scenes` scene at the same time step and substep count.
 //! Each row reports the median and the 90th percentile of the wall time of `step()` after a
 //! warm-up, and the largest horizontal drift of any dynamic body at the end, so that a faster
@@ -13,52 +15,73 @@
 
 use std::time::Instant;
 
+use clap::{Parser, ValueEnum};
 use tumble::prelude::*;
-use tumble_scenes::{RapierOptions, Scene, build_rapier_with, builders};
+use tumble_benches::cli::{SceneName, count};
+use tumble_scenes::{RapierOptions, Scene, build_rapier_with};
 
 /// Steps run before timing starts: pipelines compile, buffers grow, caches warm up.
 const WARMUP_STEPS: usize = 10;
 
+/// Milliseconds per step for Tumble's backends and rapier3d, side by side.
+#[derive(Parser, Debug)]
 struct Args {
-    scenes: Vec<String>,
-    backends: Vec<String>,
+    /// Scenes, comma-separated: stackN, pyramidH or poolN.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "stack20,pyramid24,pyramid50"
+    )]
+    scenes: Vec<SceneName>,
+    /// Engines, comma-separated, one row each.
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "gpu,hybrid,cpu,rapier"
+    )]
+    backends: Vec<Engine>,
+    /// Timed steps per row (after the warm-up steps).
+    #[arg(long, default_value_t = 60, value_parser = count())]
     steps: usize,
+    /// Substeps of Tumble's soft step, and rapier's solver iterations.
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..))]
     substeps: u32,
 }
 
-fn parse_args() -> Args {
-    let mut args = Args {
-        scenes: vec!["stack20".into(), "pyramid24".into(), "pyramid50".into()],
-        backends: vec!["gpu".into(), "hybrid".into(), "cpu".into(), "rapier".into()],
-        steps: 60,
-        substeps: 4,
-    };
-    let mut it = std::env::args().skip(1);
-    while let Some(flag) = it.next() {
-        let value = it.next().unwrap_or_default();
-        let list = || value.split(',').map(str::to_owned).collect::<Vec<_>>();
-        match flag.as_str() {
-            "--scenes" => args.scenes = list(),
-            "--backends" => args.backends = list(),
-            "--steps" => args.steps = value.parse().expect("--steps takes a count"),
-            "--substeps" => args.substeps = value.parse().expect("--substeps takes a count"),
-            other => panic!("unknown flag {other}: see the module docs"),
-        }
-    }
-    args
+/// An engine of a row: one of Tumble's backends, or rapier3d.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Engine {
+    /// Tumble, every stage on the CPU.
+    Cpu,
+    /// Tumble, every stage on the GPU.
+    Gpu,
+    /// Tumble, collision on the GPU and the solver on the CPU.
+    Hybrid,
+    /// rapier3d.
+    Rapier,
 }
 
-fn scene_named(name: &str) -> Scene {
-    if let Some(n) = name.strip_prefix("stack") {
-        return builders::stack(n.parse().expect("stackN"));
+impl Engine {
+    /// Tumble's backend, or `None` for rapier3d.
+    fn backend(self) -> Option<Backend> {
+        match self {
+            Engine::Cpu => Some(Backend::Cpu),
+            Engine::Gpu => Some(Backend::Gpu),
+            Engine::Hybrid => Some(Backend::Hybrid),
+            Engine::Rapier => None,
+        }
     }
-    if let Some(h) = name.strip_prefix("pyramid") {
-        return builders::pyramid(h.parse().expect("pyramidH"));
+
+    /// The name the row is labelled with, as given on the command line.
+    fn name(self) -> &'static str {
+        match self {
+            Engine::Cpu => "cpu",
+            Engine::Gpu => "gpu",
+            Engine::Hybrid => "hybrid",
+            Engine::Rapier => "rapier",
+        }
     }
-    if let Some(n) = name.strip_prefix("pool") {
-        return builders::pool(n.parse().expect("poolN"));
-    }
-    panic!("unknown scene {name}: stackN, pyramidH or poolN")
 }
 
 /// One timed run: per-step wall times in ms and the final horizontal drift in m.
@@ -173,23 +196,20 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
 }
 
 fn main() {
-    let args = parse_args();
+    let args = Args::parse();
     println!(
         "| scene | bodies | engine | median ms/step | p90 ms/step | max drift (mm) | vs rapier | notes |"
     );
     println!("|---|---|---|---|---|---|---|---|");
     for name in &args.scenes {
-        let scene = scene_named(name);
+        let scene = name.build();
         let mut rows = Vec::new();
-        for backend in &args.backends {
-            let run = match backend.as_str() {
-                "cpu" => run_tumble(&scene, Backend::Cpu, args.substeps, args.steps),
-                "gpu" => run_tumble(&scene, Backend::Gpu, args.substeps, args.steps),
-                "hybrid" => run_tumble(&scene, Backend::Hybrid, args.substeps, args.steps),
-                "rapier" => Ok(run_rapier(&scene, args.substeps, args.steps)),
-                other => panic!("unknown backend {other}: cpu, gpu, hybrid or rapier"),
+        for &engine in &args.backends {
+            let run = match engine.backend() {
+                Some(backend) => run_tumble(&scene, backend, args.substeps, args.steps),
+                None => Ok(run_rapier(&scene, args.substeps, args.steps)),
             };
-            rows.push((backend.clone(), run));
+            rows.push((engine.name(), run));
         }
         let median_of = |run: &Run| {
             let mut ms = run.ms.clone();
@@ -198,7 +218,7 @@ fn main() {
         };
         let rapier_median = rows
             .iter()
-            .find(|(b, _)| b == "rapier")
+            .find(|(b, _)| *b == Engine::Rapier.name())
             .and_then(|(_, r)| r.as_ref().ok())
             .map(|r| median_of(r).0);
         for (backend, run) in &rows {

@@ -5,6 +5,22 @@
 //! result lists each overlapping pair once as `(i, j)` with `i < j` (indices into the input
 //! slice), sorted ascending; overlap uses closed intervals, as `Aabb::intersects`, so boxes
 //! that exactly touch form a pair (a resting box's AABB touches the floor's).
+//!
+//! ```
+//! use tumble_broad::{brute_force_pairs, sweep_and_prune};
+//! use tumble_geometry::{Aabb, Point3};
+//!
+//! let aabbs = [
+//!     Aabb::new(Point3::new(0.0, 0.0, 0.0), Point3::new(1.0, 1.0, 1.0)),
+//!     // Touches box 0 at x = 1: closed intervals make this a pair.
+//!     Aabb::new(Point3::new(1.0, 0.0, 0.0), Point3::new(2.0, 1.0, 1.0)),
+//!     // Far from both.
+//!     Aabb::new(Point3::new(5.0, 5.0, 5.0), Point3::new(6.0, 6.0, 6.0)),
+//! ];
+//! let pairs = sweep_and_prune(&aabbs);
+//! assert_eq!(pairs, vec![(0, 1)]);
+//! assert_eq!(pairs, brute_force_pairs(&aabbs), "the sweep equals the reference");
+//! ```
 #![warn(missing_docs)]
 
 mod brute_force;
@@ -22,3 +38,8 @@ pub use filter::wanted as is_wanted_pair;
 pub use motion::{motion_aabb, update_aabbs};
 pub use sweep_and_prune::{SweepAndPrune, sweep_and_prune, sweep_and_prune_filtered};
 pub use sweep_axis::sweep_axis;
+
+/// The README's examples, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

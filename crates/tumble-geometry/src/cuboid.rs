@@ -8,7 +8,8 @@
 use crate::{Aabb, Point3, Pose, Real, Vec3};
 
 /// A box centred on its local origin, given by its half extents (all positive).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Cuboid {
     /// Half the box's size along each local axis.
     pub half_extents: Vec3,

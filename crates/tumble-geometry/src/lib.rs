@@ -1,6 +1,22 @@
 //! Tumble's geometry layer: math aliases over nalgebra, the cuboid collider, axis-aligned
 //! bounding boxes, planes, polygon clipping, segment closest points, contact reduction, and the
 //! contact manifold types every later stage (CPU and GPU) shares.
+//!
+//! ```
+//! use tumble_geometry::{Cuboid, Pose, Rot, Vec3};
+//!
+//! // A 1 m cube turned 45 degrees about y: its bounding box widens to the diagonal.
+//! let cube = Cuboid::new(Vec3::repeat(0.5));
+//! let pose = Pose::from_parts(
+//!     Vec3::new(0.0, 2.0, 0.0).into(),
+//!     Rot::from_axis_angle(&Vec3::y_axis(), std::f32::consts::FRAC_PI_4),
+//! );
+//! let aabb = cube.aabb(&pose, 0.0);
+//! let half_diagonal = 0.5 * std::f32::consts::SQRT_2;
+//! assert!((aabb.max.x - half_diagonal).abs() < 1e-5);
+//! assert!((aabb.max.y - 2.5).abs() < 1e-5, "height unchanged by a turn about y");
+//! assert!((cube.volume() - 1.0).abs() < 1e-6);
+//! ```
 #![warn(missing_docs)]
 
 mod aabb;
@@ -26,3 +42,8 @@ pub use segment::{
 
 /// Re-export of the math crate, so users need one import.
 pub use nalgebra;
+
+/// The README's examples, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

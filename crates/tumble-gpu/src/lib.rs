@@ -7,6 +7,28 @@
 //! composed from their `// requires:` directives ([`shader`]); constants shared with them are
 //! defined in [`constants`] and reach them as `override` values. Every kernel has a CPU twin
 //! in its module under [`kernels`].
+//!
+//! A kernel's source is composed and checked without a device; a [`GpuContext`] opens one:
+//!
+//! ```
+//! use tumble_gpu::GpuContext;
+//! use tumble_gpu::shader::{Binding, ShaderSource, reflect_bindings};
+//!
+//! let source = ShaderSource::of_path("collide_cuboids.wgsl")?;
+//! let module = source.parse("collide_cuboids")?;
+//! let bindings = reflect_bindings(&module);
+//! assert!(bindings.iter().any(|b| b.kind == Binding::StorageReadWrite), "it writes manifolds");
+//!
+//! match GpuContext::new() {
+//!     Ok(ctx) => println!("device: {} ({:?})", ctx.info.name, ctx.info.backend),
+//!     // No adapter here: every GPU entry point returns this error instead of panicking.
+//!     Err(e) if std::env::var("TUMBLE_REQUIRE_GPU").as_deref() != Ok("1") => {
+//!         println!("no GPU: {e}")
+//!     }
+//!     Err(e) => panic!("TUMBLE_REQUIRE_GPU=1 and no GPU: {e}"),
+//! }
+//! # Ok::<(), tumble_gpu::GpuError>(())
+//! ```
 #![warn(missing_docs)]
 
 pub mod buffer_pool;
@@ -45,3 +67,8 @@ pub use wgpu;
 pub fn validation_capabilities() -> naga::valid::Capabilities {
     naga::valid::Capabilities::default()
 }
+
+/// The README's examples, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -1,9 +1,9 @@
-//! WGSL sources, embedded at compile time from the repository's `shaders/` folder, and how a
-//! kernel's source is composed.
+//! WGSL sources, embedded at compile time from the repository's `shaders/` folder (the
+//! `tumble-shaders` crate), and how a kernel's source is composed.
 //!
-//! Every `.wgsl` file under `shaders/` is embedded by the crate's build script into one table,
-//! [`FILES`], keyed by its path relative to `shaders/`. A file names the files it needs in a
-//! directive among its leading comment lines:
+//! Every `.wgsl` file under `shaders/` is embedded by `tumble-shaders`' build script into one
+//! table, [`FILES`], keyed by its path relative to `shaders/`. A file names the files it needs
+//! in a directive among its leading comment lines:
 //!
 //! ```wgsl
 //! // requires: common/indexing.wgsl common/layout.wgsl
@@ -12,81 +12,19 @@
 //! The include mechanism is whole-file concatenation: [`ShaderSource::of`] follows these
 //! directives transitively, depth first in the order written, and lists each file once, after
 //! everything it requires and before the file that required it (so the order is fixed by the
-//! files alone). [`ShaderSource::compose`] then writes them in that order. WGSL lets
-//! module-scope declarations appear in any order, so no file needs guards or forward
-//! declarations. Nothing inside any file is ever rewritten: values such as the workgroup size
-//! reach the shaders as `override` constants, and the few that WGSL needs as const-expressions
-//! (array sizes, tables) as `const` declarations generated from the Rust values
-//! ([`crate::constants::wgsl_const_prelude`]), composed first.
+//! files alone; [`tumble_shaders::compose_order`]). [`ShaderSource::compose`] then writes them
+//! in that order. WGSL lets module-scope declarations appear in any order, so no file needs
+//! guards or forward declarations. Nothing inside any file is ever rewritten: values such as
+//! the workgroup size reach the shaders as `override` constants, and the few that WGSL needs as
+//! const-expressions (array sizes, tables) as `const` declarations generated from the Rust
+//! values ([`crate::constants::wgsl_const_prelude`]), composed first.
 //!
 //! A shader file therefore only ever names what it uses itself; a kernel
 //! ([`crate::kernel::KernelSpec`]) names only its own file.
 
 use crate::GpuError;
 
-/// One WGSL file of `shaders/`, embedded in the binary.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct WgslFile {
-    /// Path relative to `shaders/`, e.g. `common/layout.wgsl`.
-    pub path: &'static str,
-    /// The file's text.
-    pub source: &'static str,
-}
-
-/// The directive naming the files a WGSL file needs, in its leading comment lines.
-pub const REQUIRES_DIRECTIVE: &str = "// requires:";
-
-impl WgslFile {
-    /// The paths this file's `// requires:` directives name, in the order written.
-    pub fn requires(&self) -> impl Iterator<Item = &'static str> + use<> {
-        let source: &'static str = self.source;
-        source
-            .lines()
-            .map(str::trim_start)
-            .take_while(|line| line.starts_with("//"))
-            .filter_map(|line| line.strip_prefix(REQUIRES_DIRECTIVE))
-            .flat_map(str::split_whitespace)
-    }
-}
-
-/// Every WGSL file under `shaders/`, sorted by path (written by `build.rs`).
-pub const FILES: &[WgslFile] = include!(concat!(env!("OUT_DIR"), "/wgsl_files.rs"));
-
-const fn same(a: &str, b: &str) -> bool {
-    let (a, b) = (a.as_bytes(), b.as_bytes());
-    if a.len() != b.len() {
-        return false;
-    }
-    let mut i = 0;
-    while i < a.len() {
-        if a[i] != b[i] {
-            return false;
-        }
-        i += 1;
-    }
-    true
-}
-
-/// The embedded file at `path` (relative to `shaders/`), if there is one.
-pub const fn find(path: &str) -> Option<WgslFile> {
-    let mut i = 0;
-    while i < FILES.len() {
-        if same(FILES[i].path, path) {
-            return Some(FILES[i]);
-        }
-        i += 1;
-    }
-    None
-}
-
-/// The embedded file at `path`; evaluated in a constant (as kernel specs are), a path with no
-/// file under `shaders/` fails the build.
-pub const fn file(path: &str) -> WgslFile {
-    match find(path) {
-        Some(file) => file,
-        None => panic!("no WGSL file at this path under shaders/"),
-    }
-}
+pub use tumble_shaders::{FILES, REQUIRES_DIRECTIVE, WgslFile, file, find};
 
 /// A full source: a file and everything it requires, dependency first, the file itself last.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -99,8 +37,7 @@ impl ShaderSource {
     /// `root` with the files its `// requires:` directives name, transitively, each once.
     /// Errs on a path with no embedded file or on a cycle, naming the chain.
     pub fn of(root: WgslFile) -> Result<Self, GpuError> {
-        let mut files = Vec::new();
-        visit(root, &mut Vec::new(), &mut files).map_err(|message| GpuError::Shader {
+        let files = tumble_shaders::compose_order(root).map_err(|message| GpuError::Shader {
             shader: root.path,
             message,
         })?;
@@ -137,38 +74,6 @@ impl ShaderSource {
             message: e.emit_to_string(&text),
         })
     }
-}
-
-/// Depth-first post-order over the `requires` directives: `file`'s requirements in the order
-/// written, then `file`, skipping files already listed. `chain` is the path being followed.
-fn visit(
-    file: WgslFile,
-    chain: &mut Vec<&'static str>,
-    out: &mut Vec<WgslFile>,
-) -> Result<(), String> {
-    if out.iter().any(|f| f.path == file.path) {
-        return Ok(());
-    }
-    if chain.contains(&file.path) {
-        return Err(format!(
-            "requires cycle: {} -> {}",
-            chain.join(" -> "),
-            file.path
-        ));
-    }
-    chain.push(file.path);
-    for path in file.requires() {
-        let needed = find(path).ok_or_else(|| {
-            format!(
-                "{} requires {path}, which is no file under shaders/",
-                file.path
-            )
-        })?;
-        visit(needed, chain, out)?;
-    }
-    chain.pop();
-    out.push(file);
-    Ok(())
 }
 
 /// How a kernel binds one buffer (all in bind group 0, binding = position in the list).

@@ -13,6 +13,24 @@
 //! 5. reduction to four points ([`tumble_geometry::reduce_into`]).
 //!
 //! The same steps, with the same fixed arrays and indices, are what the GPU kernel runs.
+//!
+//! ```
+//! use tumble_geometry::{Cuboid, Pose, Vec3};
+//! use tumble_narrow::collide_cuboids;
+//!
+//! // Two unit cubes, B resting on A and sunk 1 cm into it.
+//! let cube = Cuboid::new(Vec3::repeat(0.5));
+//! let a = Pose::translation(0.0, 0.0, 0.0);
+//! let b = Pose::translation(0.0, 0.99, 0.0);
+//! let manifold = collide_cuboids(&cube, &a, &cube, &b, 0.0).expect("the cubes overlap");
+//! // A face contact: the four corners of the shared square, pushing B up.
+//! assert_eq!(manifold.len, 4);
+//! assert!((manifold.normal - Vec3::y()).norm() < 1e-5);
+//! assert!((manifold.max_depth() - 0.01).abs() < 1e-5);
+//! // Lifted 10 cm clear of A, B has no contact within a 2 cm margin.
+//! let apart = Pose::translation(0.0, 1.1, 0.0);
+//! assert!(collide_cuboids(&cube, &a, &cube, &apart, 0.02).is_none());
+//! ```
 #![warn(missing_docs)]
 
 mod axis_choice;
@@ -42,3 +60,8 @@ pub use sat::{
     SatAxis, SatQuery, axis_separation, edge_axis, face_a_separation, face_b_separation,
 };
 pub use vertex_contact::{VertexContact, closest_vertex};
+
+/// The README's examples, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

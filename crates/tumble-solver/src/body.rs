@@ -6,7 +6,8 @@ use tumble_geometry::{Cuboid, Pose, Real, Rot, Vec3};
 use crate::{InvalidParameter, MassProperties, Mat3, Material, bounds};
 
 /// How a body moves.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum BodyKind {
     /// Never moves; infinite mass.
     Fixed,

@@ -5,7 +5,8 @@ use tumble_geometry::Real;
 use crate::{InvalidParameter, Softness};
 
 /// Which velocity solver runs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum SolverKind {
     /// The thesis's projected Gauss-Seidel: one step, `iterations` passes, position error fed
     /// back as a velocity bias `-beta / dt * max(depth - slop, 0)`.
@@ -15,7 +16,8 @@ pub enum SolverKind {
 }
 
 /// The order in which constraints are visited inside one pass.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum SolveOrder {
     /// Reference Gauss-Seidel: constraints in manifold order, one at a time.
     Sequential,
@@ -25,7 +27,8 @@ pub enum SolveOrder {
 }
 
 /// Everything the solver stage needs besides bodies and contacts.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SolverConfig {
     /// Baumgarte PGS or soft step.
     pub kind: SolverKind,

@@ -6,7 +6,8 @@ use crate::InvalidParameter;
 use crate::error::require_non_negative;
 
 /// Friction and restitution of a body's surface.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Material {
     /// Coulomb friction coefficient (>= 0).
     pub friction: Real,

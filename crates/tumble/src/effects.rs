@@ -77,6 +77,7 @@ impl ReadbackOverrides {
     };
 
     /// The reads a step records, given what the caller read after the previous one.
+    #[cfg(feature = "gpu")]
     pub(crate) fn resolve(&self, read: crate::gpu_reads::Reads) -> crate::gpu_reads::Reads {
         crate::gpu_reads::Reads {
             poses: self.poses.resolve(read.poses),

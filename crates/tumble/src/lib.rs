@@ -22,6 +22,7 @@ mod config;
 mod contact_report;
 mod effects;
 mod error;
+#[cfg(feature = "gpu")]
 mod gpu_reads;
 mod handle;
 mod scene;
@@ -55,3 +56,8 @@ pub mod prelude {
         SolverConfig, SolverKind, Vec3, World, WorldConfig,
     };
 }
+
+/// The README's examples, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

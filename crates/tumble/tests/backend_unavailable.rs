@@ -4,6 +4,10 @@
 //!
 //! The world opens one device per process, on first use, reading the variable then; this
 //! file's single test sets it before any world exists, in a process of its own.
+//!
+//! Built without the `gpu` feature the GPU backends never look for an adapter: `without_gpu.rs`
+//! covers that build.
+#![cfg(feature = "gpu")]
 
 use tumble::prelude::*;
 use tumble_gpu::context::ADAPTER_ENV;

@@ -8,18 +8,22 @@
 //! - [`hybrid::HybridBackend`] runs the same [`pipeline::step`] with the collision stages on
 //!   the GPU, so color, solve, finish and sleep are the CPU's, written once;
 //! - [`gpu::GpuBackend`] runs the whole step on the GPU and reads its results lazily
-//!   ([`crate::gpu_reads`]); its reads and writes bring the host copy up to date first.
+//!   (`crate::gpu_reads`); its reads and writes bring the host copy up to date first.
+//!
+//! The GPU backends exist with the crate's `gpu` feature (the default). Without it,
+//! [`new_backend`] answers `Backend::Gpu` and `Backend::Hybrid` with
+//! [`Error::BackendUnavailable`], and nothing of wgpu is compiled.
 
 pub(crate) mod cpu;
+#[cfg(feature = "gpu")]
 pub(crate) mod gpu;
+#[cfg(feature = "gpu")]
 pub(crate) mod hybrid;
 pub(crate) mod pipeline;
 
 use std::fmt;
-use std::sync::OnceLock;
 
 use tumble_geometry::Pose;
-use tumble_gpu::GpuContext;
 use tumble_solver::{Body, BodyState, Contact, Effects, SleepState};
 
 use crate::handle::HandleMap;
@@ -129,22 +133,71 @@ pub(crate) trait StepBackend: fmt::Debug + Send + Sync {
     }
 }
 
-/// The backend `config.backend` asks for. Errs when the GPU it needs is unavailable.
+/// The backend `config.backend` asks for. Errs when the GPU it needs is unavailable, or when
+/// the crate was built without its `gpu` feature.
 pub(crate) fn new_backend(config: &WorldConfig) -> Result<Box<dyn StepBackend>, Error> {
-    Ok(match config.backend {
-        Backend::Cpu => Box::new(cpu::CpuBackend::default()),
-        Backend::Gpu => Box::new(gpu::GpuBackend::new(config)?),
-        Backend::Hybrid => Box::new(hybrid::HybridBackend::new(config)?),
-    })
+    match config.backend {
+        Backend::Cpu => Ok(Box::new(cpu::CpuBackend::default())),
+        Backend::Gpu => device::gpu(config),
+        Backend::Hybrid => device::hybrid(config),
+    }
 }
 
-/// One device for every GPU world of the process: opening a device and compiling pipelines
-/// is the slow part of starting a world, and pipelines are shared per device.
-pub(crate) fn shared_context() -> Result<GpuContext, String> {
-    static SHARED: OnceLock<Result<GpuContext, String>> = OnceLock::new();
-    SHARED
-        .get_or_init(|| GpuContext::new().map_err(|e| e.to_string()))
-        .clone()
+#[cfg(feature = "gpu")]
+pub(crate) use device::shared_context;
+
+/// The GPU backends, opened on the process's one device.
+#[cfg(feature = "gpu")]
+mod device {
+    use std::sync::OnceLock;
+
+    use tumble_gpu::GpuContext;
+
+    use super::{StepBackend, gpu::GpuBackend, hybrid::HybridBackend};
+    use crate::{Error, WorldConfig};
+
+    /// `Backend::Gpu`.
+    pub(super) fn gpu(config: &WorldConfig) -> Result<Box<dyn StepBackend>, Error> {
+        Ok(Box::new(GpuBackend::new(config)?))
+    }
+
+    /// `Backend::Hybrid`.
+    pub(super) fn hybrid(config: &WorldConfig) -> Result<Box<dyn StepBackend>, Error> {
+        Ok(Box::new(HybridBackend::new(config)?))
+    }
+
+    /// One device for every GPU world of the process: opening a device and compiling
+    /// pipelines is the slow part of starting a world, and pipelines are shared per device.
+    pub(crate) fn shared_context() -> Result<GpuContext, String> {
+        static SHARED: OnceLock<Result<GpuContext, String>> = OnceLock::new();
+        SHARED
+            .get_or_init(|| GpuContext::new().map_err(|e| e.to_string()))
+            .clone()
+    }
+}
+
+/// Without the `gpu` feature: the GPU backends are errors naming the missing feature.
+#[cfg(not(feature = "gpu"))]
+mod device {
+    use super::{StepBackend, unavailable};
+    use crate::{Backend, Error, WorldConfig};
+
+    /// Why a GPU backend cannot run in this build.
+    pub(super) const WITHOUT_GPU: &str = "the tumble crate was built without its `gpu` \
+        feature (enabled by default), so it has no GPU backend; build it with the `gpu` \
+        feature, or use Backend::Cpu";
+
+    /// `Backend::Gpu`: unavailable.
+    pub(super) fn gpu(config: &WorldConfig) -> Result<Box<dyn StepBackend>, Error> {
+        let _ = config;
+        Err(unavailable(Backend::Gpu, WITHOUT_GPU))
+    }
+
+    /// `Backend::Hybrid`: unavailable.
+    pub(super) fn hybrid(config: &WorldConfig) -> Result<Box<dyn StepBackend>, Error> {
+        let _ = config;
+        Err(unavailable(Backend::Hybrid, WITHOUT_GPU))
+    }
 }
 
 /// The error of a backend that cannot run, or whose device failed.

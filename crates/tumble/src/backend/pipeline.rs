@@ -17,6 +17,8 @@ use crate::stats::StageClock;
 use crate::{BodyHandle, Error, StepStats};
 
 /// The bodies the collision stages run on.
+// The dense arrays and handles are read by the GPU's collision (`Backend::Hybrid`) only.
+#[cfg_attr(not(feature = "gpu"), allow(dead_code))]
 pub(crate) struct StepBodies<'a> {
     /// The step's bodies: the host's, or their gathered copy while some sleep.
     pub bodies: &'a [Body],

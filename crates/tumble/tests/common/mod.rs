@@ -42,12 +42,14 @@ pub fn substeps(world: &World) -> i32 {
 }
 
 /// A world on `backend` from `config`, or `None` (with a note) when the backend needs a GPU
-/// and none is available, unless `TUMBLE_REQUIRE_GPU=1` makes that a failure.
+/// and none is available, unless `TUMBLE_REQUIRE_GPU=1` makes that a failure. Built without
+/// the `gpu` feature, the GPU backends are always skipped: no GPU can be required of them.
 pub fn world_on(backend: Backend, config: WorldConfig) -> Option<World> {
     match World::new(WorldConfig { backend, ..config }) {
         Ok(w) => Some(w),
         Err(e @ Error::BackendUnavailable { .. })
-            if std::env::var("TUMBLE_REQUIRE_GPU").as_deref() != Ok("1") =>
+            if !cfg!(feature = "gpu")
+                || std::env::var("TUMBLE_REQUIRE_GPU").as_deref() != Ok("1") =>
         {
             eprintln!("skipped {backend:?}: {e}");
             None

@@ -4,33 +4,52 @@ use tumble::prelude::*;
 
 use crate::stability::world_config;
 
-/// What a call must not change: the body count and every pose and velocity.
+/// What a call must not change: the step count, the body count, and every pose and
+/// velocity bit for bit (`-0.0` differs from `0.0`, a NaN from every number), with a hash of
+/// those bits for the messages.
 #[derive(Debug, PartialEq)]
-struct Snapshot {
+pub struct Snapshot {
+    steps: u64,
     count: usize,
-    bodies: Vec<(BodyHandle, Pose, Vec3, Vec3)>,
+    bodies: Vec<(BodyHandle, [u32; 13])>,
+    hash: u64,
 }
 
-fn snapshot(world: &World) -> Snapshot {
+/// The bits of a world's state now (see [`Snapshot`]).
+pub fn snapshot(world: &World) -> Snapshot {
+    let bodies: Vec<(BodyHandle, [u32; 13])> = world
+        .handles()
+        .iter()
+        .map(|&h| {
+            let p = world.pose(h).unwrap();
+            let v = world.linear_velocity(h).unwrap();
+            let w = world.angular_velocity(h).unwrap();
+            let t = p.translation.vector;
+            let q = p.rotation.coords;
+            let bits = [
+                t.x, t.y, t.z, q.x, q.y, q.z, q.w, v.x, v.y, v.z, w.x, w.y, w.z,
+            ]
+            .map(f32::to_bits);
+            (h, bits)
+        })
+        .collect();
+    // FNV-1a over every bit above.
+    let mut hash = 0xcbf2_9ce4_8422_2325_u64;
+    for (h, bits) in &bodies {
+        for word in std::iter::once(h.to_bits()).chain(bits.iter().map(|&b| u64::from(b))) {
+            hash = (hash ^ word).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
     Snapshot {
+        steps: world.step_count(),
         count: world.body_count(),
-        bodies: world
-            .handles()
-            .iter()
-            .map(|&h| {
-                (
-                    h,
-                    world.pose(h).unwrap(),
-                    world.linear_velocity(h).unwrap(),
-                    world.angular_velocity(h).unwrap(),
-                )
-            })
-            .collect(),
+        bodies,
+        hash,
     }
 }
 
 /// Asserts `result` is an `InvalidValue` error naming `field`.
-fn expect_field<T: std::fmt::Debug>(result: Result<T, Error>, field: &str) {
+pub fn expect_field<T: std::fmt::Debug>(result: Result<T, Error>, field: &str) {
     match result {
         Err(Error::InvalidValue { field: f, .. }) => assert_eq!(f, field),
         other => panic!("expected an error naming {field}, got {other:?}"),
@@ -38,7 +57,7 @@ fn expect_field<T: std::fmt::Debug>(result: Result<T, Error>, field: &str) {
 }
 
 /// A small world with a floor, a resting cube and a kinematic box, stepped a few times.
-fn small_world(backend: Backend, solver: SolverConfig) -> (World, BodyHandle) {
+pub fn small_world(backend: Backend, solver: SolverConfig) -> (World, BodyHandle) {
     let mut world = World::new(world_config(backend, solver)).unwrap();
     world
         .add_body(
@@ -95,6 +114,40 @@ pub fn bad_bodies_are_rejected(backend: Backend, solver: SolverConfig) {
         (ok.translation(nan, 0.0, 0.0), "pose"),
         (ok.linear_damping(-1.0), "linear_damping"),
         (ok.angular_damping(nan), "angular_damping"),
+        // Finite but outside the bounds of tumble_solver::bounds (docs/errors.md).
+        (ok.cuboid(Vec3::new(1e-4, 0.5, 0.5)), "half_extents.x"),
+        (ok.cuboid(Vec3::new(0.5, 1e-40, 0.5)), "half_extents.y"),
+        (ok.cuboid(Vec3::new(0.5, 0.5, 2e3)), "half_extents.z"),
+        (ok.cuboid(Vec3::new(1e30, 0.5, 0.5)), "half_extents.x"),
+        (ok.density(1e-30), "density"),
+        (ok.density(2e5), "density"),
+        (ok.density(1e30), "density"),
+        (BodyDesc::fixed().density(1e-40), "density"),
+        (ok.friction(1e30), "friction"),
+        (ok.friction(10.5), "friction"),
+        (
+            ok.linear_velocity(Vec3::new(0.0, 0.0, 400.5)),
+            "linear_velocity",
+        ),
+        (
+            ok.linear_velocity(Vec3::new(1e30, 0.0, 0.0)),
+            "linear_velocity",
+        ),
+        (
+            // Above the spin every allowed world carries at 1/60 s: pi/4 * 64 * 60 = 3016.
+            ok.angular_velocity(Vec3::new(0.0, 4e3, 0.0)),
+            "angular_velocity",
+        ),
+        (
+            ok.angular_velocity(Vec3::new(1e30, 1e30, 1e30)),
+            "angular_velocity",
+        ),
+        (ok.translation(1e6, 0.0, 0.0), "pose"),
+        (ok.translation(0.0, -40_000.0, 0.0), "pose"),
+        (ok.translation(30_000.0, 0.0, 30_000.0), "pose"),
+        (ok.pose(zero_rotation()), "pose"),
+        (ok.linear_damping(1e30), "linear_damping"),
+        (ok.angular_damping(2e4), "angular_damping"),
     ];
     for (desc, field) in cases {
         expect_field(world.add_body(desc), field);
@@ -137,6 +190,93 @@ pub fn bad_updates_are_rejected(backend: Backend, solver: SolverConfig) {
         "linear_velocity",
     );
     assert_eq!(snapshot(&world), before);
+}
+
+/// A pose whose rotation is the zero quaternion, which cannot be normalized.
+fn zero_rotation() -> Pose {
+    let mut pose = Pose::translation(0.0, 3.0, 0.0);
+    pose.rotation = Rot::new_unchecked(tumble::nalgebra::Quaternion::new(0.0, 0.0, 0.0, 0.0));
+    pose
+}
+
+/// Setter arguments that are finite but outside the bounds are rejected by name, and each
+/// leaves every pose and velocity bit as it was.
+pub fn out_of_bound_updates_are_rejected(backend: Backend, solver: SolverConfig) {
+    let (mut world, cube) = small_world(backend, solver);
+    let kinematic = world.handles()[2];
+    let before = snapshot(&world);
+    let far = Pose::translation(1e6, 0.0, 0.0);
+    let tiny = Pose::translation(0.0, 0.5, 0.0);
+    let mut tiny_rotation = tiny;
+    tiny_rotation.rotation =
+        Rot::new_unchecked(tumble::nalgebra::Quaternion::new(1e-30, 0.0, 0.0, 0.0));
+    let cases: Vec<(Result<(), Error>, &str)> = vec![
+        (world.set_pose(cube, far), "pose"),
+        (
+            world.set_pose(cube, Pose::translation(0.0, 32_769.0, 0.0)),
+            "pose",
+        ),
+        (world.set_pose(cube, zero_rotation()), "pose"),
+        (world.set_pose(cube, tiny_rotation), "pose"),
+        (
+            world.set_linear_velocity(cube, Vec3::new(1e30, 0.0, 0.0)),
+            "linear_velocity",
+        ),
+        (
+            world.set_linear_velocity(cube, Vec3::new(300.0, 300.0, 0.0)),
+            "linear_velocity",
+        ),
+        (
+            world.set_angular_velocity(cube, Vec3::new(0.0, 1e30, 0.0)),
+            "angular_velocity",
+        ),
+        (
+            world.set_angular_velocity(cube, Vec3::new(0.0, 4e3, 0.0)),
+            "angular_velocity",
+        ),
+        (
+            world.apply_impulse(cube, Vec3::new(0.0, 1e30, 0.0), Point3::new(0.0, 0.5, 0.0)),
+            "impulse",
+        ),
+        // The 1 kg cube would leave at 1000 m/s, above MAX_SPEED.
+        (
+            world.apply_impulse(cube, Vec3::new(1e3, 0.0, 0.0), Point3::new(0.0, 0.5, 0.0)),
+            "impulse",
+        ),
+        // 100 N s at 0.5 m from the centre of the 1 kg cube (I = 1/6 kg m^2) leaves it at
+        // 100 m/s but spinning at 50 * 6 = 300 rad/s, above what 1/60 s in up to 6 substeps
+        // carries (pi/4 * 360 = 283 rad/s).
+        (
+            world.apply_impulse(cube, Vec3::new(0.0, 0.0, 100.0), Point3::new(0.5, 0.5, 0.0)),
+            if solver.substeps <= 6 { "impulse" } else { "" },
+        ),
+        (
+            world.apply_impulse(cube, Vec3::x(), Point3::new(1e6, 0.0, 0.0)),
+            "point",
+        ),
+        (world.set_kinematic_target(kinematic, far), "pose"),
+        // 100 m in one 1/60 s step is 6000 m/s.
+        (
+            world.set_kinematic_target(kinematic, Pose::translation(103.0, 0.5, 0.0)),
+            "target",
+        ),
+        (
+            world.set_kinematic_target(kinematic, zero_rotation()),
+            "pose",
+        ),
+        (world.set_kinematic_target(cube, tiny), "kind"),
+    ];
+    for (i, (result, field)) in cases.into_iter().enumerate() {
+        if field.is_empty() {
+            continue;
+        }
+        expect_field(result, field);
+        assert_eq!(
+            snapshot(&world),
+            before,
+            "a rejected call up to case {i} changed the world"
+        );
+    }
 }
 
 /// Removed handles and handles this world never issued are errors everywhere.
@@ -283,6 +423,100 @@ pub fn bad_configs_are_rejected(backend: Backend, solver: SolverConfig) {
                 ..good
             },
             "solver.slop",
+        ),
+    ];
+    for (config, field) in cases {
+        expect_field(World::new(config), field);
+    }
+    // Finite but outside the bounds of tumble_solver::bounds (docs/errors.md).
+    let with_solver = |s: SolverConfig| WorldConfig { solver: s, ..good };
+    let cases: Vec<(WorldConfig, &str)> = vec![
+        (WorldConfig { dt: 1e-30, ..good }, "dt"),
+        (WorldConfig { dt: 1e-5, ..good }, "dt"),
+        (WorldConfig { dt: 1.0, ..good }, "dt"),
+        (
+            WorldConfig {
+                gravity: Vec3::new(0.0, -1e30, 0.0),
+                ..good
+            },
+            "gravity",
+        ),
+        (
+            WorldConfig {
+                gravity: Vec3::new(800.0, -800.0, 0.0),
+                ..good
+            },
+            "gravity",
+        ),
+        (
+            WorldConfig {
+                margin: 1e30,
+                ..good
+            },
+            "margin",
+        ),
+        (
+            WorldConfig {
+                margin: 1.5,
+                ..good
+            },
+            "margin",
+        ),
+        (
+            with_solver(SolverConfig {
+                substeps: 65,
+                ..solver
+            }),
+            "solver.substeps",
+        ),
+        (
+            with_solver(SolverConfig {
+                iterations: 100_000,
+                ..solver
+            }),
+            "solver.iterations",
+        ),
+        (
+            with_solver(SolverConfig {
+                relax_iterations: 5000,
+                ..solver
+            }),
+            "solver.relax_iterations",
+        ),
+        (
+            with_solver(SolverConfig {
+                contact_hertz: 1e30,
+                ..solver
+            }),
+            "solver.contact_hertz",
+        ),
+        (
+            with_solver(SolverConfig {
+                damping_ratio: 1e30,
+                ..solver
+            }),
+            "solver.damping_ratio",
+        ),
+        (
+            with_solver(SolverConfig {
+                max_push_out: 1e30,
+                ..solver
+            }),
+            "solver.max_push_out",
+        ),
+        (
+            with_solver(SolverConfig {
+                slop: 1e30,
+                ..solver
+            }),
+            "solver.slop",
+        ),
+        (
+            with_solver(SolverConfig {
+                restitution_threshold: 1e30,
+                ..solver
+            }),
+            "solver.restitution_threshold",
         ),
     ];
     for (config, field) in cases {

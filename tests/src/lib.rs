@@ -87,6 +87,10 @@ macro_rules! stability_suite {
             fn bad_configs_are_rejected() {
                 $crate::bad_input::bad_configs_are_rejected(backend(), solver());
             }
+            #[test]
+            fn out_of_bound_updates_are_rejected() {
+                $crate::bad_input::out_of_bound_updates_are_rejected(backend(), solver());
+            }
         }
     };
 }

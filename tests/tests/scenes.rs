@@ -158,12 +158,13 @@ fn from_json_rejects_invalid_values_and_broken_text() {
         field_of(Scene::from_json(negative).unwrap_err()),
         "bodies[0].half_extents[1]"
     );
-    // NaN cannot be written in JSON; serializing it gives `null`, which must not load.
+    // NaN cannot be written in JSON; serializing it gives `null`, which must not load (the
+    // error names the body).
     let mut nan = stack(1);
     nan.bodies[1].position[1] = Real::NAN;
     assert!(matches!(
         Scene::from_json(&nan.to_json()),
-        Err(SceneError::Json(_))
+        Err(SceneError::Body { index: 1, .. })
     ));
     assert!(matches!(
         Scene::from_json("{ not json"),

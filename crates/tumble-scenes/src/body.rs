@@ -29,7 +29,10 @@ pub const DEFAULT_RESTITUTION: Real = 0.0;
 /// the geometric mean `sqrt(mu_a * mu_b)` (either surface at zero makes the contact frictionless)
 /// and restitution is the maximum (either bouncy surface bounces). The rapier builder sets
 /// rapier's `GeometricMean` and `Max` combine rules to match.
+///
+/// Fields the schema does not know are refused, so a misspelt one is an error naming it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct BodySpec {
     /// Fixed, dynamic or kinematic.
     #[serde(default)]

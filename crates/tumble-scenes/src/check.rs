@@ -9,7 +9,7 @@ use tumble_geometry::Real;
 
 /// What a scene must satisfy to pass.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind")]
+#[serde(tag = "kind", deny_unknown_fields)]
 pub enum SceneCheck {
     /// No criterion beyond every pose staying finite.
     #[default]

@@ -6,6 +6,18 @@ pub enum SceneError {
     /// The text is not JSON of the scene schema.
     #[error("scene JSON does not parse: {0}")]
     Json(#[from] serde_json::Error),
+    /// The file's `version` is not [`crate::FORMAT_VERSION`].
+    #[error("unsupported scene format version {0} (this build reads version {v})", v = crate::FORMAT_VERSION)]
+    UnsupportedVersion(String),
+    /// Body `index` of the `bodies` list does not parse: an unknown or misspelt field, a
+    /// missing one, or a value of the wrong type (the message names it).
+    #[error("scene body bodies[{index}] does not parse: {source}")]
+    Body {
+        /// Index in the scene's `bodies`.
+        index: usize,
+        /// What serde found wrong.
+        source: serde_json::Error,
+    },
     /// A field holds a value the engine cannot simulate.
     #[error("invalid scene field `{field}` = {value}: {reason}")]
     InvalidField {

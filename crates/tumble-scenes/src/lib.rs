@@ -30,6 +30,6 @@ pub use evaluate::{CheckReport, CheckTracker};
 pub use penetration::cuboid_penetration;
 #[cfg(feature = "rapier")]
 pub use rapier_world::{RapierOptions, RapierWorld, build_rapier, build_rapier_with};
-pub use scene::{DEFAULT_DT, DEFAULT_STEPS, STANDARD_GRAVITY, Scene};
+pub use scene::{DEFAULT_DT, DEFAULT_STEPS, FORMAT_VERSION, STANDARD_GRAVITY, Scene};
 pub use state::BodyState;
 pub use validate::ROTATION_NORM_TOLERANCE;

@@ -11,6 +11,10 @@ pub const STANDARD_GRAVITY: Real = 9.81;
 pub const DEFAULT_DT: Real = 1.0 / 60.0;
 /// Default run length: 10 s at 60 Hz, long enough for slow creep in stacks to show.
 pub const DEFAULT_STEPS: u32 = 600;
+/// The scene file format this crate reads and writes. A file without a `version` field is
+/// read as version 1 (the format before the field existed, which it equals); any other
+/// version is refused with [`SceneError::UnsupportedVersion`].
+pub const FORMAT_VERSION: u32 = 1;
 
 /// A complete simulation setup, loadable from and savable to JSON.
 ///
@@ -18,8 +22,15 @@ pub const DEFAULT_STEPS: u32 = 600;
 /// angular velocities in world axes; materials of a touching pair combine by the geometric
 /// mean for friction (`sqrt(mu_a * mu_b)`, as Box2D) and the maximum for restitution; no
 /// contact skin (boxes touch face to face), speculative contacts within the engine's margin.
+///
+/// Fields the schema does not know are refused (a misspelt `frcition` is an error naming it,
+/// never a silent default).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Scene {
+    /// The file format, [`FORMAT_VERSION`] (1 when the file omits it).
+    #[serde(default = "default_version")]
+    pub version: u32,
     /// Short identifier, e.g. `pyramid_12`.
     pub name: String,
     /// What the scene exercises, one sentence.
@@ -41,6 +52,10 @@ pub struct Scene {
     pub check: SceneCheck,
 }
 
+fn default_version() -> u32 {
+    FORMAT_VERSION
+}
+
 fn default_gravity() -> [Real; 3] {
     [0.0, -STANDARD_GRAVITY, 0.0]
 }
@@ -57,6 +72,7 @@ impl Scene {
     /// An empty scene with standard gravity, the default time step and run length.
     pub fn new(name: impl Into<String>, description: impl Into<String>) -> Self {
         Self {
+            version: FORMAT_VERSION,
             name: name.into(),
             description: description.into(),
             gravity: default_gravity(),
@@ -67,9 +83,14 @@ impl Scene {
         }
     }
 
-    /// Parses a scene from JSON and validates it.
+    /// Parses a scene from JSON and validates it. A field the schema does not know, a
+    /// version other than [`FORMAT_VERSION`], a missing or mistyped field are errors; those of
+    /// a body name its index (`bodies[3]`).
     pub fn from_json(text: &str) -> Result<Scene, SceneError> {
-        let scene: Scene = serde_json::from_str(text)?;
+        let scene: Scene = match serde_json::from_str(text) {
+            Ok(scene) => scene,
+            Err(e) => return Err(locate(text, e)),
+        };
         scene.validate()?;
         Ok(scene)
     }
@@ -90,4 +111,26 @@ impl Scene {
     pub fn duration(&self) -> Real {
         self.steps as Real * self.dt
     }
+}
+
+/// The most precise error for a scene text serde refused with `e`: an unsupported version,
+/// or the first body that does not parse on its own (by index); `e` itself otherwise.
+fn locate(text: &str, e: serde_json::Error) -> SceneError {
+    let Ok(serde_json::Value::Object(fields)) = serde_json::from_str::<serde_json::Value>(text)
+    else {
+        return e.into();
+    };
+    if let Some(v) = fields.get("version") {
+        if v.as_u64() != Some(u64::from(FORMAT_VERSION)) {
+            return SceneError::UnsupportedVersion(v.to_string());
+        }
+    }
+    if let Some(serde_json::Value::Array(bodies)) = fields.get("bodies") {
+        for (index, body) in bodies.iter().enumerate() {
+            if let Err(source) = BodySpec::deserialize(body) {
+                return SceneError::Body { index, source };
+            }
+        }
+    }
+    e.into()
 }

@@ -12,6 +12,9 @@ pub const ROTATION_NORM_TOLERANCE: Real = 1e-3;
 impl Scene {
     /// Checks every field; the error names the first bad field and its value.
     pub fn validate(&self) -> Result<(), SceneError> {
+        if self.version != crate::FORMAT_VERSION {
+            return Err(SceneError::UnsupportedVersion(self.version.to_string()));
+        }
         finite_vec("gravity", &self.gravity)?;
         if !(self.dt.is_finite() && self.dt > 0.0) {
             return Err(SceneError::invalid("dt", self.dt, "must be finite and > 0"));

@@ -3,7 +3,7 @@
 
 use tumble_geometry::{Cuboid, Pose, Real, Rot, Vec3};
 
-use crate::{InvalidParameter, MassProperties, Mat3, Material};
+use crate::{InvalidParameter, MassProperties, Mat3, Material, bounds};
 
 /// How a body moves.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -110,6 +110,8 @@ impl BodyState {
 impl Body {
     /// A body of `kind` and `shape` at `pose`; `density` sets the mass of dynamic bodies (it
     /// is still validated for the others, so a bad value is reported whatever the kind).
+    /// Every quantity must lie within its range of [`crate::bounds`]: half extents, density,
+    /// friction, and the centre's distance from the origin.
     pub fn new(
         kind: BodyKind,
         shape: Cuboid,
@@ -117,8 +119,17 @@ impl Body {
         density: Real,
         material: Material,
     ) -> Result<Self, InvalidParameter> {
+        bounds::require_half_extents(&shape.half_extents)?;
+        bounds::require_density(density)?;
         let mass = MassProperties::cuboid(&shape, density)?;
         material.validate()?;
+        bounds::require_in_range(
+            "friction",
+            material.friction,
+            0.0,
+            bounds::MAX_FRICTION,
+            bounds::EXPECTED_FRICTION,
+        )?;
         let pose_ok = pose.translation.vector.iter().all(|c| c.is_finite())
             && pose.rotation.coords.iter().all(|c| c.is_finite());
         if !pose_ok {
@@ -128,6 +139,7 @@ impl Body {
                 "finite translation and rotation",
             ));
         }
+        bounds::require_pose("pose", &pose)?;
         let (inverse_mass, inverse_inertia_local) = match kind {
             BodyKind::Dynamic => (mass.inverse_mass(), mass.inverse_principal_inertia()),
             BodyKind::Fixed | BodyKind::Kinematic => (0.0, Vec3::zeros()),
@@ -244,5 +256,33 @@ mod tests {
         )
         .unwrap_err();
         assert_eq!(e.field, "pose");
+    }
+
+    #[test]
+    fn out_of_bound_bodies_are_rejected_by_field() {
+        let make = |h: Real, density: Real, x: Real, friction: Real| {
+            Body::new(
+                BodyKind::Dynamic,
+                Cuboid::new(Vec3::new(0.5, h, 0.5)),
+                Pose::translation(x, 0.0, 0.0),
+                density,
+                Material {
+                    friction,
+                    restitution: 0.0,
+                },
+            )
+        };
+        make(0.5, 1.0, 0.0, 0.6).unwrap();
+        // Each case is finite and positive, so only the bounds can refuse it.
+        for (body, field) in [
+            (make(1e-4, 1.0, 0.0, 0.6), "half_extents.y"),
+            (make(2e3, 1.0, 0.0, 0.6), "half_extents.y"),
+            (make(0.5, 1e-30, 0.0, 0.6), "density"),
+            (make(0.5, 1e30, 0.0, 0.6), "density"),
+            (make(0.5, 1.0, 1e6, 0.6), "pose"),
+            (make(0.5, 1.0, 0.0, 1e30), "friction"),
+        ] {
+            assert_eq!(body.unwrap_err().field, field);
+        }
     }
 }

@@ -2,7 +2,6 @@
 
 use tumble_geometry::Real;
 
-use crate::error::{require_non_negative, require_positive};
 use crate::{InvalidParameter, Softness};
 
 /// Which velocity solver runs.
@@ -167,34 +166,61 @@ impl SolverConfig {
         }
     }
 
-    /// Checks every field; the error names the first bad one.
+    /// Checks every field against its range in [`crate::bounds`]; the error names the first
+    /// bad one, its value and the range.
     pub fn validate(&self) -> Result<(), InvalidParameter> {
-        if self.iterations == 0 {
-            return Err(InvalidParameter::new(
-                "solver.iterations",
-                self.iterations,
-                "at least 1",
-            ));
-        }
-        if self.substeps == 0 {
-            return Err(InvalidParameter::new(
-                "solver.substeps",
-                self.substeps,
-                "at least 1",
-            ));
-        }
-        require_positive("solver.contact_hertz", self.contact_hertz)?;
-        require_non_negative("solver.damping_ratio", self.damping_ratio)?;
-        require_positive("solver.max_push_out", self.max_push_out)?;
-        if !(self.baumgarte.is_finite() && (0.0..=1.0).contains(&self.baumgarte)) {
-            return Err(InvalidParameter::new(
-                "solver.baumgarte",
-                self.baumgarte,
-                "a number in [0, 1]",
-            ));
-        }
-        require_non_negative("solver.slop", self.slop)?;
-        require_non_negative("solver.restitution_threshold", self.restitution_threshold)?;
+        use crate::bounds::*;
+        let passes = "solver.iterations";
+        require_count(
+            passes,
+            self.iterations,
+            1,
+            MAX_ITERATIONS,
+            EXPECTED_ITERATIONS,
+        )?;
+        let substeps = "solver.substeps";
+        require_count(substeps, self.substeps, 1, MAX_SUBSTEPS, EXPECTED_SUBSTEPS)?;
+        require_count(
+            "solver.relax_iterations",
+            self.relax_iterations,
+            0,
+            MAX_ITERATIONS,
+            EXPECTED_RELAX_ITERATIONS,
+        )?;
+        require_positive_at_most(
+            "solver.contact_hertz",
+            self.contact_hertz,
+            MAX_CONTACT_HERTZ,
+            EXPECTED_CONTACT_HERTZ,
+        )?;
+        require_in_range(
+            "solver.damping_ratio",
+            self.damping_ratio,
+            0.0,
+            MAX_DAMPING_RATIO,
+            EXPECTED_DAMPING_RATIO,
+        )?;
+        require_positive_at_most(
+            "solver.max_push_out",
+            self.max_push_out,
+            MAX_SPEED,
+            EXPECTED_PUSH_OUT,
+        )?;
+        require_in_range(
+            "solver.baumgarte",
+            self.baumgarte,
+            0.0,
+            1.0,
+            "a number in [0, 1]",
+        )?;
+        require_in_range("solver.slop", self.slop, 0.0, MAX_SLOP, EXPECTED_SLOP)?;
+        require_in_range(
+            "solver.restitution_threshold",
+            self.restitution_threshold,
+            0.0,
+            MAX_SPEED,
+            EXPECTED_RESTITUTION_THRESHOLD,
+        )?;
         Ok(())
     }
 }
@@ -222,5 +248,21 @@ mod tests {
             ..SolverConfig::baumgarte()
         };
         assert_eq!(bad.validate().unwrap_err().field, "solver.baumgarte");
+        // Finite values past the bounds of crate::bounds are refused too.
+        let bad = SolverConfig {
+            substeps: 65,
+            ..Default::default()
+        };
+        assert_eq!(bad.validate().unwrap_err().field, "solver.substeps");
+        let bad = SolverConfig {
+            contact_hertz: 1e30,
+            ..Default::default()
+        };
+        assert_eq!(bad.validate().unwrap_err().field, "solver.contact_hertz");
+        let bad = SolverConfig {
+            slop: 1e30,
+            ..Default::default()
+        };
+        assert_eq!(bad.validate().unwrap_err().field, "solver.slop");
     }
 }

@@ -14,6 +14,7 @@
 #![warn(missing_docs)]
 
 mod body;
+pub mod bounds;
 mod coloring;
 mod config;
 mod constraint;

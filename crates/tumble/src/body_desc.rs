@@ -1,11 +1,9 @@
 //! The builder users describe a body with before adding it to a world.
 
 use tumble_geometry::{Cuboid, Pose, Real, Vec3};
-use tumble_solver::{
-    Body, BodyKind, BodyState, Locks, Material, require_finite3, require_non_negative,
-};
+use tumble_solver::{Body, BodyKind, BodyState, Locks, Material, bounds};
 
-use crate::Error;
+use crate::{Error, WorldConfig};
 
 /// Half extents of a body when none are given: a 1 m cube.
 pub const DEFAULT_HALF_EXTENTS: Real = 0.5;
@@ -145,8 +143,10 @@ impl BodyDesc {
         self
     }
 
-    /// Validates every field and builds the solver's body and its initial state.
-    pub(crate) fn build(&self) -> Result<(Body, BodyState), Error> {
+    /// Validates every field against its range (`tumble_solver::bounds`; the angular speed
+    /// against the fastest spin `config`'s substeps carry) and builds the solver's body and
+    /// its initial state.
+    pub(crate) fn build(&self, config: &WorldConfig) -> Result<(Body, BodyState), Error> {
         let mut body = Body::new(
             self.kind,
             Cuboid::new(self.half_extents),
@@ -154,10 +154,15 @@ impl BodyDesc {
             self.density,
             self.material,
         )?;
-        require_finite3("linear_velocity", &self.linear_velocity)?;
-        require_finite3("angular_velocity", &self.angular_velocity)?;
-        require_non_negative("linear_damping", self.linear_damping)?;
-        require_non_negative("angular_damping", self.angular_damping)?;
+        bounds::require_linear_speed("linear_velocity", &self.linear_velocity)?;
+        bounds::require_angular_speed(
+            "angular_velocity",
+            &self.angular_velocity,
+            config.dt,
+            config.solver.substeps,
+        )?;
+        bounds::require_damping("linear_damping", self.linear_damping)?;
+        bounds::require_damping("angular_damping", self.angular_damping)?;
         body.locks = self.locks;
         body.linear_damping = self.linear_damping;
         body.angular_damping = self.angular_damping;

@@ -3,9 +3,7 @@
 use tumble_geometry::{Real, Vec3};
 
 use crate::EffectOverrides;
-use tumble_solver::{
-    InvalidParameter, SolverConfig, require_finite3, require_non_negative, require_positive,
-};
+use tumble_solver::{InvalidParameter, SolverConfig, bounds};
 
 /// Where the step runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -60,11 +58,13 @@ impl Default for WorldConfig {
 }
 
 impl WorldConfig {
-    /// Checks every field; the error names the first bad one.
+    /// Checks every field against its range (`tumble_solver::bounds`); the error names the
+    /// first bad one, its value and the range.
     pub fn validate(&self) -> Result<(), InvalidParameter> {
-        require_finite3("gravity", &self.gravity)?;
-        require_positive("dt", self.dt)?;
-        require_non_negative("margin", self.margin)?;
+        use bounds::*;
+        require_length_at_most("gravity", &self.gravity, MAX_GRAVITY, EXPECTED_GRAVITY)?;
+        require_in_range("dt", self.dt, MIN_DT, MAX_DT, EXPECTED_DT)?;
+        require_in_range("margin", self.margin, 0.0, MAX_MARGIN, EXPECTED_MARGIN)?;
         self.solver.validate()
     }
 }

@@ -31,9 +31,45 @@ pub enum Error {
         /// Why it cannot run.
         reason: String,
     },
-    /// A scene failed its own validation.
+    /// A scene failed its own validation, or one of its bodies or settings is outside the
+    /// engine's bounds (the message names the body index and the field).
     #[error("invalid scene: {0}")]
     InvalidScene(String),
+    /// The step would have left a body with a non-finite pose or velocity, or its centre
+    /// beyond `tumble_solver::bounds::MAX_POSITION`. The step was not taken: every pose,
+    /// velocity, contact and the step count are as they were before it.
+    #[error(
+        "step refused: body {body:?} would have {quantity} = {value} (expected {expected}); \
+         the world is left as it was before the step"
+    )]
+    InvalidStep {
+        /// The first body (in the world's order) whose state would leave its bounds.
+        body: BodyHandle,
+        /// Which quantity: `position`, `rotation`, `linear_velocity` or `angular_velocity`.
+        quantity: &'static str,
+        /// The value the step computed, formatted.
+        value: String,
+        /// What the quantity must satisfy.
+        expected: &'static str,
+    },
+    /// `Backend::Gpu`'s last step left a body with a non-finite pose or velocity, or its
+    /// centre beyond `MAX_POSITION`, found when the results reached the host. The GPU step is
+    /// not waited for, so it cannot be undone: the host keeps the state it last read, and
+    /// every later step and write returns this error.
+    #[error(
+        "the GPU step left body {body:?} with {quantity} = {value} (expected {expected}); \
+         the world cannot step further"
+    )]
+    InvalidGpuState {
+        /// The first body (in the world's order) whose state left its bounds.
+        body: BodyHandle,
+        /// Which quantity: `position`, `rotation`, `linear_velocity` or `angular_velocity`.
+        quantity: &'static str,
+        /// The value read back, formatted.
+        value: String,
+        /// What the quantity must satisfy.
+        expected: &'static str,
+    },
 }
 
 impl From<InvalidParameter> for Error {

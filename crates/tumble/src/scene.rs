@@ -49,10 +49,16 @@ impl World {
             ..config
         };
         let mut world = World::new(config)?;
+        // A body outside the engine's bounds is named by its index in the scene.
         let handles = scene
             .bodies
             .iter()
-            .map(|spec| world.add_body(body_desc(spec)))
+            .enumerate()
+            .map(|(i, spec)| {
+                world
+                    .add_body(body_desc(spec))
+                    .map_err(|e| Error::InvalidScene(format!("bodies[{i}]: {e}")))
+            })
             .collect::<Result<Vec<_>, _>>()?;
         Ok((world, handles))
     }

@@ -1,24 +1,14 @@
 //! Adding, removing, reading and setting bodies.
 
 use tumble_geometry::{Point3, Pose, Real, Vec3};
-use tumble_solver::{BodyKind, InvalidParameter, require_finite3};
+use tumble_solver::{BodyKind, InvalidParameter, bounds};
 
 use crate::{BodyDesc, BodyHandle, Error, World};
-
-fn require_finite_pose(pose: &Pose) -> Result<(), Error> {
-    let ok = pose.translation.vector.iter().all(|c| c.is_finite())
-        && pose.rotation.coords.iter().all(|c| c.is_finite());
-    if ok {
-        Ok(())
-    } else {
-        Err(InvalidParameter::new("pose", pose, "finite translation and rotation").into())
-    }
-}
 
 impl World {
     /// Adds a body. Errs, leaving the world unchanged, on any bad field of `desc`.
     pub fn add_body(&mut self, desc: BodyDesc) -> Result<BodyHandle, Error> {
-        let (body, state) = desc.build()?;
+        let (body, state) = desc.build(&self.config)?;
         self.backend.sync_all(&mut self.host)?;
         self.host.bodies.push(body);
         self.host.states.push(state);
@@ -148,10 +138,11 @@ impl World {
         Ok(0.5 * s.linear_velocity.norm_squared() / b.inverse_mass + rotational)
     }
 
-    /// Teleports the body (its velocities are kept).
+    /// Teleports the body (its velocities are kept). Errs on a centre beyond
+    /// [`bounds::MAX_POSITION`] or a rotation that is not a unit quaternion.
     pub fn set_pose(&mut self, h: BodyHandle, pose: Pose) -> Result<(), Error> {
         let d = self.handles.dense(h)?;
-        require_finite_pose(&pose)?;
+        bounds::require_pose("pose", &pose)?;
         self.backend.sync_motion(&mut self.host)?;
         let mut pose = pose;
         pose.rotation.renormalize();
@@ -160,10 +151,11 @@ impl World {
         Ok(())
     }
 
-    /// Sets the linear velocity. Errs for a fixed body unless `v` is zero.
+    /// Sets the linear velocity. Errs for a fixed body unless `v` is zero, and above
+    /// [`bounds::MAX_SPEED`].
     pub fn set_linear_velocity(&mut self, h: BodyHandle, v: Vec3) -> Result<(), Error> {
         let d = self.handles.dense(h)?;
-        require_finite3("linear_velocity", &v)?;
+        bounds::require_linear_speed("linear_velocity", &v)?;
         let body = &self.host.bodies[d];
         if body.kind == BodyKind::Fixed && v != Vec3::zeros() {
             return Err(InvalidParameter::new(
@@ -180,10 +172,12 @@ impl World {
         Ok(())
     }
 
-    /// Sets the angular velocity (world axes). Errs for a fixed body unless `w` is zero.
+    /// Sets the angular velocity (world axes). Errs for a fixed body unless `w` is zero, and
+    /// above the spin the world's substeps carry ([`bounds::max_angular_speed`]).
     pub fn set_angular_velocity(&mut self, h: BodyHandle, w: Vec3) -> Result<(), Error> {
         let d = self.handles.dense(h)?;
-        require_finite3("angular_velocity", &w)?;
+        let (dt, substeps) = (self.config.dt, self.config.solver.substeps);
+        bounds::require_angular_speed("angular_velocity", &w, dt, substeps)?;
         let body = &self.host.bodies[d];
         if body.kind == BodyKind::Fixed && w != Vec3::zeros() {
             return Err(InvalidParameter::new(
@@ -201,20 +195,32 @@ impl World {
     }
 
     /// Sets a kinematic body's velocities so that it reaches `target` at the end of the next
-    /// step. Errs for bodies that are not kinematic.
+    /// step. Errs for bodies that are not kinematic, for a target beyond
+    /// [`bounds::MAX_POSITION`], and for one that would take a speed above
+    /// [`bounds::MAX_SPEED`] or a spin above [`bounds::max_angular_speed`] to reach.
     pub fn set_kinematic_target(&mut self, h: BodyHandle, target: Pose) -> Result<(), Error> {
         let d = self.handles.dense(h)?;
-        require_finite_pose(&target)?;
+        // Named `pose`, as in `set_pose`: the same check of the same kind of value.
+        bounds::require_pose("pose", &target)?;
         let body = &self.host.bodies[d];
         if body.kind != BodyKind::Kinematic {
             return Err(InvalidParameter::new("kind", body.kind, "a kinematic body").into());
         }
-        self.backend.sync_motion(&mut self.host)?;
-        let body = &self.host.bodies[d];
-        let inv_dt = 1.0 / self.config.dt;
-        let v = (target.translation.vector - body.pose.translation.vector) * inv_dt;
-        let turn = target.rotation * body.pose.rotation.inverse();
+        let (dt, substeps) = (self.config.dt, self.config.solver.substeps);
+        let pose = self.backend.pose(&self.host, d)?;
+        let inv_dt = 1.0 / dt;
+        let v = (target.translation.vector - pose.translation.vector) * inv_dt;
+        let turn = target.rotation * pose.rotation.inverse();
         let w = turn.scaled_axis() * inv_dt;
+        bounds::require_length_at_most(
+            "target",
+            &v,
+            bounds::MAX_SPEED,
+            bounds::EXPECTED_TARGET_SPEED,
+        )?;
+        let max_w = bounds::max_angular_speed(dt, substeps);
+        bounds::require_length_at_most("target", &w, max_w, bounds::EXPECTED_TARGET_SPIN)?;
+        self.backend.sync_motion(&mut self.host)?;
         self.host.states[d].linear_velocity = v;
         self.host.states[d].angular_velocity = w;
         Ok(())
@@ -229,20 +235,41 @@ impl World {
         point: Point3,
     ) -> Result<(), Error> {
         let d = self.handles.dense(h)?;
-        require_finite3("impulse", &impulse)?;
-        require_finite3("point", &point.coords)?;
-        let body = &self.host.bodies[d];
-        if !body.is_dynamic() {
+        let impulse_bound = (bounds::MAX_IMPULSE, bounds::EXPECTED_IMPULSE);
+        bounds::require_length_at_most("impulse", &impulse, impulse_bound.0, impulse_bound.1)?;
+        bounds::require_position("point", &point.coords)?;
+        if !self.host.bodies[d].is_dynamic() {
             return Ok(());
         }
-        self.backend.sync_motion(&mut self.host)?;
-        let body = &self.host.bodies[d];
+        // The velocities the impulse leaves are checked before anything is written.
+        let (pose, state) = (
+            self.backend.pose(&self.host, d)?,
+            self.backend.state(&self.host, d)?,
+        );
+        let mut body = self.host.bodies[d];
+        body.pose = pose;
         let r = point.coords - body.pose.translation.vector;
-        let dv = body.inverse_mass_axes().component_mul(&impulse);
-        let dw = body.inverse_inertia_world() * r.cross(&impulse);
+        let v = state.linear_velocity + body.inverse_mass_axes().component_mul(&impulse);
+        let w = state.angular_velocity + body.inverse_inertia_world() * r.cross(&impulse);
+        let (dt, substeps) = (self.config.dt, self.config.solver.substeps);
+        let result = bounds::EXPECTED_IMPULSE_RESULT;
+        let too_fast = bounds::require_length_at_most("impulse", &v, bounds::MAX_SPEED, result)
+            .and_then(|()| {
+                let max_w = bounds::max_angular_speed(dt, substeps);
+                bounds::require_length_at_most("impulse", &w, max_w, result)
+            });
+        if too_fast.is_err() {
+            return Err(InvalidParameter::new(
+                "impulse",
+                [impulse.x, impulse.y, impulse.z],
+                result,
+            )
+            .into());
+        }
+        self.backend.sync_motion(&mut self.host)?;
         let state = &mut self.host.states[d];
-        state.linear_velocity += dv;
-        state.angular_velocity += dw;
+        state.linear_velocity = v;
+        state.angular_velocity = w;
         self.host.sleep.wake(d);
         Ok(())
     }

@@ -289,3 +289,43 @@ fn body_getters_err_on_removed_handles_and_read_the_right_body() {
     assert_eq!(w.angular_momentum(wall), Ok(Vec3::zeros()));
     assert_eq!(w.kinetic_energy(wall), Ok(0.0));
 }
+
+/// An out-of-bound value is an error whose message names the field, the value and the range
+/// with its constant, and the world keeps its bodies exactly.
+#[test]
+fn out_of_bound_values_are_named_with_their_range() {
+    let mut w = world();
+    let cube = w.add_body(BodyDesc::dynamic()).unwrap();
+    let before = (
+        w.body_count(),
+        w.pose(cube).unwrap(),
+        w.linear_velocity(cube).unwrap(),
+    );
+    let e = w
+        .add_body(BodyDesc::dynamic().cuboid(Vec3::new(0.5, 1e-30, 0.5)))
+        .unwrap_err();
+    let text = e.to_string();
+    assert_eq!(e.field(), Some("half_extents.y"));
+    assert!(
+        text.contains("1e-30") && text.contains("MIN_HALF_EXTENT"),
+        "{text}"
+    );
+    let e = w
+        .set_linear_velocity(cube, Vec3::new(0.0, 1e6, 0.0))
+        .unwrap_err();
+    let text = e.to_string();
+    assert!(
+        text.contains("linear_velocity") && text.contains("MAX_SPEED"),
+        "{text}"
+    );
+    let e = w
+        .set_pose(cube, Pose::translation(1e6, 0.0, 0.0))
+        .unwrap_err();
+    assert!(e.to_string().contains("MAX_POSITION"), "{e}");
+    let after = (
+        w.body_count(),
+        w.pose(cube).unwrap(),
+        w.linear_velocity(cube).unwrap(),
+    );
+    assert_eq!(after, before);
+}

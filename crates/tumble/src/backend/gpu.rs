@@ -9,11 +9,11 @@
 //! or removed. Islands are found and put to sleep on the GPU (`tumble_gpu::sleep`, label
 //! propagation with the CPU's thresholds).
 
-use std::sync::Mutex;
+use std::sync::{Mutex, OnceLock};
 
 use tumble_geometry::Pose;
 use tumble_gpu::step::{GpuWorld, GpuWorldConfig};
-use tumble_solver::BodyState;
+use tumble_solver::{BodyKind, BodyState, bounds};
 
 use super::{ContactsView, Host, StepArgs, StepBackend, shared_context, unavailable};
 use crate::gpu_reads::{ContactView, Reads, Unread};
@@ -44,6 +44,33 @@ pub(crate) struct GpuBackend {
     /// What the caller read after the step before the one in `unread` (or after the last
     /// step, once `unread` is gone).
     last_asked: Reads,
+    /// The first body state out of bounds that a step left, once found (by a read, which
+    /// has `&self`): every later step and write returns it.
+    invalid: OnceLock<Error>,
+}
+
+/// The error for the first moving body whose pose or velocities, as the GPU step left them,
+/// leave their bounds ([`bounds::check_motion`]).
+fn check_results(
+    host: &Host,
+    handles: &[BodyHandle],
+    poses: &[Pose],
+    velocities: &[BodyState],
+) -> Option<Error> {
+    (0..poses.len().min(velocities.len())).find_map(|d| {
+        if host.bodies.get(d).is_none_or(|b| b.kind == BodyKind::Fixed) {
+            return None;
+        }
+        let (p, v) = (&poses[d], &velocities[d]);
+        bounds::check_motion(p, &v.linear_velocity, &v.angular_velocity).map(|e| {
+            Error::InvalidGpuState {
+                body: handles[d],
+                quantity: e.quantity,
+                value: e.value,
+                expected: e.expected,
+            }
+        })
+    })
 }
 
 impl GpuBackend {
@@ -68,12 +95,25 @@ impl GpuBackend {
             synced: Vec::new(),
             unread: None,
             last_asked: Reads::default(),
+            invalid: OnceLock::new(),
         })
     }
 
     /// What the caller read after the last step: the `Auto` readbacks of the next one.
     fn asked(&self) -> Reads {
         self.unread.as_ref().map_or(self.last_asked, Unread::asked)
+    }
+
+    /// The error for body `d`'s state out of bounds, kept for every later step and write.
+    fn found(&self, d: usize, e: bounds::StateViolation) -> Error {
+        let e = Error::InvalidGpuState {
+            body: self.uploaded[d],
+            quantity: e.quantity,
+            value: e.value,
+            expected: e.expected,
+        };
+        let _ = self.invalid.set(e.clone());
+        e
     }
 
     /// The last step's results, when the host arrays do not hold its poses and velocities.
@@ -89,6 +129,9 @@ impl StepBackend for GpuBackend {
             config,
             effects,
         } = args;
+        if let Some(e) = self.invalid.get() {
+            return Err(e.clone());
+        }
         if let Some(e) = self.unread.as_ref().and_then(Unread::error) {
             return Err(failed(e));
         }
@@ -134,14 +177,28 @@ impl StepBackend for GpuBackend {
 
     fn pose(&self, host: &Host, d: usize) -> Result<Pose, Error> {
         match self.unread_motion() {
-            Some(u) => u.poses(&self.gpu).map(|p| p[d]).map_err(failed),
+            Some(u) => {
+                let pose = u.poses(&self.gpu).map(|p| p[d]).map_err(failed)?;
+                let moving = host.bodies[d].kind != BodyKind::Fixed;
+                match bounds::check_motion(&pose, &Default::default(), &Default::default()) {
+                    Some(e) if moving => Err(self.found(d, e)),
+                    _ => Ok(pose),
+                }
+            }
             None => Ok(host.bodies[d].pose),
         }
     }
 
     fn state(&self, host: &Host, d: usize) -> Result<BodyState, Error> {
         match self.unread_motion() {
-            Some(u) => u.velocities(&self.gpu).map(|v| v[d]).map_err(failed),
+            Some(u) => {
+                let v = u.velocities(&self.gpu).map(|v| v[d]).map_err(failed)?;
+                let at_rest = Pose::identity();
+                match bounds::check_motion(&at_rest, &v.linear_velocity, &v.angular_velocity) {
+                    Some(e) => Err(self.found(d, e)),
+                    None => Ok(v),
+                }
+            }
             None => Ok(host.states[d]),
         }
     }
@@ -189,11 +246,19 @@ impl StepBackend for GpuBackend {
     }
 
     fn sync_motion(&mut self, host: &mut Host) -> Result<(), Error> {
+        if let Some(e) = self.invalid.get() {
+            return Err(e.clone());
+        }
         let Some(u) = self.unread.as_mut().filter(|u| !u.motion_in_host) else {
             return Ok(());
         };
         let poses = u.poses(&self.gpu).map_err(failed)?;
         let velocities = u.velocities(&self.gpu).map_err(failed)?;
+        // State out of bounds never reaches the host arrays (nor, from them, the GPU again).
+        if let Some(e) = check_results(host, &self.uploaded, poses, velocities) {
+            let _ = self.invalid.set(e.clone());
+            return Err(e);
+        }
         for ((body, s), (pose, v)) in host
             .bodies
             .iter_mut()

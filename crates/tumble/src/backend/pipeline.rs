@@ -10,7 +10,7 @@
 //! starting.
 
 use tumble_geometry::Real;
-use tumble_solver::{Body, BodyState, Contact, Gathered, PairKey, Stage, stages};
+use tumble_solver::{Body, BodyState, Contact, Gathered, PairKey, Stage, bounds, stages};
 
 use super::{Host, StepArgs};
 use crate::stats::StageClock;
@@ -135,6 +135,9 @@ pub(crate) fn step(
     }
     clock.lap(Stage::Sleep);
 
+    // The solve writes the host's states in place when no body sleeps: kept, so that a
+    // refused step can put them back (the gathered copy leaves the host's untouched).
+    let before = gathered.is_none().then(|| host.states.clone());
     let (bodies, states) = match gathered.as_mut() {
         Some(g) => (&g.bodies[..], &mut g.states[..]),
         None => (&host.bodies[..], &mut host.states[..]),
@@ -152,6 +155,18 @@ pub(crate) fn step(
         effects,
     );
     clock.lap(Stage::Solve);
+    // Nothing is committed yet (poses, the contact cache, sleep): a state out of bounds
+    // refuses the step and leaves the world as it was.
+    let refused = match &gathered {
+        Some(g) => check_solved(&g.bodies, &g.states, |i| all_handles[g.order[i]]),
+        None => check_solved(&host.bodies, &host.states, |i| all_handles[i]),
+    };
+    if let Some(e) = refused {
+        if let Some(states) = before {
+            host.states = states;
+        }
+        return Err(e);
+    }
 
     // Back to dense indices, then the sleeping islands' manifolds, which stay in the cache
     // for when they wake.
@@ -205,6 +220,26 @@ pub(crate) fn step(
         timings: clock.timings(),
     };
     Ok(())
+}
+
+/// The error for the first body whose solved state leaves its bounds
+/// ([`tumble_solver::bounds::check_solved`]); `handle` names the body at a step index.
+fn check_solved(
+    bodies: &[Body],
+    states: &[BodyState],
+    handle: impl Fn(usize) -> BodyHandle,
+) -> Option<Error> {
+    bodies
+        .iter()
+        .zip(states)
+        .enumerate()
+        .find_map(|(i, (b, s))| bounds::check_solved(b, s).map(|v| (i, v)))
+        .map(|(i, v)| Error::InvalidStep {
+            body: handle(i),
+            quantity: v.quantity,
+            value: v.value,
+            expected: v.expected,
+        })
 }
 
 /// Last step's manifolds become `contacts` (dense indices), with their bodies' handles.

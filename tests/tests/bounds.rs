@@ -1,0 +1,354 @@
+//! The bounds of `tumble_solver::bounds` through the facade (docs/errors.md):
+//!
+//! - a step that would carry a body past a bound is refused with the body's handle and the
+//!   quantity, leaving every pose and velocity bit and the step count as they were (Cpu with
+//!   both solvers, with and without sleeping bodies, and Hybrid); on `Backend::Gpu` the state
+//!   is found when it reaches the host, named the same way, and every later step refuses;
+//! - seeded sequences of a few thousand world calls mixing extreme finite values (1e30,
+//!   1e-30, subnormals, 1e6, -0.0) never panic, every `Err` leaves the world bitwise
+//!   unchanged, and every accepted step leaves every pose and velocity finite.
+//!
+//! The GPU tests need a GPU (or lavapipe): without one they print "skipped" unless
+//! `TUMBLE_REQUIRE_GPU=1`, which makes a missing adapter a failure.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use tumble::prelude::*;
+use tumble::solver::bounds::MAX_POSITION;
+use tumble::{EffectSwitch, WorldConfig};
+use tumble_gpu::GpuContext;
+use tumble_tests::bad_input::{self, Snapshot, snapshot};
+
+fn have_gpu() -> bool {
+    GpuContext::for_tests().is_some()
+}
+
+fn config(backend: Backend, solver: SolverConfig) -> WorldConfig {
+    WorldConfig {
+        backend,
+        solver,
+        ..Default::default()
+    }
+}
+
+/// A floor, a cube resting on it, and a cube 2 m short of the position bound moving outward
+/// at 300 m/s with no gravity: the first step moves it 5 m, 3 m past `MAX_POSITION`.
+fn runaway_world(config: WorldConfig) -> (World, BodyHandle) {
+    let mut world = World::new(WorldConfig {
+        gravity: Vec3::zeros(),
+        ..config
+    })
+    .unwrap();
+    world
+        .add_body(
+            BodyDesc::fixed()
+                .cuboid(Vec3::new(5.0, 0.5, 5.0))
+                .translation(0.0, -0.5, 0.0),
+        )
+        .unwrap();
+    world
+        .add_body(BodyDesc::dynamic().translation(0.0, 0.5, 0.0))
+        .unwrap();
+    let runaway = world
+        .add_body(
+            BodyDesc::dynamic()
+                .translation(MAX_POSITION - 2.0, 0.0, 0.0)
+                .linear_velocity(Vec3::new(300.0, 0.0, 0.0)),
+        )
+        .unwrap();
+    (world, runaway)
+}
+
+/// Asserts `result` is the refusal of a step naming `body` and `quantity`.
+fn expect_refused(result: Result<(), Error>, body: BodyHandle, quantity: &str) {
+    match result {
+        Err(Error::InvalidStep {
+            body: b,
+            quantity: q,
+            ..
+        }) => assert_eq!((b, q), (body, quantity)),
+        other => panic!("expected a refused step naming {body:?} {quantity}, got {other:?}"),
+    }
+}
+
+/// The host backends refuse the step that would carry a body past `MAX_POSITION`, and
+/// leave the world bit for bit as it was; the next step is refused the same way.
+fn runaway_step_is_refused(backend: Backend, solver: SolverConfig) {
+    let (mut world, runaway) = runaway_world(config(backend, solver));
+    let before: Snapshot = snapshot(&world);
+    let contacts_before = world.contacts().len();
+    expect_refused(world.step(), runaway, "position");
+    assert_eq!(snapshot(&world), before, "a refused step changed the world");
+    assert_eq!(world.contacts().len(), contacts_before);
+    expect_refused(world.step(), runaway, "position");
+    assert_eq!(snapshot(&world), before);
+    // Turned back, the body steps again: the refusal is about the state, not a stuck world.
+    world
+        .set_linear_velocity(runaway, Vec3::new(-300.0, 0.0, 0.0))
+        .unwrap();
+    world.step().unwrap();
+    assert_eq!(world.step_count(), 1);
+    assert!(world.pose(runaway).unwrap().translation.x < MAX_POSITION - 2.0);
+}
+
+#[test]
+fn cpu_soft_step_refuses_a_step_past_the_position_bound() {
+    runaway_step_is_refused(Backend::Cpu, SolverConfig::default());
+}
+
+#[test]
+fn cpu_baumgarte_refuses_a_step_past_the_position_bound() {
+    runaway_step_is_refused(Backend::Cpu, SolverConfig::baumgarte());
+}
+
+#[test]
+fn hybrid_refuses_a_step_past_the_position_bound() {
+    if have_gpu() {
+        runaway_step_is_refused(Backend::Hybrid, SolverConfig::default());
+    }
+}
+
+/// With sleep on and the resting cube asleep, the step runs on the gathered copy of the
+/// bodies; the refusal must leave the host's bodies, and the sleeper, as they were.
+#[test]
+fn cpu_refuses_a_step_past_the_position_bound_while_bodies_sleep() {
+    let mut cfg = config(Backend::Cpu, SolverConfig::default());
+    cfg.effects.sleep = EffectSwitch::On;
+    cfg.gravity = Vec3::new(0.0, -9.81, 0.0);
+    let mut world = World::new(cfg).unwrap();
+    world
+        .add_body(
+            BodyDesc::fixed()
+                .cuboid(Vec3::new(5.0, 0.5, 5.0))
+                .translation(0.0, -0.5, 0.0),
+        )
+        .unwrap();
+    let sleeper = world
+        .add_body(BodyDesc::dynamic().translation(0.0, 0.5, 0.0))
+        .unwrap();
+    for _ in 0..300 {
+        world.step().unwrap();
+    }
+    assert!(world.is_sleeping(sleeper).unwrap(), "the cube should rest");
+    // A body far away, moving out fast and sideways, so gravity does not matter.
+    let runaway = world
+        .add_body(
+            BodyDesc::dynamic()
+                .translation(MAX_POSITION - 2.0, 0.0, 0.0)
+                .linear_velocity(Vec3::new(300.0, 0.0, 0.0)),
+        )
+        .unwrap();
+    let before = snapshot(&world);
+    expect_refused(world.step(), runaway, "position");
+    assert_eq!(snapshot(&world), before);
+    assert!(world.is_sleeping(sleeper).unwrap());
+}
+
+/// On `Backend::Gpu` the step is not waited for: the state out of bounds is found when it
+/// reaches the host, named by handle and quantity, never copied into the host arrays, and
+/// every later step and write refuses with the same error.
+#[test]
+fn gpu_names_the_body_whose_state_left_the_bounds() {
+    if !have_gpu() {
+        return;
+    }
+    let (mut world, runaway) = runaway_world(config(Backend::Gpu, SolverConfig::default()));
+    world.step().unwrap();
+    let named = |e: &Error| matches!(e, Error::InvalidGpuState { body, quantity: "position", .. } if *body == runaway);
+    let e = match world.pose(runaway) {
+        Ok(p) => panic!("read {p:?} after one step from x = MAX_POSITION - 2 at 300 m/s"),
+        Err(e) => e,
+    };
+    assert!(named(&e), "{e}");
+    let e = world.step().unwrap_err();
+    assert!(named(&e), "{e}");
+    let cube = world.handles()[1];
+    let e = world.set_linear_velocity(cube, Vec3::x()).unwrap_err();
+    assert!(named(&e), "{e}");
+}
+
+/// Values the random calls draw from: ordinary ones, and extreme finite ones on both sides
+/// of every bound.
+const VALUES: &[Real] = &[
+    0.0, -0.0, 0.5, 1.0, -1.0, 2.0, 10.0, -30.0, 1e3, 1e6, -1e6, 1e30, -1e30, 1e-30, 1e-40, -1e-40,
+    3e38, 399.0, 401.0, 32_000.0,
+];
+
+fn value(rng: &mut ChaCha8Rng) -> Real {
+    if rng.random_bool(0.5) {
+        rng.random_range(-3.0..3.0)
+    } else {
+        VALUES[rng.random_range(0..VALUES.len())]
+    }
+}
+
+fn vector(rng: &mut ChaCha8Rng) -> Vec3 {
+    Vec3::new(value(rng), value(rng), value(rng))
+}
+
+fn pose(rng: &mut ChaCha8Rng) -> Pose {
+    let mut p = Pose::translation(value(rng), value(rng), value(rng));
+    if rng.random_bool(0.8) {
+        p.rotation = Rot::from_euler_angles(value(rng), value(rng), value(rng));
+    }
+    if rng.random_bool(0.1) {
+        p.rotation = Rot::new_unchecked(tumble::nalgebra::Quaternion::new(
+            value(rng),
+            value(rng),
+            value(rng),
+            value(rng),
+        ));
+    }
+    p
+}
+
+fn desc(rng: &mut ChaCha8Rng) -> BodyDesc {
+    let base = match rng.random_range(0..6) {
+        0 => BodyDesc::fixed(),
+        1 => BodyDesc::kinematic(),
+        _ => BodyDesc::dynamic(),
+    };
+    let mut d = base.pose(pose(rng));
+    if rng.random_bool(0.5) {
+        d = d.cuboid(vector(rng).map(Real::abs));
+    }
+    if rng.random_bool(0.5) {
+        d = d.density(value(rng).abs());
+    }
+    if rng.random_bool(0.3) {
+        d = d
+            .friction(value(rng).abs())
+            .restitution(rng.random_range(0.0..1.0));
+    }
+    if rng.random_bool(0.5) {
+        d = d.linear_velocity(vector(rng));
+    }
+    if rng.random_bool(0.5) {
+        d = d.angular_velocity(vector(rng));
+    }
+    if rng.random_bool(0.2) {
+        d = d
+            .linear_damping(value(rng).abs())
+            .angular_damping(value(rng).abs());
+    }
+    d
+}
+
+/// Every pose and velocity of `world` is finite.
+fn all_finite(world: &World) -> bool {
+    world.handles().iter().all(|&h| {
+        let p = world.pose(h).unwrap();
+        let v = world.linear_velocity(h).unwrap();
+        let w = world.angular_velocity(h).unwrap();
+        p.translation.vector.iter().all(|c| c.is_finite())
+            && p.rotation.coords.iter().all(|c| c.is_finite())
+            && v.iter().chain(w.iter()).all(|c| c.is_finite())
+    })
+}
+
+/// What one random sequence did.
+#[derive(Debug, Default)]
+struct Tally {
+    accepted: usize,
+    refused: usize,
+    steps: usize,
+    refused_steps: usize,
+}
+
+/// `calls` seeded random calls on a world of `backend` with a floor: each `Err` must leave
+/// the world bit for bit as it was, each accepted step every pose and velocity finite.
+fn random_calls(backend: Backend, seed: u64, calls: usize) -> Tally {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut world = World::new(config(backend, SolverConfig::default())).unwrap();
+    world
+        .add_body(
+            BodyDesc::fixed()
+                .cuboid(Vec3::new(20.0, 0.5, 20.0))
+                .translation(0.0, -0.5, 0.0),
+        )
+        .unwrap();
+    let mut tally = Tally::default();
+    for call in 0..calls {
+        let handles = world.handles().to_vec();
+        let h = handles[rng.random_range(0..handles.len())];
+        let before = snapshot(&world);
+        let kind = rng.random_range(0..10);
+        let result = match kind {
+            0 if handles.len() < 24 => world.add_body(desc(&mut rng)).map(|_| ()),
+            1 if handles.len() > 4 => world.remove_body(h),
+            2 => world.set_pose(h, pose(&mut rng)),
+            3 => world.set_linear_velocity(h, vector(&mut rng)),
+            4 => world.set_angular_velocity(h, vector(&mut rng)),
+            5 => world.apply_impulse(h, vector(&mut rng), Point3::from(vector(&mut rng))),
+            6 => world.set_kinematic_target(h, pose(&mut rng)),
+            _ => world.step(),
+        };
+        let stepped =
+            kind >= 7 || (kind == 0 && handles.len() >= 24) || (kind == 1 && handles.len() <= 4);
+        match result {
+            Err(e) => {
+                tally.refused += 1;
+                tally.refused_steps += usize::from(stepped);
+                assert_eq!(
+                    snapshot(&world),
+                    before,
+                    "seed {seed}, call {call}: the refused call ({e}) changed the world"
+                );
+            }
+            Ok(()) => {
+                tally.accepted += 1;
+                if stepped {
+                    tally.steps += 1;
+                    assert!(
+                        all_finite(&world),
+                        "seed {seed}, call {call}: an accepted step left a non-finite state"
+                    );
+                }
+            }
+        }
+    }
+    tally
+}
+
+#[test]
+fn cpu_random_calls_with_extreme_values_keep_the_world_finite() {
+    // 8 sequences of 500 calls (4000 in all), seeds fixed so a failure reproduces.
+    let mut total = Tally::default();
+    for seed in 0..8 {
+        let t = random_calls(Backend::Cpu, 0x5eed_0000 + seed, 500);
+        total.accepted += t.accepted;
+        total.refused += t.refused;
+        total.steps += t.steps;
+        total.refused_steps += t.refused_steps;
+    }
+    // The mix must exercise both sides: many refusals of extreme values, and many steps of
+    // the worlds the accepted calls built (a test that refused everything would prove
+    // nothing).
+    assert!(total.refused > 500, "{total:?}");
+    assert!(total.steps > 500, "{total:?}");
+    println!("{total:?}");
+}
+
+#[test]
+fn gpu_random_calls_with_extreme_values_keep_the_world_finite() {
+    if !have_gpu() {
+        return;
+    }
+    let t = random_calls(Backend::Gpu, 0x5eed_1000, 300);
+    assert!(t.refused > 30 && t.steps > 30, "{t:?}");
+    println!("{t:?}");
+}
+
+#[test]
+fn gpu_out_of_bound_updates_are_rejected() {
+    if have_gpu() {
+        bad_input::out_of_bound_updates_are_rejected(Backend::Gpu, SolverConfig::default());
+    }
+}
+
+#[test]
+fn hybrid_out_of_bound_updates_are_rejected() {
+    if have_gpu() {
+        bad_input::out_of_bound_updates_are_rejected(Backend::Hybrid, SolverConfig::default());
+    }
+}

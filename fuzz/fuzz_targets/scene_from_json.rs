@@ -20,11 +20,10 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     let saved = scene.to_json();
-    assert_eq!(
-        Scene::from_json(&saved).as_ref(),
-        Ok(&scene),
-        "the saved scene does not load back: {saved}"
-    );
+    match Scene::from_json(&saved) {
+        Ok(loaded) => assert_eq!(loaded, scene, "the saved scene loads back different"),
+        Err(e) => panic!("the saved scene does not load back: {e}\n{saved}"),
+    }
     let (mut world, handles) = match World::from_scene(&scene, WorldConfig::default()) {
         Ok(built) => built,
         Err(e) if skipped("scene-refused") => {
@@ -47,6 +46,9 @@ fuzz_target!(|data: &[u8]| {
         let finite = pose.translation.vector.iter().all(|c| c.is_finite())
             && pose.rotation.coords.iter().all(|c| c.is_finite())
             && v.iter().chain(w.iter()).all(|c| c.is_finite());
-        assert!(finite, "non-finite state {pose:?} {v:?} {w:?} after 3 steps of\n{saved}");
+        assert!(
+            finite,
+            "non-finite state {pose:?} {v:?} {w:?} after 3 steps of\n{saved}"
+        );
     }
 });

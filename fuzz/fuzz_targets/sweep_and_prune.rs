@@ -11,8 +11,8 @@
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
 use tumble_broad::{
-    BroadPhaseError, SweepAndPrune, brute_force_pairs, brute_force_pairs_filtered,
-    sweep_and_prune, sweep_and_prune_filtered,
+    BroadPhaseError, SweepAndPrune, brute_force_pairs, brute_force_pairs_filtered, sweep_and_prune,
+    sweep_and_prune_filtered,
 };
 use tumble_fuzz::{Num, vec3};
 use tumble_geometry::{Aabb, Point3};
@@ -51,7 +51,10 @@ fn check_sorted_unique(pairs: &[(u32, u32)], n: usize) {
         assert!(w[0] < w[1], "not strictly ascending: {w:?}");
     }
     for &(i, j) in pairs {
-        assert!(i < j && (j as usize) < n, "bad pair ({i}, {j}) of {n} boxes");
+        assert!(
+            i < j && (j as usize) < n,
+            "bad pair ({i}, {j}) of {n} boxes"
+        );
     }
 }
 
@@ -62,7 +65,10 @@ fuzz_target!(|input: Input| {
 
     let reference = brute_force_pairs(&aabbs);
     let swept = sweep_and_prune(&aabbs);
-    assert_eq!(swept, reference, "sweep and prune differs from brute force on {aabbs:?}");
+    assert_eq!(
+        swept, reference,
+        "sweep and prune differs from brute force on {aabbs:?}"
+    );
     check_sorted_unique(&swept, n);
 
     // A reused broad phase: a second, smaller query, then the first again.
@@ -72,7 +78,11 @@ fuzz_target!(|input: Input| {
     assert_eq!(out, reference, "first query of a fresh SweepAndPrune");
     let second = &aabbs[..usize::from(input.second_len).min(n)];
     sap.find_pairs(second, &mut out);
-    assert_eq!(out, brute_force_pairs(second), "second query of a reused SweepAndPrune");
+    assert_eq!(
+        out,
+        brute_force_pairs(second),
+        "second query of a reused SweepAndPrune"
+    );
     sap.find_pairs(&aabbs, &mut out);
     assert_eq!(out, reference, "first query again after a different one");
 
@@ -83,7 +93,10 @@ fuzz_target!(|input: Input| {
         .filter(|&(i, j)| !(flags[i as usize] && flags[j as usize]))
         .collect();
     assert_eq!(sweep_and_prune_filtered(&aabbs, &flags), Ok(wanted.clone()));
-    assert_eq!(brute_force_pairs_filtered(&aabbs, &flags), Ok(wanted.clone()));
+    assert_eq!(
+        brute_force_pairs_filtered(&aabbs, &flags),
+        Ok(wanted.clone())
+    );
     sap.find_pairs_filtered(&aabbs, &flags, &mut out)
         .expect("one flag per box");
     assert_eq!(out, wanted);
@@ -102,7 +115,10 @@ fuzz_target!(|input: Input| {
         assert_eq!(sweep_and_prune_filtered(&aabbs, &bad), expected);
         assert_eq!(brute_force_pairs_filtered(&aabbs, &bad), expected);
         let mut out = vec![(1, 2)];
-        assert_eq!(sap.find_pairs_filtered(&aabbs, &bad, &mut out), expected.map(|_| ()));
+        assert_eq!(
+            sap.find_pairs_filtered(&aabbs, &bad, &mut out),
+            expected.map(|_| ())
+        );
         // Refused before touching the output.
         assert_eq!(out, vec![(1, 2)]);
     }

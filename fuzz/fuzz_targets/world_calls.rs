@@ -148,7 +148,8 @@ fuzz_target!(|calls: Vec<Call>| {
     let mut world = World::new(WorldConfig::default()).expect("the default world");
     // Every handle ever issued, removed ones too: a call on a stale handle must be an `Err`.
     let mut issued: Vec<BodyHandle> = Vec::new();
-    let pick = |issued: &[BodyHandle], k: u8| issued.get(usize::from(k) % issued.len().max(1)).copied();
+    let pick =
+        |issued: &[BodyHandle], k: u8| issued.get(usize::from(k) % issued.len().max(1)).copied();
     for call in calls.iter().take(MAX_CALLS) {
         let before = snapshot(&world);
         let result: Result<(), tumble::Error> = match call {
@@ -171,15 +172,18 @@ fuzz_target!(|calls: Vec<Call>| {
                 r
             }
             _ => {
-                let Some(h) = pick(&issued, match call {
-                    Call::Remove(k)
-                    | Call::SetPose(k, _)
-                    | Call::SetLinearVelocity(k, _)
-                    | Call::SetAngularVelocity(k, _)
-                    | Call::ApplyImpulse(k, _, _)
-                    | Call::SetKinematicTarget(k, _) => *k,
-                    Call::Add { .. } | Call::Step => unreachable!("handled above"),
-                }) else {
+                let Some(h) = pick(
+                    &issued,
+                    match call {
+                        Call::Remove(k)
+                        | Call::SetPose(k, _)
+                        | Call::SetLinearVelocity(k, _)
+                        | Call::SetAngularVelocity(k, _)
+                        | Call::ApplyImpulse(k, _, _)
+                        | Call::SetKinematicTarget(k, _) => *k,
+                        Call::Add { .. } | Call::Step => unreachable!("handled above"),
+                    },
+                ) else {
                     continue;
                 };
                 match call {
@@ -191,11 +195,9 @@ fuzz_target!(|calls: Vec<Call>| {
                     Call::SetAngularVelocity(_, w) => {
                         world.set_angular_velocity(h, Vec3::from(vec3(*w)))
                     }
-                    Call::ApplyImpulse(_, j, p) => world.apply_impulse(
-                        h,
-                        Vec3::from(vec3(*j)),
-                        Point3::from(vec3(*p)),
-                    ),
+                    Call::ApplyImpulse(_, j, p) => {
+                        world.apply_impulse(h, Vec3::from(vec3(*j)), Point3::from(vec3(*p)))
+                    }
                     Call::SetKinematicTarget(_, p) => world.set_kinematic_target(h, p.get()),
                     Call::Add { .. } | Call::Step => unreachable!("handled above"),
                 }

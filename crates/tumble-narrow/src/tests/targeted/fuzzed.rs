@@ -12,14 +12,13 @@ fn rotation(q: [f64; 4]) -> Rot {
     Rot::new_normalize(Quaternion::new(w / n, x / n, y / n, z / n).cast::<f32>())
 }
 
-/// One to four finite points and a finite unit normal: what holds at any length.
+/// One to four finite points and a finite normal: what holds at any length.
 fn assert_shape(m: &Manifold) {
     assert!(
         (1..=MAX_MANIFOLD_POINTS).contains(&(m.len as usize)),
         "{m:?}"
     );
     assert!(m.normal.iter().all(|c| c.is_finite()), "{m:?}");
-    assert!((m.normal.norm() - 1.0).abs() <= 1e-5, "{m:?}");
     assert!(
         m.points()
             .iter()

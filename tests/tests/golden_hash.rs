@@ -1,47 +1,64 @@
-//! Golden determinism hashes: every body's pose after 300 steps of the pyramid of 12, the wall
-//! and the dominoes, hashed bit by bit and compared with a committed value.
+//! Golden determinism hashes: every body's pose after 500 steps of five scenes (the pyramid of
+//! 12, the wall of 10 x 10, the 20 dominoes, a cube sliding down a 30 degree ramp with friction
+//! 0.3, and a plank ten times wider than the four cubes it rests on), hashed bit by bit and
+//! compared with a committed value per scene.
 //!
 //! This is the guard for any rewrite of the step (a new backend layer, a faster solver, new
 //! kernels): a change that moves a single bit of a single pose fails here. A committed hash
-//! changes only in a commit that says why the results changed.
+//! changes only in a commit that says why the results changed (docs/testing.md keeps the list).
 //!
-//! - CPU: the same hash with 1, 2 and 3 rayon threads, since a result that depends on the
-//!   thread count would make every CPU number in the docs unreproducible.
-//! - GPU: one hash per adapter. The software Vulkan driver CI uses (lavapipe) has a committed
-//!   hash keyed by its adapter name, which carries its SIMD width ("llvmpipe (LLVM 15.0.6, 256
-//!   bits)"), since a different JIT target can legally round differently. On any other adapter
-//!   the hashes are printed and two runs of the dominoes must agree (`gpu_determinism.rs`
-//!   covers run-to-run equality at length).
+//! - CPU: the same hash with 1 and 2 rayon threads and with as many as the machine has, since a
+//!   result that depends on the thread count would make every CPU number in the docs
+//!   unreproducible; that hash must equal the committed one.
+//! - GPU: two runs of every scene in the same process must give the same hash, and on an adapter
+//!   with committed hashes they must equal them. They are keyed by the adapter name, which for
+//!   the software Vulkan driver CI uses (lavapipe) carries its SIMD width ("llvmpipe (LLVM
+//!   15.0.6, 256 bits)"), since a different JIT target can legally round differently. On any
+//!   other adapter the test prints a line to add to [`GPU_GOLDEN`] to record its hashes.
 //!
 //! To print the current hashes: `cargo test -p tumble-tests --test golden_hash -- --nocapture`.
 
 use tumble::{Backend, World, WorldConfig};
 use tumble_gpu::GpuContext;
-use tumble_scenes::{Scene, dominoes, pyramid, wall};
+use tumble_scenes::{Scene, dominoes, friction_ramp, pyramid, wall, wide_on_small};
 
-/// Steps per scene: 5 s at 60 Hz, past the dominoes' whole chain and the piles' settling.
-const STEPS: usize = 300;
+/// Steps per scene: 8.3 s at 60 Hz. Past the dominoes' whole chain and the piles' settling, and
+/// long enough for the ramp's cube (1.5 m/s^2 down the slope) to slide the 15 m to the ramp's
+/// lower end (about 4.5 s) and fall off it: a contact that slides, tips over an edge and vanishes.
+const STEPS: usize = 500;
 
 /// The scenes hashed, by name, with their committed CPU hash.
-const CPU_GOLDEN: [(&str, u64); 3] = [
-    ("pyramid_12", 0xcb64_53e0_864f_87a9),
-    ("wall_10x10", 0x0bf2_1cb3_7da9_9f57),
-    ("dominoes_20", 0xc883_1629_e9b3_9efa),
+const CPU_GOLDEN: [(&str, u64); 5] = [
+    ("pyramid_12", 0xc0a5_0db9_8434_4588),
+    ("wall_10x10", 0xc4f1_2d0a_96db_f736),
+    ("dominoes_20", 0x8709_40ad_ed44_3eed),
+    ("friction_ramp_30deg_mu0.3", 0x146c_0226_c98f_4265),
+    ("wide_on_small", 0xa0ad_c17b_533a_c2b8),
 ];
 
-/// Committed hashes on lavapipe, keyed by the adapter name (which includes the JIT's vector
-/// width). Same scene order as [`CPU_GOLDEN`].
-const LAVAPIPE_GOLDEN: &[(&str, [u64; 3])] = &[(
+/// Committed GPU hashes, keyed by the adapter name (which, for lavapipe, includes the JIT's
+/// vector width). Same scene order as [`CPU_GOLDEN`].
+const GPU_GOLDEN: &[(&str, [u64; 5])] = &[(
     "llvmpipe (LLVM 15.0.6, 256 bits)",
     [
-        0x4a74_500d_11c1_af00,
-        0xc46f_ff86_f61d_1ffe,
-        0x7373_344b_3d97_d1d3,
+        0x4eba_a98d_c236_1a07,
+        0x0b62_d08e_dbde_0c20,
+        0x5b81_ee1d_a89b_e837,
+        0xa235_0a63_0aaa_2403,
+        0xa60e_d418_ca1d_79ab,
     ],
 )];
 
 fn scenes() -> Vec<Scene> {
-    vec![pyramid(12), wall(10, 10), dominoes(20)]
+    vec![
+        pyramid(12),
+        wall(10, 10),
+        dominoes(20),
+        // tan 30 degrees = 0.577 > 0.3: the cube slides, under kinetic friction throughout.
+        friction_ramp(30.0, 0.3),
+        // Mixed sizes and masses: a plank 100 times heavier than each of its supports.
+        wide_on_small(),
+    ]
 }
 
 /// FNV-1a over the bits of every coordinate of every pose (position, then rotation
@@ -105,19 +122,29 @@ fn run_with_threads(scene: &Scene, threads: usize) -> u64 {
         .install(|| run(scene, Backend::Cpu))
 }
 
+/// The rayon pool sizes checked: 1, 2 and every core the machine has (once each).
+fn thread_counts() -> Vec<usize> {
+    let all = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let mut counts = vec![1, 2, all];
+    counts.sort_unstable();
+    counts.dedup();
+    counts
+}
+
 #[test]
 fn cpu_hashes_match_the_committed_ones_at_every_thread_count() {
+    let counts = thread_counts();
     let mut failures = Vec::new();
     for (scene, (name, golden)) in scenes().iter().zip(CPU_GOLDEN) {
         assert_eq!(scene.name, name, "scene order");
-        let hashes: Vec<u64> = [1, 2, 3]
-            .into_iter()
-            .map(|threads| run_with_threads(scene, threads))
+        let hashes: Vec<u64> = counts
+            .iter()
+            .map(|&threads| run_with_threads(scene, threads))
             .collect();
-        println!("{name}: CPU hashes at 1, 2, 3 threads: {hashes:#018x?}");
+        println!("{name}: CPU hashes at {counts:?} threads: {hashes:#018x?}");
         assert!(
             hashes.iter().all(|&h| h == hashes[0]),
-            "{name}: the CPU result depends on the thread count: {hashes:#018x?}"
+            "{name}: the CPU result depends on the thread count ({counts:?}): {hashes:#018x?}"
         );
         if hashes[0] != golden {
             failures.push(format!(
@@ -133,41 +160,55 @@ fn cpu_hashes_match_the_committed_ones_at_every_thread_count() {
 }
 
 #[test]
-fn gpu_hashes_are_stable_and_match_lavapipes_committed_ones() {
+fn gpu_hashes_repeat_and_match_the_committed_ones_of_the_adapter() {
     let Some(ctx) = GpuContext::for_tests() else {
         return;
     };
     let adapter = ctx.info.name.clone();
-    let golden = LAVAPIPE_GOLDEN
+    let golden = GPU_GOLDEN
         .iter()
         .find(|(name, _)| *name == adapter)
         .map(|(_, hashes)| *hashes);
+    let mut hashes = Vec::new();
     let mut failures = Vec::new();
     for (k, scene) in scenes().iter().enumerate() {
-        let hash = run(scene, Backend::Gpu);
-        println!("{}: GPU hash on {adapter}: {hash:#018x}", scene.name);
-        match golden {
-            Some(golden) if hash != golden[k] => failures.push(format!(
-                "{}: {hash:#018x} (committed {:#018x})",
+        assert_eq!(scene.name, CPU_GOLDEN[k].0, "scene order");
+        let first = run(scene, Backend::Gpu);
+        let second = run(scene, Backend::Gpu);
+        println!(
+            "{}: GPU hashes of two runs on {adapter}: {first:#018x}, {second:#018x}",
+            scene.name
+        );
+        assert_eq!(
+            first, second,
+            "{}: two GPU runs on {adapter} in one process differ",
+            scene.name
+        );
+        if let Some(golden) = golden
+            && first != golden[k]
+        {
+            failures.push(format!(
+                "{}: {first:#018x} (committed {:#018x})",
                 scene.name, golden[k]
-            )),
-            Some(_) => {}
-            // No committed value: at least the run must repeat. The dominoes are the cheapest
-            // scene with contacts that appear, slide and vanish.
-            None if scene.name.starts_with("dominoes") => assert_eq!(
-                hash,
-                run(scene, Backend::Gpu),
-                "{}: two GPU runs on {adapter} differ",
-                scene.name
-            ),
-            None => {}
+            ));
         }
+        hashes.push(first);
     }
+    // The line that records this adapter's hashes in GPU_GOLDEN.
+    let entry = hashes
+        .iter()
+        .map(|h| format!("{h:#018x}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    println!("GPU_GOLDEN entry: ({adapter:?}, [{entry}]),");
     if golden.is_none() {
-        eprintln!("##### no committed GPU hash for adapter {adapter:?}: run-to-run only #####");
+        eprintln!(
+            "##### no committed GPU hashes for adapter {adapter:?}: run-to-run only; to record \
+             them add to GPU_GOLDEN: ({adapter:?}, [{entry}]) #####"
+        );
     }
     assert!(
         failures.is_empty(),
-        "GPU results on {adapter} changed; update LAVAPIPE_GOLDEN only in a commit that says why: {failures:?}"
+        "GPU results on {adapter} changed; update GPU_GOLDEN only in a commit that says why: {failures:?}"
     );
 }

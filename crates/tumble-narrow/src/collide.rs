@@ -64,8 +64,18 @@ struct Candidate {
     witness: Real,
 }
 
+/// The range of lengths, in m, the narrow phase is specified for: every half extent in it, every
+/// coordinate of both translations and the margin at most its upper end. The closest points of
+/// two edges divide products of squared lengths, which leave `f32` (overflow to infinity or
+/// flush to zero) for lengths far outside it; the world's bounds (1e-3 to 1e3 m boxes within
+/// 32 km of the origin) sit well inside. Outside the range a manifold still has one to four
+/// finite points and a finite normal, but its geometry (the normal's length included) is not
+/// promised.
+pub const SUPPORTED_LENGTH: (Real, Real) = (1e-9, 1e9);
+
 /// The contact manifold of box `a` at `pose_a` and box `b` at `pose_b`: `None` when they are more
-/// than `margin` apart, else up to four points with a unit normal from A to B.
+/// than `margin` apart, else up to four points with a unit normal from A to B. Specified for
+/// lengths within [`SUPPORTED_LENGTH`].
 pub fn collide_cuboids(
     a: &Cuboid,
     pose_a: &Pose,

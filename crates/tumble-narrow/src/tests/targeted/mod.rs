@@ -4,6 +4,7 @@
 //! mapping of `BoxPair`, vertex contacts of separated corners, and the margin cutoff.
 
 mod axes;
+mod fuzzed;
 mod ids;
 mod margin;
 mod preferences;

@@ -31,23 +31,10 @@ import sys
 import time
 
 # The columns of bench-gpu's results.csv (xtask/src/bench_gpu_report.rs, CSV_COLUMNS).
-CSV_COLUMNS = [
-    "scene",
-    "bodies",
-    "engine",
-    "steps",
-    "median_ms",
-    "p90_ms",
-    "drift_m",
-    "lowest_m",
-    "gpu_ms",
-    "bytes_per_step",
-    "floor_ms",
-    "x_floor",
-    "mem_bytes_per_body",
-    "manifolds",
-    "note",
-]
+CSV_COLUMNS = (
+    "scene,bodies,engine,steps,median_ms,p90_ms,drift_m,lowest_m,gpu_ms,bytes_per_step,"
+    "floor_ms,x_floor,mem_bytes_per_body,manifolds,note"
+).split(",")
 
 # Defaults of the tumble-scenes schema (crates/tumble-scenes/src/body.rs, scene.rs).
 DEFAULT_GRAVITY = [0.0, -9.81, 0.0]

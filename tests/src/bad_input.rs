@@ -56,9 +56,9 @@ pub fn expect_field<T: std::fmt::Debug>(result: Result<T, Error>, field: &str) {
     }
 }
 
-/// A small world with a floor, a resting cube and a kinematic box, stepped a few times.
-pub fn small_world(backend: Backend, solver: SolverConfig) -> (World, BodyHandle) {
-    let mut world = World::new(world_config(backend, solver)).unwrap();
+/// Adds a 10 m square floor slab (top face at y = 0) and a unit cube resting on it; returns
+/// the cube.
+pub fn floor_and_cube(world: &mut World) -> BodyHandle {
     world
         .add_body(
             BodyDesc::fixed()
@@ -66,9 +66,15 @@ pub fn small_world(backend: Backend, solver: SolverConfig) -> (World, BodyHandle
                 .translation(0.0, -0.5, 0.0),
         )
         .unwrap();
-    let cube = world
+    world
         .add_body(BodyDesc::dynamic().translation(0.0, 0.5, 0.0))
-        .unwrap();
+        .unwrap()
+}
+
+/// A small world with a floor, a resting cube and a kinematic box, stepped a few times.
+pub fn small_world(backend: Backend, solver: SolverConfig) -> (World, BodyHandle) {
+    let mut world = World::new(world_config(backend, solver)).unwrap();
+    let cube = floor_and_cube(&mut world);
     world
         .add_body(
             BodyDesc::kinematic()

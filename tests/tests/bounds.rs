@@ -17,7 +17,7 @@ use tumble::prelude::*;
 use tumble::solver::bounds::MAX_POSITION;
 use tumble::{EffectSwitch, WorldConfig};
 use tumble_gpu::GpuContext;
-use tumble_tests::bad_input::{self, Snapshot, snapshot};
+use tumble_tests::bad_input::{self, Snapshot, floor_and_cube, snapshot};
 
 fn have_gpu() -> bool {
     GpuContext::for_tests().is_some()
@@ -39,16 +39,7 @@ fn runaway_world(config: WorldConfig) -> (World, BodyHandle) {
         ..config
     })
     .unwrap();
-    world
-        .add_body(
-            BodyDesc::fixed()
-                .cuboid(Vec3::new(5.0, 0.5, 5.0))
-                .translation(0.0, -0.5, 0.0),
-        )
-        .unwrap();
-    world
-        .add_body(BodyDesc::dynamic().translation(0.0, 0.5, 0.0))
-        .unwrap();
+    floor_and_cube(&mut world);
     let runaway = world
         .add_body(
             BodyDesc::dynamic()
@@ -116,16 +107,7 @@ fn cpu_refuses_a_step_past_the_position_bound_while_bodies_sleep() {
     cfg.effects.sleep = EffectSwitch::On;
     cfg.gravity = Vec3::new(0.0, -9.81, 0.0);
     let mut world = World::new(cfg).unwrap();
-    world
-        .add_body(
-            BodyDesc::fixed()
-                .cuboid(Vec3::new(5.0, 0.5, 5.0))
-                .translation(0.0, -0.5, 0.0),
-        )
-        .unwrap();
-    let sleeper = world
-        .add_body(BodyDesc::dynamic().translation(0.0, 0.5, 0.0))
-        .unwrap();
+    let sleeper = floor_and_cube(&mut world);
     for _ in 0..300 {
         world.step().unwrap();
     }

@@ -3,19 +3,21 @@
 //!
 //! ```text
 //! tumble-geometry <- tumble-broad  <- tumble-solver <- tumble-gpu <- tumble (facade)
-//!                 <- tumble-narrow <-'                                  |
-//!                 <- tumble-scenes (scene data) <-----------------------'
+//!                 <- tumble-narrow <-'                 |                |
+//!                 <- tumble-scenes (scene data) <------+----------------'
+//! tumble-shaders (the WGSL files) <--------------------'
 //! ```
 
 /// The arrows of the diagram: each engine crate and the crates directly below it. A crate
 /// may import anything reachable along these arrows, and nothing else of the engine.
-pub const ARROWS: [(&str, &[&str]); 7] = [
+pub const ARROWS: [(&str, &[&str]); 8] = [
     ("tumble-geometry", &[]),
+    ("tumble-shaders", &[]),
     ("tumble-broad", &["tumble-geometry"]),
     ("tumble-narrow", &["tumble-geometry"]),
     ("tumble-scenes", &["tumble-geometry"]),
     ("tumble-solver", &["tumble-broad", "tumble-narrow"]),
-    ("tumble-gpu", &["tumble-solver"]),
+    ("tumble-gpu", &["tumble-solver", "tumble-shaders"]),
     ("tumble", &["tumble-gpu", "tumble-scenes"]),
 ];
 

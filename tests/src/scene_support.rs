@@ -6,8 +6,30 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tumble_geometry::nalgebra::{Quaternion, Translation3, UnitQuaternion};
 use tumble_geometry::{Aabb, Cuboid, Point3, Pose, Real, Rot, Vec3};
+use tumble_gpu::step::{GpuWorld, GpuWorldConfig};
+use tumble_gpu::{GpuContext, GpuError};
 use tumble_scenes::{BodyKind as SceneKind, Scene};
 use tumble_solver::{Body, BodyKind, BodyState, Material};
+
+/// A `GpuWorld` on `ctx` holding `scene`'s bodies, stepping at the scene's gravity and time
+/// step with the rest of `config`.
+pub fn gpu_world_of(
+    ctx: &GpuContext,
+    scene: &Scene,
+    config: GpuWorldConfig,
+) -> Result<GpuWorld, GpuError> {
+    let (bodies, states) = bodies_of(scene);
+    let mut world = GpuWorld::new(
+        ctx,
+        GpuWorldConfig {
+            gravity: Vec3::from(scene.gravity),
+            dt: scene.dt,
+            ..config
+        },
+    )?;
+    world.set_bodies(&bodies, &states)?;
+    Ok(world)
+}
 
 /// The solver's bodies and states of a scene.
 pub fn bodies_of(scene: &Scene) -> (Vec<Body>, Vec<BodyState>) {

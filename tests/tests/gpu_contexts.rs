@@ -6,28 +6,17 @@
 //! now holds its own cache. Needs a GPU (or lavapipe): without one it prints a loud "skipped"
 //! unless `TUMBLE_REQUIRE_GPU=1`.
 
-use tumble_geometry::Vec3;
 use tumble_gpu::GpuContext;
 use tumble_gpu::layout::GpuPose;
-use tumble_gpu::step::{GpuWorld, GpuWorldConfig, ReadRequest};
-use tumble_tests::scene_support::bodies_of;
+use tumble_gpu::step::{GpuWorldConfig, ReadRequest};
+use tumble_tests::scene_support::gpu_world_of;
 
 /// Steps per run: half a second at 60 Hz, the pyramid settles on the floor meanwhile.
 const STEPS: usize = 30;
 
 fn run(ctx: &GpuContext) -> Vec<GpuPose> {
     let scene = tumble_scenes::pyramid(3);
-    let (bodies, states) = bodies_of(&scene);
-    let mut world = GpuWorld::new(
-        ctx,
-        GpuWorldConfig {
-            gravity: Vec3::from(scene.gravity),
-            dt: scene.dt,
-            ..Default::default()
-        },
-    )
-    .expect("GPU world");
-    world.set_bodies(&bodies, &states).expect("bodies");
+    let mut world = gpu_world_of(ctx, &scene, GpuWorldConfig::default()).expect("GPU world");
     for _ in 0..STEPS {
         world.step().expect("step");
     }

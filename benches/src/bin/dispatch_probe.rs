@@ -15,13 +15,12 @@
 
 use std::collections::BTreeMap;
 
-use tumble_benches::bodies_of;
-use tumble_geometry::Vec3;
 use tumble_gpu::GpuContext;
 use tumble_gpu::solver::SolvePath;
 use tumble_gpu::solver::constants::COLOR_SLOTS;
-use tumble_gpu::step::{GpuWorld, GpuWorldConfig, PathPolicy, ReadRequest};
+use tumble_gpu::step::{GpuWorldConfig, PathPolicy, ReadRequest};
 use tumble_solver::SolverConfig;
+use tumble_tests::scene_support::gpu_world_of;
 
 /// Steps before profiling.
 const SETTLE_STEPS: usize = 30;
@@ -61,16 +60,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for &h in &heights {
         let scene = tumble_scenes::pyramid(h as usize);
-        let (bodies, states) = bodies_of(&scene);
+        let bodies = scene.bodies.len();
         for (&iters, &path) in iterations
             .iter()
             .flat_map(|i| paths.iter().map(move |p| (i, p)))
         {
-            let mut world = GpuWorld::new(
+            let mut world = gpu_world_of(
                 &ctx,
+                &scene,
                 GpuWorldConfig {
-                    gravity: Vec3::from(scene.gravity),
-                    dt: scene.dt,
                     timestamps: true,
                     path: PathPolicy::Always(path),
                     solver: SolverConfig {
@@ -82,7 +80,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     ..Default::default()
                 },
             )?;
-            world.set_bodies(&bodies, &states)?;
             for _ in 0..SETTLE_STEPS {
                 world.step()?;
             }
@@ -114,7 +111,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             };
             println!(
                 "| {h} | {} | {manifolds} | {iters} | {path:?} | {dispatches} | {:.3} | {:.1} | {:.3} | {:.3} | {solver:.3} | {:.3} | {total:.3} |",
-                bodies.len(),
+                bodies,
                 ms("solve") + ms("solve_fused"),
                 (ms("solve") + ms("solve_fused")) * 1e3 / f64::from(dispatches),
                 ms("prepare"),
@@ -135,12 +132,10 @@ fn host_times(ctx: &GpuContext, heights: &[u32]) -> Result<(), Box<dyn std::erro
     println!("|---|---|---|---|---|");
     for &h in heights {
         let scene = tumble_scenes::pyramid(h as usize);
-        let (bodies, states) = bodies_of(&scene);
-        let mut world = GpuWorld::new(
+        let mut world = gpu_world_of(
             ctx,
+            &scene,
             GpuWorldConfig {
-                gravity: Vec3::from(scene.gravity),
-                dt: scene.dt,
                 solver: SolverConfig {
                     substeps: SUBSTEPS,
                     ..Default::default()
@@ -148,7 +143,6 @@ fn host_times(ctx: &GpuContext, heights: &[u32]) -> Result<(), Box<dyn std::erro
                 ..Default::default()
             },
         )?;
-        world.set_bodies(&bodies, &states)?;
         let poses = ReadRequest {
             poses: true,
             ..Default::default()

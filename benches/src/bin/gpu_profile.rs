@@ -15,12 +15,11 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 use clap::Parser;
-use tumble_benches::bodies_of;
 use tumble_benches::cli::count;
-use tumble_geometry::Vec3;
 use tumble_gpu::GpuContext;
 use tumble_gpu::solver::constants::COLOR_OFFSETS_LEN;
-use tumble_gpu::step::{GpuWorld, GpuWorldConfig, ReadRequest};
+use tumble_gpu::step::{GpuWorldConfig, ReadRequest};
+use tumble_tests::scene_support::gpu_world_of;
 
 /// Steps before profiling: one second at 60 Hz.
 const SETTLE_STEPS: usize = 60;
@@ -41,17 +40,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("device: {} ({:?})", ctx.info.name, ctx.info.backend);
     for h in heights {
         let scene = tumble_scenes::pyramid(h);
-        let (bodies, states) = bodies_of(&scene);
-        let mut world = GpuWorld::new(
+        let mut world = gpu_world_of(
             &ctx,
+            &scene,
             GpuWorldConfig {
-                gravity: Vec3::from(scene.gravity),
-                dt: scene.dt,
                 timestamps: true,
                 ..Default::default()
             },
         )?;
-        world.set_bodies(&bodies, &states)?;
         for _ in 0..SETTLE_STEPS {
             world.step()?;
         }
@@ -89,7 +85,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         println!(
             "\npyramid {h}: {} bodies, {manifolds} manifolds with points, {points} points, \
              path {:?}, colors used {used}, overflow set {}",
-            bodies.len(),
+            scene.bodies.len(),
             world.last_path(),
             sizes[sizes.len() - 1]
         );

@@ -30,7 +30,7 @@ import statistics
 import sys
 import time
 
-# The columns of bench-gpu's results.csv (xtask/src/bench_gpu_report.rs, CSV_COLUMNS).
+# The columns of bench-gpu's results.csv (xtask/src/bench_gpu_report/mod.rs, CSV_COLUMNS).
 CSV_COLUMNS = (
     "scene,bodies,engine,steps,median_ms,p90_ms,drift_m,lowest_m,gpu_ms,bytes_per_step,"
     "floor_ms,x_floor,mem_bytes_per_body,manifolds,note"

@@ -2,7 +2,7 @@
 // color_propose: the first coloring round's proposals, one thread per constraint. Round 0
 // proposes last step's color where the pair had a manifold, so a scene that changed little
 // is colored by this round alone; color_resolve keeps the proposals whose claims held and
-// color_finish runs the remaining rounds.
+// color_withdraw and color_finish run the remaining rounds.
 
 // The bindings are color_bindings.wgsl's.
 

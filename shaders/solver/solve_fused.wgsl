@@ -26,6 +26,40 @@
 @group(0) @binding(15) var<storage, read> previous_tilts: array<GpuTilt>;
 @group(0) @binding(16) var<storage, read_write> tilts: array<GpuTilt>;
 
+// Constraints per color (overflow last).
+var<workgroup> color_counts: array<atomic<u32>, GRAPH_COLOR_COUNT + 1u>;
+
+// Counts the constraints of each color and writes color_offsets; returns (to every thread)
+// one past the highest color in use, overflow excluded.
+fn count_colors_in_workgroup(local: u32, n: u32) -> u32 {
+    for (var c = local; c <= GRAPH_COLOR_COUNT; c += WORKGROUP_SIZE) {
+        atomicStore(&color_counts[c], 0u);
+    }
+    workgroupBarrier();
+    for (var i = local; i < n; i += WORKGROUP_SIZE) {
+        let color = color_state[i].color;
+        if color <= OVERFLOW_COLOR {
+            atomicAdd(&color_counts[color], 1u);
+        }
+    }
+    workgroupBarrier();
+    var used = 0u;
+    if local == 0u {
+        var offset = 0u;
+        for (var c = 0u; c <= GRAPH_COLOR_COUNT; c++) {
+            color_offsets[c] = offset;
+            let count = atomicLoad(&color_counts[c]);
+            offset += count;
+            if count > 0u && c < GRAPH_COLOR_COUNT {
+                used = c + 1u;
+            }
+        }
+        color_offsets[GRAPH_COLOR_COUNT + 1u] = offset;
+    }
+    sync_workgroup();
+    return publish(local, used);
+}
+
 // Thread c lays out the constraints of color c in ascending index order: the same stable
 // order the wide path's radix sort produces.
 fn order_by_color(local: u32, n: u32) {
@@ -65,6 +99,7 @@ fn main(@builtin(local_invocation_index) local: u32) {
     let body_count = params.body_count;
 
     // color: every round here (color_marks was cleared before the dispatch).
+    list_all_in_workgroup(local, n);
     color_rounds_in_workgroup(local, n, 0u);
     let used_colors = count_colors_in_workgroup(local, n);
     order_by_color(local, n);

@@ -18,9 +18,7 @@ use tumble_gpu::kernels::{
     cuboid_from_gpu,
     gather_sweep_boxes::gather_sweep_boxes_cpu,
     plan_dispatch::plan_dispatch_cpu,
-    radix_sort::{
-        RadixBuffers, RadixSort, plan_passes, radix_sort_cpu, result_copy, tile_count_len,
-    },
+    radix_sort::{RadixBuffers, RadixSort, radix_sort_cpu, result_copy},
     update_aabbs::pose_from_gpu,
     velocity_from_gpu,
     write_sort_keys::write_sort_keys_cpu,
@@ -123,8 +121,18 @@ fn gpu_sort(
     values: &[u32],
     sorts: &[(bool, u32)],
 ) -> (Vec<u32>, Vec<u32>) {
+    gpu_sort_digits(ctx, RadixSort::new(ctx).unwrap(), keys, values, sorts)
+}
+
+/// [`gpu_sort`] with a given sort (digit width).
+fn gpu_sort_digits(
+    ctx: &GpuContext,
+    sort: RadixSort,
+    keys: &[u32],
+    values: &[u32],
+    sorts: &[(bool, u32)],
+) -> (Vec<u32>, Vec<u32>) {
     let n = keys.len() as u32;
-    let sort = RadixSort::new(ctx).unwrap();
     let work = ctx.storage_buffer("work", &[WorkList::for_count(n)]);
     let k = [
         ctx.storage_buffer("k0", keys),
@@ -134,8 +142,8 @@ fn gpu_sort(
         ctx.storage_buffer("v0", values),
         ctx.storage_buffer("v1", values),
     ];
-    let tiles = ctx.storage_buffer("tiles", &vec![0u32; tile_count_len(n) as usize]);
-    let passes = plan_passes(sorts);
+    let tiles = ctx.storage_buffer("tiles", &vec![0u32; sort.tile_count_len(n) as usize]);
+    let passes = sort.plan(sorts);
     let groups = sort.bind(
         ctx,
         &RadixBuffers {
@@ -181,6 +189,36 @@ fn radix_sort_is_a_stable_sort_equal_to_the_cpu() {
     let mut want: Vec<(u32, u32)> = a.iter().copied().zip(b.iter().copied()).collect();
     want.sort();
     assert_eq!(sa.into_iter().zip(sb).collect::<Vec<_>>(), want);
+}
+
+#[test]
+fn wide_digit_radix_sort_is_the_same_stable_sort() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(4);
+    // The color sort's shape: 5-bit keys (colors, overflow, empty) in one 32-bucket pass,
+    // 100,003 of them (a partial last tile). Few distinct keys over many items is where a
+    // rank error within a tile would show as values out of their input order.
+    let keys: Vec<u32> = (0..100_003).map(|_| rng.random_range(0..26)).collect();
+    let values: Vec<u32> = (0..keys.len() as u32).collect();
+    let five = RadixSort::with_digit_bits(&ctx, 5).unwrap();
+    assert_eq!(
+        five.plan(&[(true, 5)]).len(),
+        1,
+        "5 key bits are one 5-bit pass"
+    );
+    let got = gpu_sort_digits(&ctx, five, &keys, &values, &[(true, 5)]);
+    assert_eq!(got, radix_sort_cpu(&keys, &values, 5));
+    // Full 32-bit keys with 8-bit digits: four passes, the same order as 4-bit digits.
+    let keys: Vec<u32> = (0..20_000).map(|_| rng.random()).collect();
+    let values: Vec<u32> = (0..keys.len() as u32).collect();
+    let eight = RadixSort::with_digit_bits(&ctx, 8).unwrap();
+    let got = gpu_sort_digits(&ctx, eight, &keys, &values, &[(true, 32)]);
+    assert_eq!(got, radix_sort_cpu(&keys, &values, 32));
+    // A digit wider than the histogram's one bucket per thread is refused, not clamped.
+    let err = RadixSort::with_digit_bits(&ctx, 9).unwrap_err().to_string();
+    assert!(err.contains("digit_bits") && err.contains('9'), "{err}");
 }
 
 /// GPU pairs against `tumble_broad` on the GPU's own AABBs (so the comparison is of the broad

@@ -93,7 +93,7 @@ fn every_kernel_parses_validates_specializes_and_translates() {
 fn workgroup_size_comes_from_the_host_constant() {
     // The shaders never spell the workgroup size: after specialization it must equal the
     // Rust constant (single-thread planning kernels excepted; the per-color passes have their
-    // own, for which color_finish sizes their dispatches).
+    // own, for which color_plan sizes their dispatches).
     for k in all_kernels() {
         let spec = k.spec;
         let (module, _) = spec.check_specialized(&k.overrides).unwrap();

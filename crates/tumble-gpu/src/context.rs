@@ -58,7 +58,7 @@ pub struct GpuContext {
 ///
 /// wgpu validates every indirect dispatch in release builds by default: each one becomes a
 /// validation dispatch, a rebind and two more barriers. Every indirect argument buffer of the
-/// step is written by `plan_dispatch` (or `color_finish`), which clamps the count to the list's
+/// step is written by `plan_dispatch` (or `color_plan`), which clamps the count to the list's
 /// capacity and folds the workgroups past the per-dimension limit, so the check can never
 /// fire; it only costs time. `WGPU_VALIDATION_INDIRECT_CALL=1` turns it back on.
 fn instance_descriptor() -> wgpu::InstanceDescriptor {

@@ -1,6 +1,7 @@
 // requires: solver/common/coloring.wgsl
-// The bindings of the wide coloring kernels (color_propose, color_resolve, color_finish):
-// what coloring.wgsl expects, and the pair work list. color_finish binds more after these.
+// The bindings of the coloring kernels that run rounds (color_propose, color_resolve,
+// color_withdraw, color_finish): what coloring.wgsl expects, and the pair work list.
+// color_withdraw and color_finish bind more after these.
 
 @group(0) @binding(0) var<uniform> params: SolverParams;
 @group(0) @binding(1) var<storage, read> contact_work: WorkList;

@@ -1,17 +1,14 @@
 // requires: solver/common/coloring.wgsl
-// The coloring rounds, the per-color counts and the stable order by color, run by a single
-// workgroup (used by color_finish after the wide first round, and by solve_fused for all of it).
+// The coloring rounds and the per-color counts, run by a single workgroup (color_finish runs
+// the rounds after the wide first round; solve_fused runs all of it).
 //
 // Expects, besides what coloring.wgsl expects: color_scratch: array<u32> (read_write, two lists
-// of up to n constraint indices), color_offsets: array<u32> (read_write, GRAPH_COLOR_COUNT + 2
-// entries: color c is color_order[offsets[c]..offsets[c + 1]], the overflow set last).
+// of up to n constraint indices).
 
 // Lengths of the two undecided lists (appended with atomics; order does not matter).
 var<workgroup> list_length: array<atomic<u32>, 2>;
 // A value thread 0 publishes to the whole workgroup through workgroupUniformLoad.
 var<workgroup> shared_value: u32;
-// Constraints per color (overflow last).
-var<workgroup> color_counts: array<atomic<u32>, GRAPH_COLOR_COUNT + 1u>;
 
 // A barrier for both storage and workgroup memory: the single-workgroup stages communicate
 // through both.
@@ -29,26 +26,34 @@ fn publish(local: u32, value: u32) -> u32 {
     return workgroupUniformLoad(&shared_value);
 }
 
-// Rounds first_round..COLOR_ROUNDS over the undecided constraints among the first n; the ones
-// still undecided after the last round go to the overflow set. With first_round = 0 every
-// constraint starts undecided; otherwise the claims of the previous round are withdrawn first.
-fn color_rounds_in_workgroup(local: u32, n: u32, first_round: u32) {
+// Lists every one of the first n constraints as undecided (list 0) and clears its slot: the
+// start of a coloring from round 0, with nothing seeded (solve_fused).
+fn list_all_in_workgroup(local: u32, n: u32) {
     if local == 0u {
-        atomicStore(&list_length[0], 0u);
+        atomicStore(&list_length[0], n);
         atomicStore(&list_length[1], 0u);
     }
-    workgroupBarrier();
     for (var i = local; i < n; i += WORKGROUP_SIZE) {
-        if first_round == 0u {
-            color_state[i] = ColorSlot(NO_COLOR, NO_COLOR);
-        } else {
-            color_clear(i);
-        }
-        if color_state[i].color == NO_COLOR {
-            color_scratch[atomicAdd(&list_length[0], 1u)] = i;
-        }
+        color_state[i] = ColorSlot(NO_COLOR, NO_COLOR);
+        color_scratch[i] = i;
     }
     sync_workgroup();
+}
+
+// Takes list 0 as the `count` undecided constraints another kernel wrote (color_withdraw,
+// after the wide first round).
+fn take_list_in_workgroup(local: u32, count: u32) {
+    if local == 0u {
+        atomicStore(&list_length[0], count);
+        atomicStore(&list_length[1], 0u);
+    }
+    sync_workgroup();
+}
+
+// Rounds first_round..COLOR_ROUNDS over the undecided constraints in list 0 (of the first
+// n), with no claim standing; the ones still undecided after the last round go to the
+// overflow set. The lists' order does not matter: a round's outcome depends only on the set.
+fn color_rounds_in_workgroup(local: u32, n: u32, first_round: u32) {
     var current = 0u;
     for (var round = first_round; round < COLOR_ROUNDS; round++) {
         let count = publish(local, atomicLoad(&list_length[current]));
@@ -82,35 +87,4 @@ fn color_rounds_in_workgroup(local: u32, n: u32, first_round: u32) {
         color_state[color_scratch[current * n + k]].color = OVERFLOW_COLOR;
     }
     sync_workgroup();
-}
-
-// Counts the constraints of each color and writes color_offsets; returns (to every thread)
-// one past the highest color in use, overflow excluded.
-fn count_colors_in_workgroup(local: u32, n: u32) -> u32 {
-    for (var c = local; c <= GRAPH_COLOR_COUNT; c += WORKGROUP_SIZE) {
-        atomicStore(&color_counts[c], 0u);
-    }
-    workgroupBarrier();
-    for (var i = local; i < n; i += WORKGROUP_SIZE) {
-        let color = color_state[i].color;
-        if color <= OVERFLOW_COLOR {
-            atomicAdd(&color_counts[color], 1u);
-        }
-    }
-    workgroupBarrier();
-    var used = 0u;
-    if local == 0u {
-        var offset = 0u;
-        for (var c = 0u; c <= GRAPH_COLOR_COUNT; c++) {
-            color_offsets[c] = offset;
-            let count = atomicLoad(&color_counts[c]);
-            offset += count;
-            if count > 0u && c < GRAPH_COLOR_COUNT {
-                used = c + 1u;
-            }
-        }
-        color_offsets[GRAPH_COLOR_COUNT + 1u] = offset;
-    }
-    sync_workgroup();
-    return publish(local, used);
 }

@@ -29,8 +29,13 @@ override MAX_LINEAR_SPEED: f32;
 // pair's tilt impulse to carry over (tumble-solver's PERSIST_NORMAL_COS).
 override PERSIST_NORMAL_COS: f32;
 // Threads per workgroup of the per-color passes (solve_color), whose dispatch sizes
-// color_finish writes.
+// color_plan writes.
 override COLOR_PASS_WORKGROUP_SIZE: u32;
+// The coloring tally (color_withdraw, color_finish, color_count, color_plan): entry
+// TALLY_UNDECIDED counts the constraints left after the first round, entries from
+// TALLY_COUNTS on the constraints of each color, overflow last.
+override TALLY_UNDECIDED: u32;
+override TALLY_COUNTS: u32;
 // What a per-color pass does to each constraint.
 override PASS_WARM_START: u32;
 override PASS_SOLVE: u32;

@@ -81,12 +81,17 @@ pub struct RadixPass {
 /// The passes of a chain of stable sorts, each given as `(key_is_first, key_bits)`, applied
 /// in order (so the last sort is the primary order). Starts reading copy 0.
 pub fn plan_passes(sorts: &[(bool, u32)]) -> Vec<RadixPass> {
+    plan_digit_passes(sorts, RADIX_BITS)
+}
+
+/// [`plan_passes`] with `digit_bits` bits per pass.
+fn plan_digit_passes(sorts: &[(bool, u32)], digit_bits: u32) -> Vec<RadixPass> {
     let mut passes = Vec::new();
     let mut source = 0;
     for &(key_is_first, bits) in sorts {
-        for digit in 0..bits.div_ceil(RADIX_BITS) {
+        for digit in 0..bits.div_ceil(digit_bits) {
             passes.push(RadixPass {
-                shift: digit * RADIX_BITS,
+                shift: digit * digit_bits,
                 key_is_first,
                 source,
             });
@@ -102,13 +107,18 @@ pub fn result_copy(passes: &[RadixPass]) -> usize {
 }
 
 /// Key bits needed to sort indices below `n`.
-pub fn index_bits(n: u32) -> u32 {
-    u32::BITS - n.saturating_sub(1).max(1).leading_zeros()
+pub const fn index_bits(n: u32) -> u32 {
+    let largest = n.saturating_sub(1);
+    u32::BITS - if largest > 1 { largest } else { 1 }.leading_zeros()
 }
 
 /// Entries of the tile-count buffer for up to `capacity` items.
 pub fn tile_count_len(capacity: u32) -> u64 {
-    u64::from(RADIX) * u64::from(capacity.div_ceil(WORKGROUP_SIZE))
+    digit_tile_count_len(capacity, RADIX_BITS)
+}
+
+fn digit_tile_count_len(capacity: u32, digit_bits: u32) -> u64 {
+    (1u64 << digit_bits) * u64::from(capacity.div_ceil(WORKGROUP_SIZE))
 }
 
 /// The buffers a chain of sorts works on.
@@ -133,6 +143,7 @@ pub struct RadixBindGroups {
 /// The three kernels and one parameter block per digit position.
 #[derive(Debug)]
 pub struct RadixSort {
+    digit_bits: u32,
     histogram: Kernel,
     scan: Kernel,
     scatter: Kernel,
@@ -140,15 +151,35 @@ pub struct RadixSort {
 }
 
 impl RadixSort {
-    /// Builds the kernels.
+    /// Builds the kernels, [`RADIX_BITS`] bits per pass.
     pub fn new(ctx: &GpuContext) -> Result<Self, GpuError> {
-        let shift_params = (0..u32::BITS.div_ceil(RADIX_BITS))
+        Self::with_digit_bits(ctx, RADIX_BITS)
+    }
+
+    /// Builds the kernels with `digit_bits` bits per pass (1 to 8: the histogram stores one
+    /// bucket per thread). Wider digits take fewer passes over keys with few distinct values,
+    /// such as colors, at a larger tile-count scan.
+    pub fn with_digit_bits(ctx: &GpuContext, digit_bits: u32) -> Result<Self, GpuError> {
+        if !(1..=8).contains(&digit_bits) || (1 << digit_bits) > WORKGROUP_SIZE {
+            return Err(GpuError::InvalidInput {
+                field: "radix digit_bits (1 to 8)".into(),
+                value: digit_bits.to_string(),
+            });
+        }
+        let overrides = [
+            ("RADIX_BITS", f64::from(digit_bits)),
+            ("RADIX", f64::from(1u32 << digit_bits)),
+        ];
+        let build = |spec: &'static crate::kernel::KernelSpec| {
+            Kernel::specialized(ctx, spec, &spec.declared(&overrides)?)
+        };
+        let shift_params = (0..u32::BITS.div_ceil(digit_bits))
             .map(|d| {
                 ctx.device
                     .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                         label: Some("radix pass params"),
                         contents: bytemuck::bytes_of(&RadixPassParams {
-                            shift: d * RADIX_BITS,
+                            shift: d * digit_bits,
                             ..Default::default()
                         }),
                         usage: wgpu::BufferUsages::UNIFORM,
@@ -156,11 +187,22 @@ impl RadixSort {
             })
             .collect();
         Ok(Self {
-            histogram: Kernel::new(ctx, &RADIX_HISTOGRAM)?,
-            scan: Kernel::new(ctx, &RADIX_SCAN)?,
-            scatter: Kernel::new(ctx, &RADIX_SCATTER)?,
+            digit_bits,
+            histogram: build(&RADIX_HISTOGRAM)?,
+            scan: build(&RADIX_SCAN)?,
+            scatter: build(&RADIX_SCATTER)?,
             shift_params,
         })
+    }
+
+    /// [`plan_passes`] for this sort's digit width.
+    pub fn plan(&self, sorts: &[(bool, u32)]) -> Vec<RadixPass> {
+        plan_digit_passes(sorts, self.digit_bits)
+    }
+
+    /// [`tile_count_len`] for this sort's digit width.
+    pub fn tile_count_len(&self, capacity: u32) -> u64 {
+        digit_tile_count_len(capacity, self.digit_bits)
     }
 
     /// Bind groups for `passes` over `buffers`.
@@ -178,7 +220,7 @@ impl RadixSort {
                 } else {
                     (buffers.second, buffers.first)
                 };
-                let params = &self.shift_params[(p.shift / RADIX_BITS) as usize];
+                let params = &self.shift_params[(p.shift / self.digit_bits) as usize];
                 let histogram = self.histogram.bind(
                     ctx,
                     &RadixHistogramArgs {

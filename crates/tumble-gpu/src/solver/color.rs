@@ -1,10 +1,16 @@
-//! The `color` stage on the GPU: `color_propose` and `color_resolve` run the first (seeded)
-//! round with one thread per constraint, `color_finish` runs the remaining rounds in one
-//! workgroup, counts the colors and writes the per-color dispatch sizes; a stable radix sort
-//! by color then gives the constraint order. The CPU twin is `tumble_solver::color_in_rounds`
-//! (re-exported here), the same rounds on the host.
+//! The `color` stage on the GPU. `color_propose` and `color_resolve` run the first (seeded)
+//! round with one thread per constraint; `color_withdraw` withdraws its claims and lists the
+//! constraints still undecided; `color_finish` runs the remaining rounds over that list in
+//! one workgroup; `color_count` counts the colors and lays out the sort keys, one thread per
+//! constraint again; `color_plan` writes the per-color offsets and dispatch sizes; a stable
+//! radix sort by color then gives the constraint order. Only the rounds after the first run
+//! in a single workgroup, over the few constraints the seeded first round left undecided.
+//! The CPU twin is `tumble_solver::color_in_rounds` (re-exported here), the same rounds on
+//! the host.
 
 use crate::kernel::kernel;
+
+use super::pipelines::SolverPipelines;
 
 kernel! {
     /// Buffers of [`COLOR_PROPOSE`] and [`COLOR_RESOLVE`].
@@ -31,7 +37,8 @@ kernel! {
 }
 
 kernel! {
-    /// Buffers of [`COLOR_FINISH`]: those of [`ColorRoundArgs`], then its own.
+    /// Buffers of [`COLOR_WITHDRAW`] and [`COLOR_FINISH`]: those of [`ColorRoundArgs`], then
+    /// the undecided list and the tally.
     pub struct ColorFinishArgs {
         /// `SolverParams` (for the body count).
         params,
@@ -49,18 +56,125 @@ kernel! {
         color_marks,
         /// Two lists of undecided constraints, `2 * capacity` `u32`.
         color_scratch,
-        /// Output: `COLOR_OFFSETS_LEN` offsets.
-        color_offsets,
-        /// Output: `array<DispatchArgs>`, one per color slot.
-        color_args,
+        /// The tally, `COLOR_TALLY_LEN` `u32` (zeroed before the stage).
+        color_tally,
+    }
+    /// Kernel: withdraws round 0's claims and lists the undecided constraints, one thread per
+    /// constraint.
+    pub static COLOR_WITHDRAW = "solver/color_withdraw.wgsl";
+    /// Kernel: the remaining rounds over the undecided list (one workgroup).
+    pub static COLOR_FINISH = "solver/color_finish.wgsl";
+}
+
+kernel! {
+    /// Buffers of [`COLOR_COUNT`].
+    pub struct ColorCountArgs {
+        /// The contacts' `WorkList`.
+        contact_work,
+        /// This step's `array<ColorSlot>`, every color decided.
+        color_state,
+        /// The tally, whose per-color counts this adds to.
+        color_tally,
         /// Output: sort keys (the colors).
         sort_keys,
         /// Output: sort values (the constraint indices).
         sort_values,
     }
-    /// Kernel: the remaining rounds, counts, offsets, dispatch sizes and sort keys (one
-    /// workgroup).
-    pub static COLOR_FINISH = "solver/color_finish.wgsl";
+    /// Kernel: per-color counts and sort keys, one thread per constraint.
+    pub static COLOR_COUNT = "solver/color_count.wgsl";
+}
+
+kernel! {
+    /// Buffers of [`COLOR_PLAN`].
+    pub struct ColorPlanArgs {
+        /// The tally with every color counted.
+        color_tally,
+        /// Output: `COLOR_OFFSETS_LEN` offsets.
+        color_offsets,
+        /// Output: `array<DispatchArgs>`, one per color slot.
+        color_args,
+    }
+    /// Kernel: color offsets and per-color dispatch sizes (one thread).
+    pub static COLOR_PLAN = "solver/color_plan.wgsl";
+}
+
+/// The color stage's buffers for one parity (which copy of the color state is this step's).
+pub(super) struct ColorBuffers<'a> {
+    pub rounds: ColorRoundArgs<'a>,
+    pub color_scratch: &'a wgpu::Buffer,
+    pub color_tally: &'a wgpu::Buffer,
+    pub color_offsets: &'a wgpu::Buffer,
+    pub color_args: &'a wgpu::Buffer,
+    pub sort_keys: &'a wgpu::Buffer,
+    pub sort_values: &'a wgpu::Buffer,
+}
+
+/// The color stage's bind groups for one parity, in the order [`Self::record`] runs them.
+#[derive(Debug)]
+pub(super) struct ColorGroups {
+    propose: wgpu::BindGroup,
+    resolve: wgpu::BindGroup,
+    withdraw: wgpu::BindGroup,
+    finish: wgpu::BindGroup,
+    count: wgpu::BindGroup,
+    plan: wgpu::BindGroup,
+}
+
+impl ColorGroups {
+    pub(super) fn new(ctx: &crate::GpuContext, k: &SolverPipelines, b: &ColorBuffers<'_>) -> Self {
+        let r = &b.rounds;
+        let finish = ColorFinishArgs {
+            params: r.params,
+            contact_work: r.contact_work,
+            manifolds: r.manifolds,
+            bodies: r.bodies,
+            previous_colors: r.previous_colors,
+            color_state: r.color_state,
+            color_marks: r.color_marks,
+            color_scratch: b.color_scratch,
+            color_tally: b.color_tally,
+        };
+        Self {
+            propose: k.color_propose.bind(ctx, r),
+            resolve: k.color_resolve.bind(ctx, r),
+            withdraw: k.color_withdraw.bind(ctx, &finish),
+            finish: k.color_finish.bind(ctx, &finish),
+            count: k.color_count.bind(
+                ctx,
+                &ColorCountArgs {
+                    contact_work: r.contact_work,
+                    color_state: r.color_state,
+                    color_tally: b.color_tally,
+                    sort_keys: b.sort_keys,
+                    sort_values: b.sort_values,
+                },
+            ),
+            plan: k.color_plan.bind(
+                ctx,
+                &ColorPlanArgs {
+                    color_tally: b.color_tally,
+                    color_offsets: b.color_offsets,
+                    color_args: b.color_args,
+                },
+            ),
+        }
+    }
+
+    /// Records the stage up to the sort keys and dispatch sizes; the per-constraint kernels
+    /// read their size from `work` on the GPU. The tally and the claims must be zero.
+    pub(super) fn record(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        k: &SolverPipelines,
+        work: &wgpu::Buffer,
+    ) {
+        k.color_propose.dispatch_work(pass, &self.propose, work);
+        k.color_resolve.dispatch_work(pass, &self.resolve, work);
+        k.color_withdraw.dispatch_work(pass, &self.withdraw, work);
+        k.color_finish.dispatch_workgroups(pass, &self.finish, 1, 1);
+        k.color_count.dispatch_work(pass, &self.count, work);
+        k.color_plan.dispatch_workgroups(pass, &self.plan, 1, 1);
+    }
 }
 
 pub use tumble_solver::{ColorCandidate, color_in_rounds, color_priority, hash_u32};

@@ -20,6 +20,13 @@ pub const COLOR_SLOTS: u32 = GRAPH_COLOR_COUNT + 1;
 /// whole-constraint writes; pyramid of 50 (328,235) 5.58 / 4.95 / 4.78 against 7.78 ms.
 pub const COLOR_PASS_WORKGROUP_SIZE: u32 = 32;
 
+/// Entry of the coloring tally that counts the constraints undecided after the first round
+/// (appended to the list `color_finish` continues from).
+pub const TALLY_UNDECIDED: u32 = 0;
+/// First entry of the coloring tally's per-color counts (one per color slot, overflow last).
+pub const TALLY_COUNTS: u32 = 1;
+/// Entries of the coloring tally, zeroed before every step's coloring.
+pub const COLOR_TALLY_LEN: u32 = TALLY_COUNTS + COLOR_SLOTS;
 /// Entries of the color offsets buffer: `offsets[c]..offsets[c + 1]` for every slot.
 pub const COLOR_OFFSETS_LEN: u32 = COLOR_SLOTS + 1;
 
@@ -75,6 +82,8 @@ pub fn solver_constants() -> Vec<(&'static str, f64)> {
             f64::from(COLOR_PASS_WORKGROUP_SIZE),
         ),
         ("OVERFLOW_COLOR", f64::from(OVERFLOW_COLOR)),
+        ("TALLY_UNDECIDED", f64::from(TALLY_UNDECIDED)),
+        ("TALLY_COUNTS", f64::from(TALLY_COUNTS)),
         ("NO_COLOR", f64::from(NO_COLOR)),
         ("COLOR_ROUNDS", f64::from(COLOR_ROUNDS)),
         ("EMPTY_COLOR", f64::from(EMPTY_COLOR)),

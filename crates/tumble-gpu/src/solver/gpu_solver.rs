@@ -7,14 +7,15 @@ use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE, bytes_of};
 use crate::collision::StepBuffers;
 use crate::kernel::Kernel;
 use crate::kernels::radix_sort::{
-    RadixBindGroups, RadixBuffers, RadixPass, RadixSort, index_bits, plan_passes, result_copy,
-    tile_count_len,
+    RadixBindGroups, RadixBuffers, RadixPass, RadixSort, index_bits, result_copy,
 };
 use crate::layout::DispatchArgs;
 use crate::{GpuContext, GpuError, StageTimer};
 
-use super::color::{ColorFinishArgs, ColorRoundArgs};
-use super::constants::{COLOR_OFFSETS_LEN, COLOR_SLOTS, GRAPH_COLOR_COUNT};
+use super::color::{ColorBuffers, ColorGroups, ColorRoundArgs};
+use super::constants::{
+    COLOR_OFFSETS_LEN, COLOR_SLOTS, COLOR_TALLY_LEN, EMPTY_COLOR, GRAPH_COLOR_COUNT,
+};
 use super::effects::{Effects, effect_overrides};
 use super::fused::SolveFusedArgs;
 use super::integrate::{FinalizeBodiesArgs, IntegratePositionsArgs, IntegrateVelocitiesArgs};
@@ -31,11 +32,14 @@ const COLOR_STATE: [&str; 2] = ["color_state_0", "color_state_1"];
 const TILTS: [&str; 2] = ["tilts_0", "tilts_1"];
 const COLOR_MARKS: &str = "color_marks";
 const COLOR_SCRATCH: &str = "color_scratch";
+const COLOR_TALLY: &str = "color_tally";
 const COLOR_OFFSETS: &str = "color_offsets";
 const COLOR_ARGS: &str = "color_args";
 const SORT_KEYS: [&str; 2] = ["color_sort_keys_0", "color_sort_keys_1"];
 const SORT_VALUES: [&str; 2] = ["color_sort_values_0", "color_sort_values_1"];
 const SORT_TILES: &str = "color_sort_tiles";
+/// Bits of the color sort's keys: every color slot and `EMPTY_COLOR` (one past them).
+const COLOR_SORT_BITS: u32 = index_bits(EMPTY_COLOR + 1);
 
 /// What the solver stage is given by the caller: the step's buffers (the world's bodies and
 /// the collision stage's contacts, or contacts the host wrote) and their sizes.
@@ -58,9 +62,7 @@ struct BindKey {
 
 #[derive(Debug)]
 struct BindGroups {
-    color_propose: [wgpu::BindGroup; 2],
-    color_resolve: [wgpu::BindGroup; 2],
-    color_finish: [wgpu::BindGroup; 2],
+    color: [ColorGroups; 2],
     radix: RadixBindGroups,
     prepare_bodies: wgpu::BindGroup,
     prepare_contacts: [wgpu::BindGroup; 2],
@@ -120,17 +122,21 @@ impl GpuSolver {
                     })
             })
             .collect();
+        // Colors and EMPTY_COLOR fit in one digit of COLOR_SORT_BITS: the order by color is one
+        // counting pass.
+        let radix = RadixSort::with_digit_bits(ctx, COLOR_SORT_BITS)?;
+        let sort_passes = radix.plan(&[(true, COLOR_SORT_BITS)]);
         Ok(Self {
             ctx: ctx.clone(),
             effects,
             pipelines,
             passes,
-            radix: RadixSort::new(ctx)?,
+            radix,
             pool: BufferPool::new(ctx),
             params,
             last_params: None,
             pass_colors,
-            sort_passes: plan_passes(&[(true, index_bits(COLOR_SLOTS))]),
+            sort_passes,
             parity: 0,
             bind: None,
         })
@@ -177,7 +183,7 @@ impl GpuSolver {
     fn ensure(&mut self, bodies: u32, capacity: u32) -> Result<(), GpuError> {
         let (n, cap) = (u64::from(bodies.max(1)), u64::from(capacity.max(1)));
         let u32_bytes = 4u64;
-        let sizes: [(&'static str, u64); 10] = [
+        let sizes: [(&'static str, u64); 11] = [
             (TILTS[0], bytes_of::<GpuTilt>(cap)),
             (TILTS[1], bytes_of::<GpuTilt>(cap)),
             (SOLVER_BODIES, bytes_of::<GpuSolverBody>(n)),
@@ -190,6 +196,7 @@ impl GpuSolver {
                 bytes_of::<u32>(n * u64::from(1 + GRAPH_COLOR_COUNT)),
             ),
             (COLOR_SCRATCH, bytes_of::<u32>(2 * cap)),
+            (COLOR_TALLY, bytes_of::<u32>(u64::from(COLOR_TALLY_LEN))),
             (COLOR_OFFSETS, bytes_of::<u32>(u64::from(COLOR_OFFSETS_LEN))),
             (COLOR_ARGS, bytes_of::<DispatchArgs>(u64::from(COLOR_SLOTS))),
         ];
@@ -201,7 +208,7 @@ impl GpuSolver {
         }
         self.pool.ensure(
             SORT_TILES,
-            tile_count_len(capacity.max(1)) * u32_bytes,
+            self.radix.tile_count_len(capacity.max(1)) * u32_bytes,
             STORAGE_USAGE,
         )?;
         Ok(())
@@ -289,6 +296,7 @@ impl GpuSolver {
         }
         self.rebind(inputs);
         encoder.clear_buffer(self.pool.get(COLOR_MARKS), 0, None);
+        encoder.clear_buffer(self.pool.get(COLOR_TALLY), 0, None);
         let (_, groups) = self.bind.as_ref().expect("bound above");
         let k = &self.pipelines;
         let p = self.parity;
@@ -302,12 +310,7 @@ impl GpuSolver {
                 let work = inputs.contact_work;
                 {
                     let mut pass = timer.begin_pass(encoder, "color");
-                    k.color_propose
-                        .dispatch_work(&mut pass, &groups.color_propose[p], work);
-                    k.color_resolve
-                        .dispatch_work(&mut pass, &groups.color_resolve[p], work);
-                    k.color_finish
-                        .dispatch_workgroups(&mut pass, &groups.color_finish[p], 1, 1);
+                    groups.color[p].record(&mut pass, k, work);
                     self.radix.record(&mut pass, &groups.radix, work);
                 }
                 {
@@ -426,20 +429,14 @@ impl GpuSolver {
             })
             .collect();
         BindGroups {
-            color_propose: both(&|p| k.color_propose.bind(ctx, &round(p))),
-            color_resolve: both(&|p| k.color_resolve.bind(ctx, &round(p))),
-            color_finish: both(&|p| {
-                k.color_finish.bind(
+            color: [0, 1].map(|p| {
+                ColorGroups::new(
                     ctx,
-                    &ColorFinishArgs {
-                        params: &self.params,
-                        contact_work: inputs.contact_work,
-                        manifolds: inputs.manifolds,
-                        bodies: inputs.bodies,
-                        previous_colors: get(COLOR_STATE[1 - p]),
-                        color_state: get(COLOR_STATE[p]),
-                        color_marks: get(COLOR_MARKS),
+                    k,
+                    &ColorBuffers {
+                        rounds: round(p),
                         color_scratch: get(COLOR_SCRATCH),
+                        color_tally: get(COLOR_TALLY),
                         color_offsets: get(COLOR_OFFSETS),
                         color_args: get(COLOR_ARGS),
                         sort_keys: get(SORT_KEYS[0]),
@@ -544,7 +541,7 @@ impl GpuSolver {
     }
 }
 
-/// One pass over every color slot, each dispatch sized on the GPU by `color_finish`.
+/// One pass over every color slot, each dispatch sized on the GPU by `color_plan`.
 fn sweep_colors(
     pass: &mut wgpu::ComputePass<'_>,
     kernel: &Kernel,

@@ -6,7 +6,9 @@ use crate::kernel::{Kernel, KernelSpec, pipelines};
 use crate::{GpuContext, GpuError};
 
 use super::apply_impulses::APPLY_IMPULSES;
-use super::color::{COLOR_FINISH, COLOR_PROPOSE, COLOR_RESOLVE};
+use super::color::{
+    COLOR_COUNT, COLOR_FINISH, COLOR_PLAN, COLOR_PROPOSE, COLOR_RESOLVE, COLOR_WITHDRAW,
+};
 use super::effects::{Effects, effect_overrides};
 use super::fused::SOLVE_FUSED;
 use super::integrate::{FINALIZE_BODIES, INTEGRATE_POSITIONS, INTEGRATE_VELOCITIES};
@@ -21,8 +23,14 @@ pipelines! {
         color_propose: COLOR_PROPOSE,
         /// Round 0 decisions.
         color_resolve: COLOR_RESOLVE,
-        /// Remaining rounds, counts, dispatch sizes.
+        /// Round 0's claims withdrawn, the undecided listed.
+        color_withdraw: COLOR_WITHDRAW,
+        /// Remaining rounds over the undecided (one workgroup).
         color_finish: COLOR_FINISH,
+        /// Per-color counts and sort keys.
+        color_count: COLOR_COUNT,
+        /// Color offsets and dispatch sizes.
+        color_plan: COLOR_PLAN,
         /// Deltas reset, world masses.
         prepare_bodies: PREPARE_BODIES,
         /// Constraints from manifolds.

@@ -1,0 +1,21 @@
+// requires: common/indexing.wgsl solver/common/color_bindings.wgsl
+// color_withdraw: one thread per constraint withdraws the first round's claims (so the next
+// round starts with none standing) and appends each constraint still undecided to the list
+// color_finish continues from. The list's order depends on thread timing; what color_finish
+// computes from it does not (coloring.wgsl).
+
+// Bindings 0 to 6 are color_bindings.wgsl's.
+@group(0) @binding(7) var<storage, read_write> color_scratch: array<u32>;
+@group(0) @binding(8) var<storage, read_write> color_tally: array<atomic<u32>>;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn main(thread: Thread) {
+    let i = thread_index(thread);
+    if i >= contact_work.count {
+        return;
+    }
+    color_clear(i);
+    if color_state[i].color == NO_COLOR {
+        color_scratch[atomicAdd(&color_tally[TALLY_UNDECIDED], 1u)] = i;
+    }
+}

@@ -116,7 +116,9 @@ struct NarrowParams {
 struct GpuContact {
     // World point midway between the surfaces; w unused.
     position: vec4<f32>,
-    // Accumulated friction impulse (world, N s), carried between steps; w unused.
+    // Accumulated friction impulse (world, N s), carried between steps; w: the normal impulse
+    // applied over the last step (store_impulses writes it for the host's reads; nothing on
+    // the GPU reads it).
     friction_impulse: vec4<f32>,
     // Overlap along the normal (m): positive when overlapping.
     depth: f32,

@@ -1,7 +1,8 @@
 // requires: common/indexing.wgsl solver/common/prepare_constraint.wgsl
-// prepare_contacts: one thread per manifold (a manifold without points gives an empty
-// constraint) builds its constraint: normal and two friction rows per point, effective
-// masses, anchors, softness, and the warm-start impulses the collision stage carried over.
+// prepare_contacts: one thread per slot of the order by color builds the constraint of the
+// manifold there (a manifold without points gives an empty constraint): normal and two
+// friction rows per point, effective masses, anchors, softness, and the warm-start impulses
+// the collision stage carried over.
 
 @group(0) @binding(0) var<uniform> params: SolverParams;
 @group(0) @binding(1) var<storage, read> contact_work: WorkList;
@@ -12,13 +13,14 @@
 @group(0) @binding(6) var<storage, read> velocities: array<GpuVelocity>;
 @group(0) @binding(7) var<storage, read> solver_bodies: array<GpuSolverBody>;
 @group(0) @binding(8) var<storage, read> previous_tilts: array<GpuTilt>;
-@group(0) @binding(9) var<storage, read_write> constraints: array<GpuConstraint>;
+@group(0) @binding(9) var<storage, read> color_order: array<u32>;
+@group(0) @binding(10) var<storage, read_write> constraints: array<vec4<f32>>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn main(thread: Thread) {
-    let i = thread_index(thread);
-    if i >= contact_work.count {
+    let s = thread_index(thread);
+    if s >= contact_work.count {
         return;
     }
-    prepare_constraint(i);
+    prepare_constraint(color_order[s], s);
 }

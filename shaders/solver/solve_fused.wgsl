@@ -22,7 +22,7 @@
 @group(0) @binding(11) var<storage, read_write> poses: array<GpuPose>;
 @group(0) @binding(12) var<storage, read_write> velocities: array<GpuVelocity>;
 @group(0) @binding(13) var<storage, read_write> solver_bodies: array<GpuSolverBody>;
-@group(0) @binding(14) var<storage, read_write> constraints: array<GpuConstraint>;
+@group(0) @binding(14) var<storage, read_write> constraints: array<vec4<f32>>;
 @group(0) @binding(15) var<storage, read> previous_tilts: array<GpuTilt>;
 @group(0) @binding(16) var<storage, read_write> tilts: array<GpuTilt>;
 
@@ -63,7 +63,8 @@ fn count_colors_in_workgroup(local: u32, n: u32) -> u32 {
 // Thread c lays out the constraints of color c in ascending index order: the same stable
 // order the wide path's radix sort produces.
 fn order_by_color(local: u32, n: u32) {
-    if local <= GRAPH_COLOR_COUNT {
+    // Empty manifolds too (EMPTY_COLOR, after the overflow set): every slot gets a manifold.
+    if local <= EMPTY_COLOR {
         var slot = color_offsets[local];
         for (var i = 0u; i < n; i++) {
             if color_state[i].color == local {
@@ -80,14 +81,14 @@ fn colored_pass(local: u32, used_colors: u32, kind: u32) {
     for (var color = 0u; color < used_colors; color++) {
         let end = color_offsets[color + 1u];
         for (var k = color_offsets[color] + local; k < end; k += WORKGROUP_SIZE) {
-            visit_constraint(color_order[k], kind);
+            visit_constraint(k, kind);
         }
         sync_workgroup();
     }
     if local == 0u {
         let end = color_offsets[OVERFLOW_COLOR + 1u];
         for (var k = color_offsets[OVERFLOW_COLOR]; k < end; k++) {
-            visit_constraint(color_order[k], kind);
+            visit_constraint(k, kind);
         }
     }
     sync_workgroup();
@@ -109,8 +110,8 @@ fn main(@builtin(local_invocation_index) local: u32) {
         solver_bodies[b] = prepare_body(bodies[b], poses[b]);
     }
     sync_workgroup();
-    for (var i = local; i < n; i += WORKGROUP_SIZE) {
-        prepare_constraint(i);
+    for (var s = local; s < n; s += WORKGROUP_SIZE) {
+        prepare_constraint(color_order[s], s);
     }
     sync_workgroup();
 
@@ -148,8 +149,9 @@ fn main(@builtin(local_invocation_index) local: u32) {
     }
 
     // finish
-    for (var i = local; i < n; i += WORKGROUP_SIZE) {
-        let c = constraints[i];
+    for (var s = local; s < n; s += WORKGROUP_SIZE) {
+        let i = color_order[s];
+        let c = load_constraint(s);
         for (var p = 0u; p < c.point_count; p++) {
             let slot = i * MAX_MANIFOLD_POINTS + p;
             contacts[slot] = stored_point(c, p, contacts[slot]);

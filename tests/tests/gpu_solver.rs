@@ -326,9 +326,7 @@ fn prepared_bodies_and_constraints_match_the_cpu_preparation() {
     let gpu_bodies: Vec<GpuSolverBody> = ctx
         .read_buffer(solver.solver_bodies(), 0, bodies.len() as u64)
         .unwrap();
-    let gpu: Vec<GpuConstraint> = ctx
-        .read_buffer(solver.constraints(), 0, contacts.len() as u64)
-        .unwrap();
+    let gpu: Vec<GpuConstraint> = solver.read_constraints(contacts.len() as u32).unwrap();
     let step = StepParams::new(
         &SolverConfig::default(),
         DT,

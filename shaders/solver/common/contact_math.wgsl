@@ -375,6 +375,6 @@ fn stored_point(c: GpuConstraint, i: u32, point: GpuContact) -> GpuContact {
     let cp = c.points[i];
     var out = point;
     out.normal_impulse = cp.normal_impulse;
-    out.friction_impulse = vec4<f32>(c.tangent1.xyz * cp.tangent_impulse_1 + c.tangent2.xyz * cp.tangent_impulse_2, 0.0);
+    out.friction_impulse = vec4<f32>(c.tangent1.xyz * cp.tangent_impulse_1 + c.tangent2.xyz * cp.tangent_impulse_2, cp.total_normal_impulse);
     return out;
 }

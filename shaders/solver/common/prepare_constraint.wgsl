@@ -1,4 +1,4 @@
-// requires: solver/common/contact_math.wgsl
+// requires: solver/common/contact_math.wgsl solver/common/constraint_write.wgsl
 // Building one constraint from its manifold: normal and two friction rows per point,
 // effective masses, anchors, softness, and the carried warm-start impulses. Used by
 // prepare_contacts (one thread per manifold) and solve_fused (a workgroup loop).
@@ -6,10 +6,11 @@
 // Expects the including kernel to declare: params: SolverParams (uniform),
 // manifolds: array<GpuManifold>, contacts: array<GpuContact>, bodies: array<GpuBody>,
 // poses: array<GpuPose>, velocities: array<GpuVelocity>, solver_bodies: array<GpuSolverBody>,
-// previous_tilts: array<GpuTilt>, constraints: array<GpuConstraint> (read_write).
+// previous_tilts: array<GpuTilt>, constraints: array<vec4<f32>> (read_write, constraint_store.wgsl).
 
-// Builds constraint i from manifold i and stores it.
-fn prepare_constraint(i: u32) {
+// Builds the constraint of manifold i and stores it in slot s (its position in the order by
+// color).
+fn prepare_constraint(i: u32, s: u32) {
     let manifold = manifolds[i];
     let a = manifold.body_a;
     let b = manifold.body_b;
@@ -22,5 +23,5 @@ fn prepare_constraint(i: u32) {
         c.points[p] = prepare_point(c, point, poses[a].position.xyz, poses[b].position.xyz, sim_a, sim_b, params.warm_start_scale);
     }
     finish_constraint(&c, sim_a, sim_b);
-    constraints[i] = c;
+    store_constraint(s, c);
 }

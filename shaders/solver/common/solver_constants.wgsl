@@ -36,6 +36,11 @@ override COLOR_PASS_WORKGROUP_SIZE: u32;
 // TALLY_COUNTS on the constraints of each color, overflow last.
 override TALLY_UNDECIDED: u32;
 override TALLY_COUNTS: u32;
+// Rows of 16 bytes of a GpuConstraint in the constraint store (constraint_store.wgsl): all
+// of them, those before the first point, and those of one point.
+override CONSTRAINT_ROWS: u32;
+override CONSTRAINT_HEADER_ROWS: u32;
+override CONSTRAINT_POINT_ROWS: u32;
 // What a per-color pass does to each constraint.
 override PASS_WARM_START: u32;
 override PASS_SOLVE: u32;

@@ -1,6 +1,8 @@
 //! Constants of the solver stages, defined once here and handed to the solver pipelines as
 //! WGSL `override` values (declared without defaults in `shaders/solver/common/solver_constants.wgsl`).
 
+use super::layout::{GpuConstraint, GpuConstraintPoint};
+
 /// Graph colors (tumble-solver's `GRAPH_COLOR_COUNT`, Box2D v3's 24).
 pub const GRAPH_COLOR_COUNT: u32 = tumble_solver::GRAPH_COLOR_COUNT as u32;
 
@@ -27,6 +29,20 @@ pub const TALLY_UNDECIDED: u32 = 0;
 pub const TALLY_COUNTS: u32 = 1;
 /// Entries of the coloring tally, zeroed before every step's coloring.
 pub const COLOR_TALLY_LEN: u32 = TALLY_COUNTS + COLOR_SLOTS;
+/// Bytes of one row of the constraint store: constraints are kept as a structure of arrays of
+/// 16-byte rows (`shaders/solver/common/constraint_store.wgsl`), row `r` of the constraint in
+/// slot `s` at row index `r * stride + s`.
+pub const CONSTRAINT_ROW_BYTES: usize = 16;
+/// Rows of one `GpuConstraint`.
+pub const CONSTRAINT_ROWS: u32 = (size_of::<GpuConstraint>() / CONSTRAINT_ROW_BYTES) as u32;
+/// Rows of one `GpuConstraintPoint`.
+pub const CONSTRAINT_POINT_ROWS: u32 =
+    (size_of::<GpuConstraintPoint>() / CONSTRAINT_ROW_BYTES) as u32;
+/// Rows before the first point.
+pub const CONSTRAINT_HEADER_ROWS: u32 =
+    CONSTRAINT_ROWS - CONSTRAINT_POINT_ROWS * tumble_geometry::MAX_MANIFOLD_POINTS as u32;
+const _: () = assert!(size_of::<GpuConstraint>() % CONSTRAINT_ROW_BYTES == 0);
+const _: () = assert!(size_of::<GpuConstraintPoint>() % CONSTRAINT_ROW_BYTES == 0);
 /// Entries of the color offsets buffer: `offsets[c]..offsets[c + 1]` for every slot.
 pub const COLOR_OFFSETS_LEN: u32 = COLOR_SLOTS + 1;
 
@@ -84,6 +100,9 @@ pub fn solver_constants() -> Vec<(&'static str, f64)> {
         ("OVERFLOW_COLOR", f64::from(OVERFLOW_COLOR)),
         ("TALLY_UNDECIDED", f64::from(TALLY_UNDECIDED)),
         ("TALLY_COUNTS", f64::from(TALLY_COUNTS)),
+        ("CONSTRAINT_ROWS", f64::from(CONSTRAINT_ROWS)),
+        ("CONSTRAINT_HEADER_ROWS", f64::from(CONSTRAINT_HEADER_ROWS)),
+        ("CONSTRAINT_POINT_ROWS", f64::from(CONSTRAINT_POINT_ROWS)),
         ("NO_COLOR", f64::from(NO_COLOR)),
         ("COLOR_ROUNDS", f64::from(COLOR_ROUNDS)),
         ("EMPTY_COLOR", f64::from(EMPTY_COLOR)),

@@ -145,19 +145,14 @@ pub fn gpu_manifold(
 
 /// Copies the solved impulses of `points` (a manifold's GPU points), the step totals of its
 /// constraint and its tilt impulse into `contact`.
-pub fn read_impulses(
-    points: &[GpuContact],
-    constraint: &GpuConstraint,
-    tilt: &GpuTilt,
-    contact: &mut Contact,
-) {
+pub fn read_impulses(points: &[GpuContact], tilt: &GpuTilt, contact: &mut Contact) {
     contact.tilt_impulse = vec3(&tilt.impulse);
     let n = (contact.manifold.len as usize).min(MAX_MANIFOLD_POINTS);
-    let solved = points.iter().zip(&constraint.points).take(n);
-    for (i, (point, row)) in solved.enumerate() {
+    for (i, point) in points.iter().take(n).enumerate() {
         contact.impulses[i].normal = point.normal_impulse;
         contact.impulses[i].friction = vec3(&point.friction_impulse);
-        contact.total_normal_impulse[i] = row.total_normal_impulse;
+        // store_impulses puts the step's total there (the GPU reads only xyz).
+        contact.total_normal_impulse[i] = point.friction_impulse[3];
     }
 }
 

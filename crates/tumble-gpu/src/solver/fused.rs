@@ -35,7 +35,7 @@ kernel! {
         velocities,
         /// `array<GpuSolverBody>`.
         solver_bodies,
-        /// `array<GpuConstraint>`.
+        /// The constraint store (`GpuConstraint` rows, by slot).
         constraints,
         /// Last step's `array<GpuTilt>`.
         previous_tilts,

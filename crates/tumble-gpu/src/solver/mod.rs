@@ -9,6 +9,7 @@
 pub mod apply_impulses;
 pub mod color;
 pub mod constants;
+pub mod constraint_store;
 pub mod convert;
 pub mod effects;
 pub mod fused;

@@ -47,10 +47,12 @@ kernel! {
         solver_bodies,
         /// Last step's `array<GpuTilt>`, indexed by the manifolds' `previous`.
         previous_tilts,
-        /// Output `array<GpuConstraint>`.
+        /// Manifold indices by color: slot `s` holds the constraint of manifold `color_order[s]`.
+        color_order,
+        /// Output: the constraint store (`GpuConstraint` rows, by slot).
         constraints,
     }
-    /// Kernel: one thread per manifold.
+    /// Kernel: one thread per constraint slot.
     pub static PREPARE_CONTACTS = "solver/prepare_contacts.wgsl";
 }
 

@@ -13,15 +13,13 @@ kernel! {
         params,
         /// `ColorPass` naming the color.
         pass_color,
-        /// Per-color offsets into `color_order`.
+        /// Per-color offsets: color `c` is the constraint slots `offsets[c]..offsets[c + 1]`.
         color_offsets,
-        /// Constraint indices grouped by color.
-        color_order,
         /// `array<GpuSolverBody>`.
         solver_bodies,
         /// `array<GpuVelocity>`, updated.
         velocities,
-        /// `array<GpuConstraint>`, updated.
+        /// The constraint store (`GpuConstraint` rows, by slot), updated.
         constraints,
     }
     /// Kernel: specialized per pass with the `PASS` override.

@@ -10,7 +10,9 @@ kernel! {
     pub struct StoreImpulsesArgs {
         /// The contacts' `WorkList`.
         contact_work,
-        /// `array<GpuConstraint>`.
+        /// Manifold indices by color: the manifold of each constraint slot.
+        color_order,
+        /// The constraint store (`GpuConstraint` rows, by slot).
         constraints,
         /// `array<GpuPose>` (still the start of the step).
         poses,
@@ -19,6 +21,6 @@ kernel! {
         /// Output `array<GpuTilt>` for the next step.
         tilts,
     }
-    /// Kernel: one thread per manifold.
+    /// Kernel: one thread per constraint slot.
     pub static STORE_IMPULSES = "solver/store_impulses.wgsl";
 }

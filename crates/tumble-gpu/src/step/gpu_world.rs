@@ -1,8 +1,9 @@
 //! [`GpuWorld`]: the whole step on the GPU. Bodies are uploaded once; each step records the
 //! wake, then walks `tumble_solver::Stage::ALL` (`update_aabbs -> broad_phase ->
-//! narrow_phase (with matching) -> color -> solve -> finish -> sleep`), into ONE command
-//! encoder, submits it once, and reads nothing back unless asked (asynchronously,
-//! double-buffered).
+//! narrow_phase (with matching) -> color -> solve -> finish -> sleep`) into command buffers
+//! submitted in order (the wide solve path submits what it has before each substep, so the GPU
+//! runs while the host records), waits for nothing inside the step, and reads nothing back
+//! unless asked (asynchronously, double-buffered).
 
 use std::collections::VecDeque;
 
@@ -277,7 +278,7 @@ impl GpuWorld {
         )
     }
 
-    /// One step, entirely on the GPU, in one command encoder and one submit.
+    /// One step, entirely on the GPU, submitted without waiting for the GPU.
     pub fn step(&mut self) -> Result<(), GpuError> {
         if self.bodies.is_empty() {
             self.steps += 1;

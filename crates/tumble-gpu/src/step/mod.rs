@@ -1,5 +1,5 @@
 //! The whole step on the GPU: [`GpuWorld`] records the collision stages and the solver stages
-//! into one command encoder per step and submits it once, reading back only on request;
+//! and submits them without a wait inside the step, reading back only on request;
 //! [`HybridCollision`] runs the collision on the GPU for a CPU solver.
 
 pub mod config;

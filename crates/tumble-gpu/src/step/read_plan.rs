@@ -5,7 +5,7 @@ use crate::MAX_MANIFOLD_POINTS;
 use crate::layout::{GpuContact, GpuManifold, GpuPose, GpuVelocity, WorkList};
 use crate::readback::{Region, Ticket};
 use crate::sleep::constants::AWAKE;
-use crate::solver::layout::{GpuConstraint, GpuTilt};
+use crate::solver::layout::GpuTilt;
 
 use super::snapshot::{ContactSnapshot, ReadRequest, Snapshot};
 
@@ -27,7 +27,6 @@ pub(super) struct ReadSizes {
     pub(super) work: u64,
     pub(super) manifolds: u64,
     pub(super) points: u64,
-    pub(super) constraints: u64,
     pub(super) tilts: u64,
     pub(super) islands: u64,
 }
@@ -44,7 +43,6 @@ impl ReadSizes {
                 std::mem::size_of::<GpuContact>(),
                 manifolds * u64::from(MAX_MANIFOLD_POINTS),
             ),
-            constraints: size(std::mem::size_of::<GpuConstraint>(), manifolds),
             tilts: size(std::mem::size_of::<GpuTilt>(), manifolds),
             islands: size(std::mem::size_of::<u32>(), bodies),
         }
@@ -61,12 +59,7 @@ impl ReadSizes {
             total += self.velocities + slack;
         }
         if request.contacts {
-            total += self.work
-                + self.manifolds
-                + self.points
-                + self.constraints
-                + self.tilts
-                + 5 * slack;
+            total += self.work + self.manifolds + self.points + self.tilts + 4 * slack;
         }
         if request.sleeping {
             total += self.islands + slack;
@@ -95,19 +88,16 @@ pub(super) fn decode(read: &PendingRead, bodies: usize, bytes: Vec<Vec<u8>>) -> 
         let work: WorkList = bytemuck::pod_read_unaligned(&next());
         let mut manifolds: Vec<GpuManifold> = bytemuck::pod_collect_to_vec(&next());
         let mut points: Vec<GpuContact> = bytemuck::pod_collect_to_vec(&next());
-        let mut constraints: Vec<GpuConstraint> = bytemuck::pod_collect_to_vec(&next());
         let mut tilts: Vec<GpuTilt> = bytemuck::pod_collect_to_vec(&next());
         // Keep this step's manifolds only (the copy may be longer than the count).
         let count = (work.count as usize).min(manifolds.len());
         manifolds.truncate(count);
         points.truncate(count * MAX_MANIFOLD_POINTS as usize);
-        constraints.truncate(count);
         tilts.truncate(count);
         snapshot.contacts = Some(ContactSnapshot {
             work,
             manifolds,
             points,
-            constraints,
             tilts,
         });
     }

@@ -8,7 +8,7 @@ use crate::MAX_MANIFOLD_POINTS;
 use crate::kernels::collide_cuboids::kind_from_code;
 use crate::layout::{GpuContact, GpuManifold, GpuPose, GpuVelocity, WorkList};
 use crate::solver::convert::{pose_from_gpu, read_impulses};
-use crate::solver::layout::{GpuConstraint, GpuTilt};
+use crate::solver::layout::GpuTilt;
 
 /// Which parts of the world a readback copies (only what is asked for crosses the bus).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -47,10 +47,9 @@ pub struct ContactSnapshot {
     pub work: WorkList,
     /// One manifold per candidate pair (`len == 0` when not in contact).
     pub manifolds: Vec<GpuManifold>,
-    /// `MAX_MANIFOLD_POINTS` points per manifold, with the impulses solved this step.
+    /// `MAX_MANIFOLD_POINTS` points per manifold, with the impulses solved this step (and in
+    /// `friction_impulse[3]` each point's normal impulse over the whole step).
     pub points: Vec<GpuContact>,
-    /// The constraint of each manifold (per-point impulse totals of the step).
-    pub constraints: Vec<GpuConstraint>,
     /// The tilt impulse of each manifold at the end of the step.
     pub tilts: Vec<GpuTilt>,
 }
@@ -78,7 +77,7 @@ impl ContactSnapshot {
             });
         }
         let mut contact = Contact::new(m.body_a, m.body_b, manifold);
-        read_impulses(points, &self.constraints[k], &self.tilts[k], &mut contact);
+        read_impulses(points, &self.tilts[k], &mut contact);
         Some(contact)
     }
 

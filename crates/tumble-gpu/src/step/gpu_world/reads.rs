@@ -34,13 +34,6 @@ impl GpuWorld {
             regions.push(rb.copy(encoder, slot, &work, 0, sizes.work));
             regions.push(rb.copy(encoder, slot, &manifold_buffer, 0, sizes.manifolds));
             regions.push(rb.copy(encoder, slot, &point_buffer, 0, sizes.points));
-            regions.push(rb.copy(
-                encoder,
-                slot,
-                self.solver.constraints(),
-                0,
-                sizes.constraints,
-            ));
             regions.push(rb.copy(encoder, slot, self.solver.tilts(), 0, sizes.tilts));
         }
         let islands = self.sleep.island_labels().filter(|_| request.sleeping);
@@ -117,7 +110,6 @@ impl GpuWorld {
                 points: self
                     .ctx
                     .read_buffer(&points, 0, count * u64::from(MAX_MANIFOLD_POINTS))?,
-                constraints: self.ctx.read_buffer(self.solver.constraints(), 0, count)?,
                 tilts: self.ctx.read_buffer(self.solver.tilts(), 0, count)?,
             });
         }
@@ -145,7 +137,6 @@ fn snapshot_bytes(s: &Snapshot) -> u64 {
         std::mem::size_of::<WorkList>() as u64
             + bytes(&c.manifolds)
             + bytes(&c.points)
-            + bytes(&c.constraints)
             + bytes(&c.tilts)
     });
     bytes(&s.poses) + bytes(&s.velocities) + contacts

@@ -24,8 +24,12 @@
 #![warn(missing_docs)]
 
 mod brute_force;
+mod cell_size;
 mod error;
 mod filter;
+mod grid;
+#[cfg(test)]
+mod grid_tests;
 mod motion;
 mod sweep_and_prune;
 mod sweep_axis;
@@ -35,6 +39,7 @@ mod tests;
 pub use brute_force::{brute_force_pairs, brute_force_pairs_filtered};
 pub use error::BroadPhaseError;
 pub use filter::wanted as is_wanted_pair;
+pub use grid::{BroadPhase, broad_phase_pairs, broad_phase_pairs_filtered};
 pub use motion::{motion_aabb, update_aabbs};
 pub use sweep_and_prune::{SweepAndPrune, sweep_and_prune, sweep_and_prune_filtered};
 pub use sweep_axis::sweep_axis;

@@ -55,26 +55,55 @@ pub(crate) fn cell_size(aabbs: &[Aabb], sample: &mut Vec<Real>) -> Real {
     }
 }
 
+/// The grid boxes' lower-corner cells: per box (grid boxes only), their bounds and count.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Corners {
+    /// Per box, in input order: the cell of its lower corner (grid boxes only).
+    pub(crate) cell: Vec<[i32; 3]>,
+    /// The lowest and highest of them on each axis.
+    pub(crate) lo: [i32; 3],
+    pub(crate) hi: [i32; 3],
+    /// How many boxes are grid boxes.
+    pub(crate) count: usize,
+}
+
 /// Sorts each box into grid, side list or never, for the cell function `cell` at
 /// `inv = 1 / cell size`: a grid box spans at most two cells on every axis (by the same
-/// function the grid uses, so the search's bound holds whatever the rounding).
+/// function the grid uses, so the search's bound holds whatever the rounding). Records the
+/// grid boxes' lower-corner cells in `corners`.
 pub(crate) fn classify(
     aabbs: &[Aabb],
     inv: Real,
     cell: impl Fn(Real, Real) -> i32,
     kind: &mut Vec<Kind>,
+    corners: &mut Corners,
 ) {
     kind.clear();
-    kind.extend(aabbs.iter().map(|b| {
+    corners.cell.clear();
+    corners.cell.resize(aabbs.len(), [0; 3]);
+    let (mut lo, mut hi) = ([i32::MAX; 3], [i32::MIN; 3]);
+    let mut count = 0;
+    kind.extend(aabbs.iter().zip(&mut corners.cell).map(|(b, corner)| {
         let bounds = [b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z];
         if bounds.iter().any(|v| v.is_nan()) {
-            Kind::Never
-        } else if size(b).is_none() {
-            Kind::Side
-        } else if (0..3).all(|k| cell(b.max[k], inv) - cell(b.min[k], inv) <= 1) {
-            Kind::Grid
-        } else {
-            Kind::Side
+            return Kind::Never;
         }
+        if size(b).is_none() {
+            return Kind::Side;
+        }
+        let c: [i32; 3] = std::array::from_fn(|k| cell(b.min[k], inv));
+        if (0..3).any(|k| cell(b.max[k], inv) - c[k] > 1) {
+            return Kind::Side;
+        }
+        for k in 0..3 {
+            lo[k] = lo[k].min(c[k]);
+            hi[k] = hi[k].max(c[k]);
+        }
+        *corner = c;
+        count += 1;
+        Kind::Grid
     }));
+    corners.lo = lo;
+    corners.hi = hi;
+    corners.count = count;
 }

@@ -1,5 +1,5 @@
-//! The broad phase of the step: a hashed uniform grid, queried box by box in index order, so
-//! that the pairs come out sorted without sorting them.
+//! The broad phase of the step: a uniform grid of cells about one box across, with a side
+//! list for the few boxes much larger than the rest.
 //!
 //! Each box whose AABB spans at most two cells on every axis ("grid box") is stored once, in
 //! the cell of its lower corner. A grid box `j` that overlaps box `i` then has its lower
@@ -13,27 +13,37 @@
 //! every box. Boxes with a NaN bound intersect nothing (`Aabb::intersects` compares false)
 //! and are left out.
 //!
-//! Cells are hashed into a power-of-two bucket table, a row of cells along x onto
-//! consecutive buckets, so the three cells of a query row are one contiguous run of the
-//! bucket-sorted boxes. Unrelated cells sharing a bucket only add candidates, which the exact
-//! AABB test rejects; a bucket reached twice by one query (two rows hashed onto it) is
-//! removed by the per-box dedup.
+//! When the grid boxes' bounding grid has at most `DENSE_CELLS_PER_BOX` cells per box, every
+//! cell has a bucket of its own, x fastest; otherwise (a sparse or widely spread scene) rows
+//! of cells are hashed into a power-of-two table, a row's cells onto consecutive buckets.
+//! Either way the cells of one query row are one contiguous run of the bucket-sorted boxes.
+//! In the hashed table other rows' boxes share the run; each box carries its row's exact
+//! key, so it is taken from its own row only, once.
+//!
+//! The boxes are queried in bucket order, so that neighbouring queries read neighbouring
+//! memory; each box keeps its partners `j > i` as a sorted run, and the runs are written
+//! out in order of `i`, merged with the side list's pairs: the list comes out sorted
+//! without a sort of the whole list. Nothing depends on timing or threads: the result is
+//! the same set in the same order on every run.
 
 use tumble_geometry::{Aabb, Real};
 
 use crate::BroadPhaseError;
-use crate::cell_size::{Kind, cell_size, classify};
+use crate::cell_size::{Corners, Kind, cell_size, classify};
 use crate::filter::{check_flags, wanted};
 
 /// Cell coordinates are clamped to `±CELL_LIMIT`, so that `lo - 1` cannot overflow; the
 /// clamp is monotone, which is all the search needs.
-const CELL_LIMIT: i32 = 1 << 30;
+const CELL_LIMIT: Real = (1 << 30) as Real;
 
 /// The cell of coordinate `x` for `inv = 1 / h`: `floor(x / h)`, clamped. Monotone in `x`.
 #[inline]
 fn cell(x: Real, inv: Real) -> i32 {
-    // `as` saturates (and maps the infinities to the limits), both monotone.
-    ((x * inv).floor() as i32).clamp(-CELL_LIMIT, CELL_LIMIT)
+    // Clamped first, so the truncation is exact and cannot saturate; truncation rounds
+    // towards zero, one less below zero gives the floor (no libm call).
+    let v = (x * inv).clamp(-CELL_LIMIT, CELL_LIMIT);
+    let t = v as i32;
+    t - i32::from((t as Real) > v)
 }
 
 /// The bucket hash of the row of cells `(cy, cz)`; cell `cx` of that row goes to bucket
@@ -47,14 +57,82 @@ fn row_hash(cy: i32, cz: i32) -> u32 {
     h ^ (h >> 12)
 }
 
-/// The grid boxes sorted by bucket, one array per bound (structure of arrays).
+/// The exact identity of a row of cells, to tell its boxes from those of other rows hashed
+/// into the same buckets.
+#[inline]
+fn row_key(cy: i32, cz: i32) -> u64 {
+    (u64::from(cy as u32) << 32) | u64::from(cz as u32)
+}
+
+/// One grid box, as stored in bucket order: its bounds and index, one 32-byte line.
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(32))]
+struct Entry {
+    min: [Real; 3],
+    max: [Real; 3],
+    id: u32,
+}
+
+/// Dense grids of at most this many cells per grid box are used as they are; larger ones
+/// (a sparse or widely spread scene) are hashed into about one bucket per box.
+const DENSE_CELLS_PER_BOX: u64 = 8;
+
+/// How cells map to buckets.
+#[derive(Clone, Copy, Debug, Default)]
+struct Layout {
+    /// One bucket per cell of the boxes' bounding grid, x fastest, then y, then z: no two
+    /// cells share a bucket. Otherwise rows of cells are hashed (`row_hash`).
+    dense: bool,
+    /// Dense: the lowest cell on each axis.
+    origin: [i32; 3],
+    /// Dense: cells per axis.
+    dims: [i32; 3],
+    /// Number of buckets (hashed: a power of two).
+    buckets: usize,
+}
+
+impl Layout {
+    /// The layout for grid boxes whose lower corners lie in the cells `lo..=hi`.
+    fn new(lo: [i32; 3], hi: [i32; 3], boxes: usize) -> Self {
+        let dims: [i64; 3] = std::array::from_fn(|k| i64::from(hi[k]) - i64::from(lo[k]) + 1);
+        let cells = dims.iter().map(|&d| d.max(1) as u64).product::<u64>();
+        if boxes > 0 && cells <= DENSE_CELLS_PER_BOX * boxes as u64 + 64 {
+            Layout {
+                dense: true,
+                origin: lo,
+                dims: dims.map(|d| d as i32),
+                buckets: cells as usize,
+            }
+        } else {
+            Layout {
+                dense: false,
+                buckets: boxes.next_power_of_two().max(16),
+                ..Layout::default()
+            }
+        }
+    }
+
+    /// The bucket of cell `c` (dense: a cell within the bounds).
+    #[inline]
+    fn bucket(&self, c: [i32; 3]) -> usize {
+        if self.dense {
+            let [x, y, z]: [usize; 3] = std::array::from_fn(|k| (c[k] - self.origin[k]) as usize);
+            x + self.dims[0] as usize * (y + self.dims[1] as usize * z)
+        } else {
+            (row_hash(c[1], c[2]).wrapping_add(c[0] as u32) as usize) & (self.buckets - 1)
+        }
+    }
+}
+
+/// The grid boxes sorted by bucket.
 #[derive(Clone, Debug, Default)]
 struct Buckets {
-    /// `start[b]..start[b + 1]`: the boxes of bucket `b`, in the arrays below.
+    layout: Layout,
+    /// `start[b]..start[b + 1]`: the boxes of bucket `b`, in `entry` and `row`.
     start: Vec<u32>,
-    min: [Vec<Real>; 3],
-    max: [Vec<Real>; 3],
-    id: Vec<u32>,
+    entry: Vec<Entry>,
+    /// The row key of each entry's cell.
+    row: Vec<u64>,
 }
 
 /// The broad phase the step uses: a hashed uniform grid with a side list for oversized
@@ -67,6 +145,8 @@ struct Buckets {
 pub struct BroadPhase {
     /// Per box, in input order: grid, side list, or never pairs.
     kind: Vec<Kind>,
+    /// The grid boxes' lower-corner cells.
+    corners: Corners,
     /// Per box, in input order: its bucket (grid boxes only).
     bucket: Vec<u32>,
     /// The grid boxes by bucket.
@@ -75,8 +155,11 @@ pub struct BroadPhase {
     side: Vec<u32>,
     /// Every pair with a side-list box in it, sorted.
     side_pairs: Vec<(u32, u32)>,
-    /// The partners `j > i` of the box `i` being queried.
+    /// The partners `j > i` found in the grid, box after box in bucket order, each box's run
+    /// sorted.
     partners: Vec<u32>,
+    /// Per box, in input order: where its run of `partners` starts and ends.
+    run: Vec<(u32, u32)>,
     /// Scratch for the cell-size choice.
     sample: Vec<Real>,
     /// The cell size of the last query.
@@ -89,7 +172,7 @@ impl BroadPhase {
         Self::default()
     }
 
-    /// The cell size the last query used (0 before the first, or when it had no grid box).
+    /// The cell size the last query used (0 before the first).
     pub fn cell_size(&self) -> Real {
         self.cell
     }
@@ -97,6 +180,12 @@ impl BroadPhase {
     /// How many boxes of the last query went to the side list (tested against every box).
     pub fn oversized(&self) -> usize {
         self.side.len()
+    }
+
+    /// Whether the last query's grid had a bucket per cell (else rows were hashed).
+    #[cfg(test)]
+    pub(crate) fn was_dense(&self) -> bool {
+        self.grid.layout.dense
     }
 
     /// Writes every overlapping pair `(i, j)`, `i < j`, sorted ascending, into `out`
@@ -121,35 +210,35 @@ impl BroadPhase {
     fn run(&mut self, aabbs: &[Aabb], is_static: Option<&[bool]>, out: &mut Vec<(u32, u32)>) {
         out.clear();
         assert!(
-            aabbs.len() <= u32::MAX as usize,
+            aabbs.len() < u32::MAX as usize,
             "box indices must fit in u32"
         );
         let h = cell_size(aabbs, &mut self.sample);
         self.cell = h;
         let inv = 1.0 / h;
-        classify(aabbs, inv, cell, &mut self.kind);
-        self.build_grid(aabbs, inv);
-        self.pair_side_boxes(aabbs);
-        self.emit(aabbs, inv, is_static, out);
+        classify(aabbs, inv, cell, &mut self.kind, &mut self.corners);
+        self.build_grid(aabbs);
+        self.pair_side_boxes(aabbs, is_static);
+        self.query_grid(aabbs.len(), inv, is_static);
+        self.emit(out);
     }
 
     /// Counting sort of the grid boxes by bucket.
-    fn build_grid(&mut self, aabbs: &[Aabb], inv: Real) {
-        let grid_boxes = self.kind.iter().filter(|&&k| k == Kind::Grid).count();
-        let buckets = (2 * grid_boxes).next_power_of_two().max(16);
-        let mask = (buckets - 1) as u32;
+    fn build_grid(&mut self, aabbs: &[Aabb]) {
+        let c = &self.corners;
+        let grid_boxes = c.count;
         let g = &mut self.grid;
+        g.layout = Layout::new(c.lo, c.hi, grid_boxes);
+        let buckets = g.layout.buckets;
         g.start.clear();
         g.start.resize(buckets + 1, 0);
         self.bucket.clear();
         self.bucket.resize(aabbs.len(), 0);
-        for (i, b) in aabbs.iter().enumerate() {
+        for (i, &c) in self.corners.cell.iter().enumerate() {
             if self.kind[i] == Kind::Grid {
-                let cx = cell(b.min.x, inv);
-                let bucket =
-                    row_hash(cell(b.min.y, inv), cell(b.min.z, inv)).wrapping_add(cx as u32) & mask;
-                self.bucket[i] = bucket;
-                g.start[bucket as usize] += 1;
+                let bucket = g.layout.bucket(c);
+                self.bucket[i] = bucket as u32;
+                g.start[bucket] += 1;
             }
         }
         // Inclusive prefix sums: `start[b]` is the end of bucket `b`; the scatter below, in
@@ -160,29 +249,31 @@ impl BroadPhase {
             *s = sum;
         }
         g.start[buckets] = sum;
-        for v in g.min.iter_mut().chain(g.max.iter_mut()) {
-            v.clear();
-            v.resize(grid_boxes, 0.0);
-        }
-        g.id.clear();
-        g.id.resize(grid_boxes, 0);
+        g.entry.clear();
+        g.entry.resize(grid_boxes, Entry::default());
+        g.row.clear();
+        g.row.resize(if g.layout.dense { 0 } else { grid_boxes }, 0);
         for (i, b) in aabbs.iter().enumerate().rev() {
             if self.kind[i] == Kind::Grid {
                 let s = &mut g.start[self.bucket[i] as usize];
                 *s -= 1;
                 let at = *s as usize;
-                for k in 0..3 {
-                    g.min[k][at] = b.min[k];
-                    g.max[k][at] = b.max[k];
+                g.entry[at] = Entry {
+                    min: [b.min.x, b.min.y, b.min.z],
+                    max: [b.max.x, b.max.y, b.max.z],
+                    id: i as u32,
+                };
+                if !g.layout.dense {
+                    let c = self.corners.cell[i];
+                    g.row[at] = row_key(c[1], c[2]);
                 }
-                g.id[at] = i as u32;
             }
         }
     }
 
-    /// Every pair with a side-list box in it, by testing that box against every other box;
-    /// a pair of two side-list boxes is tested from the lower index only.
-    fn pair_side_boxes(&mut self, aabbs: &[Aabb]) {
+    /// Every wanted pair with a side-list box in it, by testing that box against every other
+    /// box; a pair of two side-list boxes is tested from the lower index only.
+    fn pair_side_boxes(&mut self, aabbs: &[Aabb], is_static: Option<&[bool]>) {
         self.side.clear();
         self.side.extend(
             self.kind
@@ -198,7 +289,10 @@ impl BroadPhase {
                 let j = j as u32;
                 let skip = kind == Kind::Never || (kind == Kind::Side && j <= s);
                 if !skip && a.intersects(b) {
-                    self.side_pairs.push((s.min(j), s.max(j)));
+                    let pair = (s.min(j), s.max(j));
+                    if is_static.is_none_or(|f| wanted(f, pair.0, pair.1)) {
+                        self.side_pairs.push(pair);
+                    }
                 }
             }
         }
@@ -206,86 +300,156 @@ impl BroadPhase {
         self.side_pairs.sort_unstable();
     }
 
-    /// The pairs of each box `i` with the boxes `j > i`, in order of `i`, each box's partners
-    /// sorted: the whole list comes out sorted.
-    fn emit(
-        &mut self,
-        aabbs: &[Aabb],
-        inv: Real,
-        is_static: Option<&[bool]>,
-        out: &mut Vec<(u32, u32)>,
-    ) {
-        let mask = (self.grid.start.len() - 2) as u32;
-        let mut side_next = 0;
-        for (i, a) in aabbs.iter().enumerate() {
-            let i = i as u32;
-            self.partners.clear();
-            if self.kind[i as usize] == Kind::Grid {
-                query(&self.grid, mask, a, i, inv, &mut self.partners);
+    /// The wanted partners `j > i` of every grid box `i`, queried in bucket order (so that
+    /// neighbouring queries read neighbouring memory), each box's run sorted.
+    fn query_grid(&mut self, n: usize, inv: Real, is_static: Option<&[bool]>) {
+        self.run.clear();
+        self.run.resize(n, (0, 0));
+        self.partners.clear();
+        let g = &self.grid;
+        for a in &g.entry {
+            let first = self.partners.len();
+            if g.layout.dense {
+                query_dense(g, a, inv, &mut self.partners);
+            } else {
+                query_hashed(g, a, inv, &mut self.partners);
             }
-            while let Some(&(p, q)) = self.side_pairs.get(side_next) {
-                if p != i {
-                    break;
+            if let Some(flags) = is_static.filter(|f| f[a.id as usize]) {
+                let mut kept = first;
+                for k in first..self.partners.len() {
+                    let j = self.partners[k];
+                    if wanted(flags, a.id, j) {
+                        self.partners[kept] = j;
+                        kept += 1;
+                    }
                 }
-                self.partners.push(q);
-                side_next += 1;
+                self.partners.truncate(kept);
             }
-            if self.partners.is_empty() {
+            self.partners[first..].sort_unstable();
+            self.run[a.id as usize] = (first as u32, self.partners.len() as u32);
+        }
+    }
+
+    /// The pairs in order of `i`: each box's grid run merged with its side-list pairs.
+    fn emit(&self, out: &mut Vec<(u32, u32)>) {
+        let mut side = self.side_pairs.as_slice();
+        for (i, &(s, e)) in self.run.iter().enumerate() {
+            let i = i as u32;
+            let grid = &self.partners[s as usize..e as usize];
+            let k = side.iter().take_while(|p| p.0 == i).count();
+            if k == 0 {
+                out.extend(grid.iter().map(|&j| (i, j)));
                 continue;
             }
-            self.partners.sort_unstable();
-            self.partners.dedup();
-            for &j in &self.partners {
-                if is_static.is_none_or(|f| wanted(f, i, j)) {
-                    out.push((i, j));
-                }
+            let (mine, rest) = side.split_at(k);
+            side = rest;
+            // Two sorted runs of distinct partners: merge.
+            let (mut g, mut m) = (grid.iter().peekable(), mine.iter().peekable());
+            loop {
+                let j = match (g.peek(), m.peek()) {
+                    (Some(&&a), Some(&&(_, b))) if a < b => g.next().copied(),
+                    (_, Some(_)) => m.next().map(|p| p.1),
+                    (Some(_), None) => g.next().copied(),
+                    (None, None) => break,
+                };
+                out.extend(j.map(|j| (i, j)));
             }
         }
     }
 }
 
-/// Pushes onto `partners` every grid box `j > i` that overlaps `a` (box `i`), perhaps more
-/// than once (see the module documentation).
+/// Pushes onto `partners` every grid box `j > i` that overlaps `a` (box `i`) in a dense
+/// grid: each cell has its own bucket, and the query is clipped to the grid's bounds.
 #[inline]
-fn query(g: &Buckets, mask: u32, a: &Aabb, i: u32, inv: Real, partners: &mut Vec<u32>) {
-    let lo = [cell(a.min.x, inv), cell(a.min.y, inv), cell(a.min.z, inv)];
-    let hi = [cell(a.max.x, inv), cell(a.max.y, inv), cell(a.max.z, inv)];
-    let buckets = mask as usize + 1;
+fn query_dense(g: &Buckets, a: &Entry, inv: Real, partners: &mut Vec<u32>) {
+    let l = &g.layout;
+    let lo = a.min.map(|v| cell(v, inv));
+    let hi = a.max.map(|v| cell(v, inv));
+    let from: [i32; 3] = std::array::from_fn(|k| (lo[k] - 1).max(l.origin[k]));
+    let to: [i32; 3] = std::array::from_fn(|k| hi[k].min(l.origin[k] + l.dims[k] - 1));
+    if from[0] > to[0] {
+        return;
+    }
+    let run = (to[0] - from[0] + 1) as usize;
+    // At most 3 x 3 rows for a grid box: their runs of boxes first, then one pass over them.
+    let mut rows = [(0usize, 0usize); 9];
+    let mut count = 0;
+    let mut total = 0;
+    for cz in from[2]..=to[2] {
+        for cy in from[1]..=to[1] {
+            let first = l.bucket([from[0], cy, cz]);
+            let (s, e) = (g.start[first] as usize, g.start[first + run] as usize);
+            rows[count] = (s, e);
+            count += 1;
+            total += e - s;
+        }
+    }
+    // Branch-free: every candidate is written, the count moves on a hit only (half the
+    // neighbours of a box in a pile come after it: a branch would mispredict).
+    let mut kept = partners.len();
+    partners.resize(kept + total, 0);
+    for &(s, e) in &rows[..count] {
+        for b in &g.entry[s..e] {
+            partners[kept] = b.id;
+            kept += usize::from(overlaps(a, b));
+        }
+    }
+    partners.truncate(kept);
+}
+
+/// As `query_dense` in a hashed grid: rows of cells share buckets, so a box is taken only
+/// from the row of cells it is stored in (once each).
+#[inline]
+fn query_hashed(g: &Buckets, a: &Entry, inv: Real, partners: &mut Vec<u32>) {
+    let lo = a.min.map(|v| cell(v, inv));
+    let hi = a.max.map(|v| cell(v, inv));
+    let buckets = g.layout.buckets;
+    let mask = (buckets - 1) as u32;
     // Cells along x per row: `lo - 1 ..= hi`, 2 or 3 for a grid box.
     let run = (hi[0] - lo[0] + 2) as usize;
     for cz in lo[2] - 1..=hi[2] {
         for cy in lo[1] - 1..=hi[1] {
             let first = (row_hash(cy, cz).wrapping_add((lo[0] - 1) as u32) & mask) as usize;
             let end = first + run;
+            let key = row_key(cy, cz);
             if end <= buckets {
-                scan(g, g.start[first]..g.start[end], a, i, partners);
+                scan_row(g, g.start[first]..g.start[end], a, key, partners);
             } else {
-                scan(g, g.start[first]..g.start[buckets], a, i, partners);
-                scan(g, g.start[0]..g.start[end - buckets], a, i, partners);
+                scan_row(g, g.start[first]..g.start[buckets], a, key, partners);
+                scan_row(g, g.start[0]..g.start[end - buckets], a, key, partners);
             }
         }
     }
 }
 
-/// The closed-interval test of `a` (box `i`) against the bucket-sorted boxes `range`.
+/// The closed-interval test of `a` against the bucket-sorted boxes `range` of row `key`.
 #[inline]
-fn scan(g: &Buckets, range: std::ops::Range<u32>, a: &Aabb, i: u32, partners: &mut Vec<u32>) {
+fn scan_row(
+    g: &Buckets,
+    range: std::ops::Range<u32>,
+    a: &Entry,
+    key: u64,
+    partners: &mut Vec<u32>,
+) {
     let range = range.start as usize..range.end as usize;
-    let [min0, min1, min2] = &g.min;
-    let [max0, max1, max2] = &g.max;
-    for k in range {
-        // Non-short-circuit `&`: branch-free but for the rare hit.
-        let hit = (g.id[k] > i)
-            & (min0[k] <= a.max.x)
-            & (a.min.x <= max0[k])
-            & (min1[k] <= a.max.y)
-            & (a.min.y <= max1[k])
-            & (min2[k] <= a.max.z)
-            & (a.min.z <= max2[k]);
-        if hit {
-            partners.push(g.id[k]);
+    for (b, &row) in g.entry[range.clone()].iter().zip(&g.row[range]) {
+        if overlaps(a, b) && row == key {
+            partners.push(b.id);
         }
     }
+}
+
+/// `b` comes after `a` and overlaps it: `Aabb::intersects`, closed intervals.
+#[inline]
+fn overlaps(a: &Entry, b: &Entry) -> bool {
+    // Non-short-circuit `&`: branch-free but for the rare hit.
+    (b.id > a.id)
+        & (b.min[0] <= a.max[0])
+        & (a.min[0] <= b.max[0])
+        & (b.min[1] <= a.max[1])
+        & (a.min[1] <= b.max[1])
+        & (b.min[2] <= a.max[2])
+        & (a.min[2] <= b.max[2])
 }
 
 /// Every overlapping pair `(i, j)`, `i < j`, sorted ascending, by the step's broad phase

@@ -34,6 +34,13 @@ fn check(boxes: &[Aabb], what: &str) -> usize {
     expected.len()
 }
 
+/// Whether the grid of `boxes` gets a bucket per cell (else its rows are hashed).
+fn dense(boxes: &[Aabb]) -> bool {
+    let mut bp = BroadPhase::new();
+    bp.find_pairs(boxes, &mut Vec::new());
+    bp.was_dense()
+}
+
 /// Half extents log-uniform in `[lo, hi]`, per axis.
 fn log_uniform(rng: &mut ChaCha8Rng, lo: Real, hi: Real) -> Real {
     (rng.random_range(lo.ln()..hi.ln())).exp()
@@ -69,6 +76,7 @@ fn uniform_random_scenes_equal_brute_force() {
             })
             .collect();
         total += check(&boxes, &format!("uniform n = {n}, density {density}"));
+        assert!(dense(&boxes), "a uniform scene gets a bucket per cell");
     }
     assert!(
         total > 3_000,
@@ -145,6 +153,8 @@ fn clustered_piles_equal_brute_force() {
             })
             .collect();
         let pairs = check(&boxes, &format!("{clusters} clusters"));
+        // One pile fills its grid; piles 1 km apart leave it nearly empty: hashed rows.
+        assert_eq!(dense(&boxes), clusters == 1, "{clusters} clusters");
         assert!(pairs > 1_000, "{clusters} clusters: only {pairs} pairs");
     }
 }
@@ -170,6 +180,7 @@ fn huge_coordinates_equal_brute_force() {
             })
             .collect();
         let pairs = check(&boxes, &format!("huge coordinates, half size {half}"));
+        assert!(!dense(&boxes), "spread over 64 km: hashed rows");
         assert!(pairs > 100, "half size {half}: only {pairs} pairs");
     }
 }

@@ -1,11 +1,29 @@
-//! Sweep-and-prune on random boxes: 1k, 10k and 100k, with reused scratch buffers (as a world
-//! calls it every step) and through the allocating free function; brute force at 1k for scale.
+//! The CPU broad phase, old against new against parry3d, in one run:
+//!
+//! - `broad_pyramid50`: the resting packed pyramid of 50 layers (42,926 boxes with the floor),
+//!   each box's AABB as the step computes it at rest (grown by the default margin), the
+//!   floor flagged immovable as the step does;
+//! - `broad_random`: 1k, 10k and 100k random boxes (half sizes 0.05..0.5 m, 0.3 boxes per m^3),
+//!   brute force at 1k for scale.
+//!
+//! Rows: `grid` is [`BroadPhase`] (the step's broad phase, buffers reused), `sweep` the
+//! one-axis [`SweepAndPrune`] it replaced (buffers reused); both return the sorted pair list.
+//! `parry_bvh_build` builds a parry3d `Bvh` (binned SAH) over the boxes and traverses it
+//! against itself; `parry_bvh_refit` keeps a tree built once, refits it to the boxes and
+//! traverses it, as rapier3d's `BroadPhaseBvh` does each step (without its change detection,
+//! which would skip unchanged pairs, so that every pair is found as ours are). parry3d's rows
+//! only count the pairs: they come out unordered, in tree order.
 
 use std::hint::black_box;
 
-use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use tumble_broad::{SweepAndPrune, brute_force_pairs, sweep_and_prune};
-use tumble_geometry::Aabb;
+use criterion::{BenchmarkGroup, BenchmarkId, Criterion, Throughput, criterion_group};
+use criterion::{criterion_main, measurement::WallTime};
+use parry3d::bounding_volume::Aabb as PAabb;
+use parry3d::math::Vector as PVec;
+use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
+use tumble_broad::{BroadPhase, SweepAndPrune, brute_force_pairs, motion_aabb};
+use tumble_geometry::{Aabb, Vec3};
+use tumble_scenes::pyramid;
 use tumble_tests::scene_support::sparse_boxes;
 
 /// Boxes per cubic meter: about what a settled pile of 1 m boxes with gaps looks like, giving
@@ -17,22 +35,102 @@ fn random_boxes(n: usize, seed: u64) -> Vec<Aabb> {
     sparse_boxes(n, (n as f32 / DENSITY).cbrt(), seed)
 }
 
-fn broad_phase(c: &mut Criterion) {
-    let mut group = c.benchmark_group("broad_phase");
+/// The resting pyramid of `h` layers: each body's step AABB at rest and its immovable flag.
+fn pyramid_boxes(h: usize) -> (Vec<Aabb>, Vec<bool>) {
+    let scene = pyramid(h);
+    let zero = Vec3::zeros();
+    let aabbs = scene
+        .bodies
+        .iter()
+        .map(|b| {
+            motion_aabb(
+                &b.cuboid(),
+                &b.pose(),
+                &zero,
+                &zero,
+                tumble::DEFAULT_MARGIN,
+                1.0 / 60.0,
+            )
+        })
+        .collect();
+    let immovable = scene.bodies.iter().map(|b| !b.is_dynamic()).collect();
+    (aabbs, immovable)
+}
+
+fn to_parry(aabbs: &[Aabb]) -> Vec<PAabb> {
+    let v = |p: &tumble_geometry::Point3| PVec::new(p.x, p.y, p.z);
+    aabbs
+        .iter()
+        .map(|b| PAabb::new(v(&b.min), v(&b.max)))
+        .collect()
+}
+
+/// The four rows on one scene; `flags` is the immovable filter the step applies (ours only:
+/// it removes one pair in a thousand on the pyramid, the floor's with nothing).
+fn rows(group: &mut BenchmarkGroup<'_, WallTime>, n: usize, boxes: &[Aabb], flags: &[bool]) {
+    group.throughput(Throughput::Elements(boxes.len() as u64));
+    let mut pairs = Vec::new();
+    let mut grid = BroadPhase::new();
+    group.bench_with_input(BenchmarkId::new("grid", n), boxes, |b, boxes| {
+        b.iter(|| {
+            grid.find_pairs_filtered(black_box(boxes), flags, &mut pairs)
+                .unwrap();
+            black_box(pairs.len())
+        })
+    });
+    let mut sap = SweepAndPrune::new();
+    group.bench_with_input(BenchmarkId::new("sweep", n), boxes, |b, boxes| {
+        b.iter(|| {
+            sap.find_pairs_filtered(black_box(boxes), flags, &mut pairs)
+                .unwrap();
+            black_box(pairs.len())
+        })
+    });
+    let leaves = to_parry(boxes);
+    group.bench_with_input(
+        BenchmarkId::new("parry_bvh_build", n),
+        &leaves,
+        |b, leaves| {
+            let mut workspace = BvhWorkspace::default();
+            b.iter(|| {
+                let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, black_box(leaves));
+                let mut count = 0usize;
+                bvh.traverse_bvtt_single_tree::<false>(&mut workspace, &mut |_, _| count += 1);
+                black_box(count)
+            })
+        },
+    );
+    let mut bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &leaves);
+    group.bench_with_input(
+        BenchmarkId::new("parry_bvh_refit", n),
+        &leaves,
+        |b, leaves| {
+            let mut workspace = BvhWorkspace::default();
+            b.iter(|| {
+                for (i, leaf) in black_box(leaves).iter().enumerate() {
+                    bvh.insert_or_update_partially(*leaf, i as u32, 0.0);
+                }
+                bvh.refit(&mut workspace);
+                let mut count = 0usize;
+                bvh.traverse_bvtt_single_tree::<false>(&mut workspace, &mut |_, _| count += 1);
+                black_box(count)
+            })
+        },
+    );
+}
+
+fn broad_pyramid50(c: &mut Criterion) {
+    let (boxes, flags) = pyramid_boxes(50);
+    let mut group = c.benchmark_group("broad_pyramid50");
+    rows(&mut group, boxes.len(), &boxes, &flags);
+    group.finish();
+}
+
+fn broad_random(c: &mut Criterion) {
+    let mut group = c.benchmark_group("broad_random");
     for n in [1_000, 10_000, 100_000] {
         let boxes = random_boxes(n, n as u64);
-        group.throughput(Throughput::Elements(n as u64));
-        let mut sap = SweepAndPrune::new();
-        let mut pairs = Vec::new();
-        group.bench_with_input(BenchmarkId::new("sap_reused", n), &boxes, |b, boxes| {
-            b.iter(|| {
-                sap.find_pairs(black_box(boxes), &mut pairs);
-                black_box(pairs.len())
-            })
-        });
-        group.bench_with_input(BenchmarkId::new("sap_fresh", n), &boxes, |b, boxes| {
-            b.iter(|| black_box(sweep_and_prune(black_box(boxes))).len())
-        });
+        rows(&mut group, n, &boxes, &vec![false; n]);
         if n == 1_000 {
             group.bench_with_input(BenchmarkId::new("brute_force", n), &boxes, |b, boxes| {
                 b.iter(|| black_box(brute_force_pairs(black_box(boxes))).len())
@@ -42,5 +140,5 @@ fn broad_phase(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, broad_phase);
+criterion_group!(benches, broad_pyramid50, broad_random);
 criterion_main!(benches);

@@ -1,11 +1,13 @@
-//! The broad phase: sweep-and-prune must return exactly the brute-force pair list, on random
-//! scenes of every size and on grids of exactly touching boxes.
+//! The broad phase: the step's grid (`BroadPhase`) and the one-axis sweep kept beside it must
+//! both return exactly the brute-force pair list, on random scenes of every size and on grids
+//! of exactly touching boxes.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tumble_broad::{
-    BroadPhaseError, SweepAndPrune, brute_force_pairs, brute_force_pairs_filtered, sweep_and_prune,
-    sweep_and_prune_filtered, sweep_axis,
+    BroadPhase, BroadPhaseError, SweepAndPrune, broad_phase_pairs, broad_phase_pairs_filtered,
+    brute_force_pairs, brute_force_pairs_filtered, sweep_and_prune, sweep_and_prune_filtered,
+    sweep_axis,
 };
 use tumble_geometry::nalgebra::{Translation3, UnitQuaternion};
 use tumble_geometry::{Aabb, Cuboid, Point3, Pose, Vec3};
@@ -98,14 +100,18 @@ fn assert_matches_brute_force(aabbs: &[Aabb]) -> usize {
         aabbs.len()
     );
     assert_eq!(got, expected);
+    // The grid, pair for pair and in the same order (the step consumes pairs in order).
+    assert_eq!(broad_phase_pairs(aabbs), expected, "grid");
     expected.len()
 }
 
 #[test]
 fn empty_and_single_box_have_no_pairs() {
     assert!(sweep_and_prune(&[]).is_empty());
+    assert!(broad_phase_pairs(&[]).is_empty());
     let one = sparse_boxes(1, 10.0, 1);
     assert!(sweep_and_prune(&one).is_empty());
+    assert!(broad_phase_pairs(&one).is_empty());
     assert!(brute_force_pairs(&one).is_empty());
 }
 
@@ -124,6 +130,7 @@ fn two_boxes_pair_exactly_when_they_overlap_or_touch() {
             "shift {dx}: touching (|dx| = 1) must pair"
         );
         assert_eq!(got, brute_force_pairs(&[a, b]));
+        assert_eq!(broad_phase_pairs(&[a, b]), got);
         // The order of the input must not change the answer beyond relabelling.
         assert_eq!(sweep_and_prune(&[b, a]).len(), pairs);
     }
@@ -164,6 +171,7 @@ fn touching_grid_pairs_every_face_edge_and_corner_neighbour() {
         let pairs = sweep_and_prune(&grid);
         assert_eq!(pairs.len(), grid_pair_count(n), "grid {n:?} at {origin:?}");
         assert_eq!(pairs, brute_force_pairs(&grid));
+        assert_eq!(broad_phase_pairs(&grid), pairs, "grid broad phase");
         let index = |i: usize, j: usize, k: usize| (i * n[1] * n[2] + j * n[2] + k) as u32;
         // A face neighbour, an edge neighbour, a corner neighbour: all touch, all must pair.
         for (a, b) in [
@@ -194,6 +202,7 @@ fn identical_boxes_all_pair() {
     let pairs = sweep_and_prune(&vec![b; n]);
     // Zero-size boxes at one point still touch (closed intervals): every pair appears.
     assert_eq!(pairs.len(), n * (n - 1) / 2);
+    assert_eq!(broad_phase_pairs(&vec![b; n]), pairs);
 }
 
 #[test]
@@ -225,6 +234,13 @@ fn reused_buffers_give_the_same_answer_as_a_fresh_sweep() {
         sap.find_pairs(&boxes, &mut out);
         assert_eq!(out, sweep_and_prune(&boxes), "reuse after {n} boxes");
     }
+    // The same for the grid, whose buffers (cells, buckets, runs) must carry nothing over.
+    let mut grid = BroadPhase::new();
+    for (n, seed) in [(3_000, 35), (50, 36), (0, 37), (2_000, 38)] {
+        let boxes = clustered_boxes(n, 3, seed);
+        grid.find_pairs(&boxes, &mut out);
+        assert_eq!(out, brute_force_pairs(&boxes), "grid reuse after {n} boxes");
+    }
 }
 
 #[test]
@@ -254,6 +270,11 @@ fn static_pairs_are_filtered_and_others_kept() {
         "the test scene must contain static-static pairs"
     );
     assert_eq!(filtered.len() + static_static, all.len());
+    // The grid applies the same filter.
+    assert_eq!(
+        broad_phase_pairs_filtered(&boxes, &is_static).unwrap(),
+        filtered
+    );
 }
 
 #[test]
@@ -268,6 +289,10 @@ fn filter_length_mismatch_is_an_error() {
         }
     );
     assert!(brute_force_pairs_filtered(&boxes, &[true; 11]).is_err());
+    assert_eq!(
+        broad_phase_pairs_filtered(&boxes, &[false; 9]).unwrap_err(),
+        err
+    );
 }
 
 #[test]
@@ -280,10 +305,46 @@ fn non_finite_and_inverted_boxes_never_pair_but_do_not_disturb_the_rest() {
     boxes[100] = Aabb::new(Point3::new(5.0, 0.0, 0.0), Point3::new(4.0, 8.0, 8.0));
     let pairs = sweep_and_prune(&boxes);
     assert_eq!(pairs, brute_force_pairs(&boxes));
+    assert_eq!(broad_phase_pairs(&boxes), pairs, "grid");
     for bad in [3, 40, 77, 100] {
         assert!(
             pairs.iter().all(|&(i, j)| i != bad && j != bad),
             "box {bad} paired"
         );
     }
+}
+
+#[test]
+fn the_resting_pyramid_equals_brute_force_with_its_floor_on_the_side_list() {
+    // The scene the grid is built for: a packed pyramid of unit cubes (each box touching up
+    // to 26 neighbours through its margin) on a floor 100 times wider. The floor must go to
+    // the side list, so that the cells stay one cube across, and the pairs, filtered as the
+    // step filters them, must equal the reference's exactly.
+    let scene = tumble_scenes::pyramid(24);
+    let zero = Vec3::zeros();
+    let aabbs: Vec<Aabb> = scene
+        .bodies
+        .iter()
+        .map(|b| {
+            tumble_broad::motion_aabb(
+                &b.cuboid(),
+                &b.pose(),
+                &zero,
+                &zero,
+                tumble::DEFAULT_MARGIN,
+                1.0 / 60.0,
+            )
+        })
+        .collect();
+    let immovable: Vec<bool> = scene.bodies.iter().map(|b| !b.is_dynamic()).collect();
+    let expected = brute_force_pairs_filtered(&aabbs, &immovable).unwrap();
+    let mut grid = BroadPhase::new();
+    let mut out = Vec::new();
+    grid.find_pairs_filtered(&aabbs, &immovable, &mut out)
+        .unwrap();
+    assert_eq!(out, expected);
+    assert_eq!(grid.oversized(), 1, "the floor alone is oversized");
+    assert!(grid.cell_size() < 1.1, "cell {}", grid.cell_size());
+    // About 7.6 pairs per cube: a test with few pairs would prove little.
+    assert!(expected.len() > 7 * aabbs.len(), "{} pairs", expected.len());
 }

@@ -8,7 +8,7 @@ use crate::filter::{check_flags, wanted};
 /// Every overlapping pair `(i, j)`, `i < j`, sorted ascending, by testing all `n (n - 1) / 2`
 /// pairs with `Aabb::intersects` (closed intervals: exactly touching boxes form a pair).
 ///
-/// O(n^2): the reference that `sweep_and_prune` must equal exactly.
+/// O(n^2): the reference that `BroadPhase` and `sweep_and_prune` must equal exactly.
 pub fn brute_force_pairs(aabbs: &[Aabb]) -> Vec<(u32, u32)> {
     let mut out = Vec::new();
     for (i, a) in aabbs.iter().enumerate() {

@@ -1,5 +1,11 @@
-//! Tumble's broad phase: each box's AABB for the step ([`update_aabbs`]), sweep-and-prune
-//! over them, and the brute-force reference it must equal.
+//! Tumble's broad phase: each box's AABB for the step ([`update_aabbs`]), the pairs of
+//! overlapping AABBs, and the brute-force reference every method must equal.
+//!
+//! - [`BroadPhase`] (and [`broad_phase_pairs`]): the step's, a uniform grid of cells one
+//!   typical box across, with a side list for the few much larger boxes (module `grid`).
+//! - [`SweepAndPrune`] (and [`sweep_and_prune`]): a one-axis sweep along the axis of largest
+//!   spread, the algorithm of the GPU backend, kept as its CPU twin and a second reference.
+//! - [`brute_force_pairs`]: every pair tested.
 //!
 //! Contract shared by every function here (and by the GPU kernels that mirror them): the
 //! result lists each overlapping pair once as `(i, j)` with `i < j` (indices into the input
@@ -7,7 +13,7 @@
 //! that exactly touch form a pair (a resting box's AABB touches the floor's).
 //!
 //! ```
-//! use tumble_broad::{brute_force_pairs, sweep_and_prune};
+//! use tumble_broad::{broad_phase_pairs, brute_force_pairs, sweep_and_prune};
 //! use tumble_geometry::{Aabb, Point3};
 //!
 //! let aabbs = [
@@ -17,15 +23,20 @@
 //!     // Far from both.
 //!     Aabb::new(Point3::new(5.0, 5.0, 5.0), Point3::new(6.0, 6.0, 6.0)),
 //! ];
-//! let pairs = sweep_and_prune(&aabbs);
+//! let pairs = broad_phase_pairs(&aabbs);
 //! assert_eq!(pairs, vec![(0, 1)]);
-//! assert_eq!(pairs, brute_force_pairs(&aabbs), "the sweep equals the reference");
+//! assert_eq!(pairs, brute_force_pairs(&aabbs), "the grid equals the reference");
+//! assert_eq!(pairs, sweep_and_prune(&aabbs), "and so does the sweep");
 //! ```
 #![warn(missing_docs)]
 
 mod brute_force;
+mod cell_size;
 mod error;
 mod filter;
+mod grid;
+#[cfg(test)]
+mod grid_tests;
 mod motion;
 mod sweep_and_prune;
 mod sweep_axis;
@@ -35,6 +46,7 @@ mod tests;
 pub use brute_force::{brute_force_pairs, brute_force_pairs_filtered};
 pub use error::BroadPhaseError;
 pub use filter::wanted as is_wanted_pair;
+pub use grid::{BroadPhase, broad_phase_pairs, broad_phase_pairs_filtered};
 pub use motion::{motion_aabb, update_aabbs};
 pub use sweep_and_prune::{SweepAndPrune, sweep_and_prune, sweep_and_prune_filtered};
 pub use sweep_axis::sweep_axis;

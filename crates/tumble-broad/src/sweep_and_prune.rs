@@ -1,4 +1,6 @@
-//! Sweep-and-prune: sort the boxes along one axis, sweep, test the other two axes.
+//! Sweep-and-prune: sort the boxes along one axis, sweep, test the other two axes. The GPU
+//! backend's algorithm; on the CPU the step uses the grid (`grid.rs`), and this sweep stays as
+//! the GPU's twin and a second reference (it visits about n^(2/3) boxes per box in a pile).
 
 use tumble_geometry::{Aabb, Real};
 

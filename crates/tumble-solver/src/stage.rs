@@ -13,7 +13,7 @@ pub enum Stage {
     /// (`tumble_broad::update_aabbs`).
     UpdateAabbs,
     /// AABBs to candidate pairs, pairs of two immovable bodies left out
-    /// (`tumble_broad::SweepAndPrune`).
+    /// (`tumble_broad::BroadPhase`).
     BroadPhase,
     /// Candidate pairs to contact manifolds, warm-started from the contact cache
     /// ([`crate::stages::narrow_phase`]).

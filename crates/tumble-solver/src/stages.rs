@@ -4,12 +4,12 @@
 //!
 //! The geometric cores live in the layers below, on plain slices: the grown AABB in
 //! [`tumble_broad::motion_aabb`], the immovable-pair filter in
-//! [`tumble_broad::SweepAndPrune::find_pairs_filtered`], the pair margin in
+//! [`tumble_broad::BroadPhase::find_pairs_filtered`], the pair margin in
 //! [`tumble_narrow::pair_margin`]. The functions here feed them from [`Body`] and
 //! [`BodyState`] and add what needs this layer: the contact cache and the coloring.
 
 use rayon::prelude::*;
-use tumble_broad::SweepAndPrune;
+use tumble_broad::BroadPhase;
 use tumble_geometry::{Aabb, Real, Vec3};
 use tumble_narrow::{BoxMotion, collide_cuboids_cached};
 
@@ -49,15 +49,15 @@ pub fn immovable(bodies: &[Body]) -> Vec<bool> {
 
 /// Stage 2: overlapping AABB pairs `(i, j)`, `i < j`, sorted, leaving out pairs of two
 /// bodies that contacts cannot move (static-static is never formed). `aabbs[i]` belongs to
-/// `bodies[i]`; an AABB without a body counts as immovable. `sap` keeps its buffers between
+/// `bodies[i]`; an AABB without a body counts as immovable. `grid` keeps its buffers between
 /// steps.
-pub fn broad_phase(sap: &mut SweepAndPrune, aabbs: &[Aabb], bodies: &[Body]) -> Vec<(u32, u32)> {
+pub fn broad_phase(grid: &mut BroadPhase, aabbs: &[Aabb], bodies: &[Body]) -> Vec<(u32, u32)> {
     let flags: Vec<bool> = (0..aabbs.len())
         .map(|i| bodies.get(i).is_none_or(|b| !b.is_dynamic()))
         .collect();
     let mut pairs = Vec::new();
     // One flag per box by construction: the length check cannot fail.
-    if sap.find_pairs_filtered(aabbs, &flags, &mut pairs).is_err() {
+    if grid.find_pairs_filtered(aabbs, &flags, &mut pairs).is_err() {
         pairs.clear();
     }
     pairs
@@ -235,7 +235,7 @@ mod tests {
         let (bodies, states) = stack();
         assert_eq!(immovable(&bodies), vec![true, false, false, true]);
         let aabbs = update_aabbs(&bodies, &states, 0.02, 1.0 / 60.0);
-        let pairs = broad_phase(&mut SweepAndPrune::new(), &aabbs, &bodies);
+        let pairs = broad_phase(&mut BroadPhase::new(), &aabbs, &bodies);
         // Floor-cube, cube-cube; the floor and the wall overlap but neither can move.
         assert_eq!(pairs, vec![(0, 1), (1, 2)]);
     }
@@ -244,7 +244,7 @@ mod tests {
     fn the_narrow_phase_orients_pairs_by_id_and_warm_starts_from_the_cache() {
         let (mut bodies, mut states) = stack();
         let aabbs = update_aabbs(&bodies, &states, 0.02, 1.0 / 60.0);
-        let pairs = broad_phase(&mut SweepAndPrune::new(), &aabbs, &bodies);
+        let pairs = broad_phase(&mut BroadPhase::new(), &aabbs, &bodies);
         // Ids in reverse of the dense order: body A is the one with the smaller id.
         let ids = [40, 30, 20, 10];
         let mut cache = ContactCache::new();
@@ -274,7 +274,7 @@ mod tests {
     fn coloring_visits_the_top_of_the_pile_first() {
         let (bodies, states) = stack();
         let aabbs = update_aabbs(&bodies, &states, 0.02, 1.0 / 60.0);
-        let pairs = broad_phase(&mut SweepAndPrune::new(), &aabbs, &bodies);
+        let pairs = broad_phase(&mut BroadPhase::new(), &aabbs, &bodies);
         let ids = [0, 1, 2, 3];
         let out = narrow_phase(
             &bodies,

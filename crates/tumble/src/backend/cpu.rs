@@ -1,6 +1,6 @@
 //! `Backend::Cpu`: every stage on the CPU, the reference.
 
-use tumble_broad::SweepAndPrune;
+use tumble_broad::BroadPhase;
 use tumble_solver::{Body, Contact, ContactCache, PairKey, Stage, stages};
 
 use super::pipeline::{self, Collided, Collision, StepBodies};
@@ -8,11 +8,11 @@ use super::{Host, StepArgs, StepBackend};
 use crate::Error;
 use crate::stats::StageClock;
 
-/// The CPU collision stages: sweep-and-prune, the box-box test, the contact cache.
+/// The CPU collision stages: the grid broad phase, the box-box test, the contact cache.
 #[derive(Debug, Default)]
 pub(crate) struct CpuCollision {
     /// The broad phase's buffers, kept between steps.
-    sap: SweepAndPrune,
+    grid: BroadPhase,
     /// Last step's impulses by body pair, for warm starting.
     cache: ContactCache,
 }
@@ -26,7 +26,7 @@ impl Collision for CpuCollision {
         let (margin, dt) = (step.margin, step.dt);
         let aabbs = stages::update_aabbs(step.bodies, step.states, margin, dt);
         clock.lap(Stage::UpdateAabbs);
-        let pairs = stages::broad_phase(&mut self.sap, &aabbs, step.bodies);
+        let pairs = stages::broad_phase(&mut self.grid, &aabbs, step.bodies);
         clock.lap(Stage::BroadPhase);
         let found = stages::narrow_phase(
             step.bodies,

@@ -98,7 +98,7 @@ fn vertex_candidate(p: BoxPair, pose_a: GpuPose, min_distance: f32, out: ptr<fun
     if !(v.distance > min_distance) {
         return Candidate(-FLOAT_MAX, FLOAT_MAX);
     }
-    (*out).normal = quat_rotate(pose_a.rotation, (v.point_b - v.point_a) / v.distance);
+    (*out).normal = quat_rotate(pose_a.rotation, v.gap / v.distance);
     (*out).kind = MANIFOLD_EDGE;
     (*out).feature = select(EDGE_PAIR_COUNT, VERTEX_OF_A_FEATURE, v.on_a) + v.vertex;
     let mid = 0.5 * (v.point_a + v.point_b);

@@ -221,7 +221,9 @@ fn vertex_candidate(pair: &BoxPair, pose_a: &Pose, min_distance: Real) -> Candid
             witness: Real::INFINITY,
         };
     }
-    polygon.normal = pose_a.rotation * ((v.point_b - v.point_a) / v.distance);
+    // From the gap itself: `point_b - point_a` loses the gap's low digits when A's vertex is
+    // far larger than the gap (docs/reliability.md, finding 2).
+    polygon.normal = pose_a.rotation * (v.gap / v.distance);
     polygon.kind = FeatureKind::Edge;
     polygon.feature = if v.on_a {
         VERTEX_OF_A_FEATURE

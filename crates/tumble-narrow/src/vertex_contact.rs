@@ -8,7 +8,7 @@
 //! found here by measuring every vertex against the other box.
 
 use crate::BoxPair;
-use tumble_geometry::{Point3, Real};
+use tumble_geometry::{Point3, Real, Vec3};
 
 /// A vertex of one box and the nearest point of the other, both in A's frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -17,6 +17,10 @@ pub struct VertexContact {
     pub point_a: Point3,
     /// The point on B.
     pub point_b: Point3,
+    /// From the point on A to the point on B, computed as a difference where both are known
+    /// at the scale of the gap (so `point_b - point_a` may differ from it in the low digits when
+    /// the boxes are much larger than the gap): the contact normal's direction.
+    pub gap: Vec3,
     /// Their distance (0 when the vertex is inside the other box).
     pub distance: Real,
     /// The vertex index (0..8).
@@ -30,6 +34,7 @@ pub fn closest_vertex(pair: &BoxPair) -> VertexContact {
     let mut best = VertexContact {
         point_a: Point3::origin(),
         point_b: Point3::origin(),
+        gap: Vec3::zeros(),
         distance: Real::INFINITY,
         vertex: 0,
         on_a: false,
@@ -38,11 +43,13 @@ pub fn closest_vertex(pair: &BoxPair) -> VertexContact {
         // B's vertex against A, in A's frame.
         let vb = pair.b_to_a(&pair.b.vertex(v));
         let on_a = pair.a.local_closest_point(&vb);
-        let d = (vb - on_a).norm();
+        let gap = vb - on_a;
+        let d = gap.norm();
         if d < best.distance {
             best = VertexContact {
                 point_a: on_a,
                 point_b: vb,
+                gap,
                 distance: d,
                 vertex: v,
                 on_a: false,
@@ -59,6 +66,7 @@ pub fn closest_vertex(pair: &BoxPair) -> VertexContact {
             best = VertexContact {
                 point_a: va,
                 point_b: va + gap,
+                gap,
                 distance: d,
                 vertex: v,
                 on_a: true,

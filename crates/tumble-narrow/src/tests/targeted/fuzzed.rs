@@ -73,3 +73,54 @@ fn a_needle_of_1e28_m_against_a_5e27_m_box_keeps_the_shape_of_its_manifold() {
     .expect("the boxes overlap");
     assert_shape(&cached);
 }
+
+#[test]
+fn a_large_boxs_vertex_near_a_small_box_gives_a_unit_normal() {
+    // The third fuzz run's finding, at its worst inside the supported range: the vertex
+    // contact's normal was (point_b - point_a) / distance with point_b = vertex + gap, and
+    // adding a 1 cm gap to a coordinate near 1000 m drops the gap's low digits (f32 steps of
+    // 6e-5 m there), so the difference was up to about 0.5% shorter or longer than the gap it
+    // divides. A 1000 m box's corner 1 cm from a small rotated box, over seeded directions and
+    // rotations: every normal is unit within 2e-6 (a few ulp of the division and the rotation;
+    // the narrow phase's tests allow 1e-5), and some of these contacts are A's vertex
+    // contacts, the case the cancellation hit.
+    let a = cube(1000.0);
+    let b = Cuboid::new(Vec3::new(0.5, 0.3, 0.2));
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut unit = move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 40) as Real / (1u64 << 24) as Real
+    };
+    let (mut vertex_of_a, mut worst) = (0, 0.0 as Real);
+    for _ in 0..2000 {
+        let rot = Rot::new_normalize(tumble_geometry::nalgebra::Quaternion::new(
+            unit() - 0.5,
+            unit() - 0.5,
+            unit() - 0.5,
+            unit() - 0.5,
+        ));
+        // Out of A's corner (1000, 1000, 1000), into its octant.
+        let dir = Vec3::new(0.2 + unit(), 0.2 + unit(), 0.2 + unit()).normalize();
+        // B's point nearest A's corner sits 1 cm away along dir: B's support in -dir.
+        let support = (rot
+            * b.half_extents
+                .component_mul(&(rot.inverse() * -dir).map(Real::signum)))
+        .dot(&-dir);
+        let centre = Vec3::repeat(1000.0) + dir * (0.01 + support);
+        let pose_b = at(centre.x, centre.y, centre.z, rot);
+        let Some(m) = collide_cuboids(&a, &Pose::identity(), &b, &pose_b, MARGIN) else {
+            continue;
+        };
+        if m.feature >= VERTEX_OF_A_FEATURE {
+            vertex_of_a += 1;
+        }
+        worst = worst.max((m.normal.norm() - 1.0).abs());
+    }
+    assert!(
+        vertex_of_a >= 5,
+        "only {vertex_of_a} of A's vertex contacts"
+    );
+    assert!(worst <= 2e-6, "a normal is {worst} off unit length");
+}

@@ -6,7 +6,6 @@
 mod common;
 
 use common::{assert_gpu_backends_unavailable, cube_at, floor, steps, world};
-use tumble::prelude::*;
 
 #[test]
 fn gpu_backends_are_unavailable_naming_the_missing_feature() {

@@ -1,11 +1,14 @@
-//! Command-line pieces shared by the table binaries (`src/bin/`): the scene-name parser and
-//! the count parser. Every binary parses with clap, so `--help`
+//! Command-line pieces shared by the table binaries (`src/bin/`): the scene-name parser, the
+//! count parser, the pool's size flags and the median of timed steps. Every binary parses
+//! with clap, so `--help`
 //! lists its flags with their defaults, and an unknown flag or value is an error naming it
 //! (a typo never falls back to a default).
 
 use std::fmt;
 use std::str::FromStr;
+use std::time::Duration;
 
+use clap::Args;
 use clap::builder::RangedU64ValueParser;
 use tumble_scenes::{Scene, builders};
 
@@ -76,6 +79,28 @@ impl fmt::Display for SceneName {
 /// A count of at least 1 (cubes, steps, seconds, sizes): 0 is an error, not an empty table.
 pub fn count() -> RangedU64ValueParser<usize> {
     RangedU64ValueParser::<usize>::new().range(1..)
+}
+
+/// The size of a pool run: how many cubes, and how many timed steps.
+#[derive(Args, Clone, Copy, Debug)]
+pub struct PoolSize {
+    /// Cubes in the pool.
+    #[arg(long, default_value_t = 1000, value_parser = count())]
+    pub cubes: usize,
+    /// Timed steps per world (after the warm-up steps, or once the pool sleeps).
+    #[arg(long, default_value_t = 40, value_parser = count())]
+    pub steps: usize,
+}
+
+/// The median of step times `t` (the upper one of an even count).
+pub fn median(mut t: Vec<Duration>) -> Duration {
+    t.sort();
+    t[t.len() / 2]
+}
+
+/// `d` in milliseconds.
+pub fn ms(d: Duration) -> f64 {
+    d.as_secs_f64() * 1e3
 }
 
 #[cfg(test)]

@@ -2,9 +2,9 @@
 //! sleep measurement steps the scene the CPU one does, without the facade in between.
 
 use tumble_geometry::{Cuboid, Pose, Real, Vec3};
-use tumble_gpu::GpuContext;
 use tumble_gpu::solver::Effects;
-use tumble_gpu::step::{GpuWorld, GpuWorldConfig};
+use tumble_gpu::step::{GpuWorld, GpuWorldConfig, ReadRequest};
+use tumble_gpu::{GpuContext, GpuError};
 
 use tumble_solver::{Body, BodyKind, BodyState, DEFAULT_FRICTION, Material};
 
@@ -72,4 +72,16 @@ pub fn gpu_pool(ctx: &GpuContext, cubes: usize, run: PoolRun) -> GpuWorld {
     };
     world.set_effects(effects).expect("effects build");
     world
+}
+
+/// The manifolds with points in `world` after its last step, and their points, read back now.
+pub fn contact_counts(world: &mut GpuWorld) -> Result<(usize, u32), GpuError> {
+    let snapshot = world.read_now(ReadRequest {
+        contacts: true,
+        ..Default::default()
+    })?;
+    let contacts = snapshot.contacts.as_ref();
+    let manifolds = contacts.map_or(0, |c| c.manifolds.iter().filter(|m| m.len > 0).count());
+    let points = contacts.map_or(0, |c| c.manifolds.iter().map(|m| m.len).sum());
+    Ok((manifolds, points))
 }

@@ -2,6 +2,7 @@
 
 use tumble::prelude::*;
 
+use crate::facade::{add_floor, cube_at};
 use crate::stability::world_config;
 
 /// What a call must not change: the step count, the body count, and every pose and
@@ -15,23 +16,25 @@ pub struct Snapshot {
     hash: u64,
 }
 
+/// Body `h`'s translation, rotation (quaternion `x, y, z, w`), linear and angular velocity,
+/// by component.
+pub fn body_state(world: &World, h: BodyHandle) -> [Real; 13] {
+    let p = world.pose(h).unwrap();
+    let v = world.linear_velocity(h).unwrap();
+    let w = world.angular_velocity(h).unwrap();
+    let t = p.translation.vector;
+    let q = p.rotation.coords;
+    [
+        t.x, t.y, t.z, q.x, q.y, q.z, q.w, v.x, v.y, v.z, w.x, w.y, w.z,
+    ]
+}
+
 /// The bits of a world's state now (see [`Snapshot`]).
 pub fn snapshot(world: &World) -> Snapshot {
     let bodies: Vec<(BodyHandle, [u32; 13])> = world
         .handles()
         .iter()
-        .map(|&h| {
-            let p = world.pose(h).unwrap();
-            let v = world.linear_velocity(h).unwrap();
-            let w = world.angular_velocity(h).unwrap();
-            let t = p.translation.vector;
-            let q = p.rotation.coords;
-            let bits = [
-                t.x, t.y, t.z, q.x, q.y, q.z, q.w, v.x, v.y, v.z, w.x, w.y, w.z,
-            ]
-            .map(f32::to_bits);
-            (h, bits)
-        })
+        .map(|&h| (h, body_state(world, h).map(f32::to_bits)))
         .collect();
     // FNV-1a over every bit above.
     let mut hash = 0xcbf2_9ce4_8422_2325_u64;
@@ -59,16 +62,8 @@ pub fn expect_field<T: std::fmt::Debug>(result: Result<T, Error>, field: &str) {
 /// Adds a 10 m square floor slab (top face at y = 0) and a unit cube resting on it; returns
 /// the cube.
 pub fn floor_and_cube(world: &mut World) -> BodyHandle {
-    world
-        .add_body(
-            BodyDesc::fixed()
-                .cuboid(Vec3::new(5.0, 0.5, 5.0))
-                .translation(0.0, -0.5, 0.0),
-        )
-        .unwrap();
-    world
-        .add_body(BodyDesc::dynamic().translation(0.0, 0.5, 0.0))
-        .unwrap()
+    add_floor(world, 5.0);
+    cube_at(world, 0.0, 0.5, 0.0)
 }
 
 /// A small world with a floor, a resting cube and a kinematic box, stepped a few times.
@@ -288,19 +283,13 @@ pub fn out_of_bound_updates_are_rejected(backend: Backend, solver: SolverConfig)
 /// Removed handles and handles this world never issued are errors everywhere.
 pub fn stale_handles_are_rejected(backend: Backend, solver: SolverConfig) {
     let (mut world, cube) = small_world(backend, solver);
-    let doomed = world
-        .add_body(BodyDesc::dynamic().translation(5.0, 0.5, 0.0))
-        .unwrap();
+    let doomed = cube_at(&mut world, 5.0, 0.5, 0.0);
     world.remove_body(doomed).unwrap();
     // A handle from a bigger world: its slot does not exist here.
     let mut other = World::new(world_config(backend, solver)).unwrap();
     let mut foreign = None;
     for i in 0..10 {
-        foreign = Some(
-            other
-                .add_body(BodyDesc::dynamic().translation(2.0 * i as Real, 0.5, 0.0))
-                .unwrap(),
-        );
+        foreign = Some(cube_at(&mut other, 2.0 * i as Real, 0.5, 0.0));
     }
     let foreign = foreign.unwrap();
     let before = snapshot(&world);

@@ -8,6 +8,8 @@ use tumble_gpu::collision::CollisionConfig;
 use tumble_gpu::layout::{GpuAabb, GpuPose, GpuShape, GpuVelocity};
 use tumble_gpu::{CollisionSnapshot, GpuCollision, GpuContext, ReadbackRequest};
 
+use crate::scene_support::random_vec;
+
 /// One collision step that reads back the pairs and the AABBs: the readback, and its AABBs as
 /// the CPU broad phase takes them.
 pub fn step_pairs_and_aabbs(gpu: &mut GpuCollision) -> (CollisionSnapshot, Vec<Aabb>) {
@@ -54,24 +56,10 @@ pub fn random_scene(n: usize, seed: u64) -> Scene {
     };
     for _ in 0..n {
         let is_static = rng.random_bool(0.1);
-        let h = Vec3::new(
-            rng.random_range(0.1..0.6),
-            rng.random_range(0.1..0.6),
-            rng.random_range(0.1..0.6),
-        );
-        let t = Vec3::new(
-            rng.random_range(0.0..side),
-            rng.random_range(0.0..side),
-            rng.random_range(0.0..side),
-        );
+        let h = random_vec(&mut rng, 0.1..0.6);
+        let t = random_vec(&mut rng, 0.0..side);
         let pose = Pose::from_parts(Translation3::from(t), random_rotation(&mut rng));
-        let mut v = || {
-            Vec3::new(
-                rng.random_range(-2.0..2.0),
-                rng.random_range(-2.0..2.0),
-                rng.random_range(-2.0..2.0),
-            )
-        };
+        let mut v = || random_vec(&mut rng, -2.0..2.0);
         let (lin, ang) = if is_static {
             (Vec3::zeros(), Vec3::zeros())
         } else {
@@ -124,16 +112,8 @@ pub fn contact_pairs(pairs: usize, seed: u64) -> Scene {
             ((k / per_axis) % per_axis) as f32,
             (k / (per_axis * per_axis)) as f32,
         );
-        let ha = Vec3::new(
-            rng.random_range(0.2..1.2),
-            rng.random_range(0.2..1.2),
-            rng.random_range(0.2..1.2),
-        );
-        let hb = Vec3::new(
-            rng.random_range(0.2..1.2),
-            rng.random_range(0.2..1.2),
-            rng.random_range(0.2..1.2),
-        );
+        let ha = random_vec(&mut rng, 0.2..1.2);
+        let hb = random_vec(&mut rng, 0.2..1.2);
         let rot_a = random_rotation(&mut rng);
         let ta = cell * spacing + Vec3::repeat(origin);
         let pose_b = match rng.random_range(0..10) {
@@ -164,13 +144,9 @@ pub fn contact_pairs(pairs: usize, seed: u64) -> Scene {
             }
             // Anywhere around A, from deep overlap to just past touching.
             _ => {
-                let dir = Vec3::new(
-                    rng.random_range(-1.0..1.0),
-                    rng.random_range(-1.0..1.0),
-                    rng.random_range(-1.0..1.0),
-                )
-                .try_normalize(1e-3)
-                .unwrap_or(Vec3::x());
+                let dir = random_vec(&mut rng, -1.0..1.0)
+                    .try_normalize(1e-3)
+                    .unwrap_or(Vec3::x());
                 let reach = rng.random_range(0.3..1.05) * (ha.norm() + hb.norm());
                 Pose::from_parts(
                     Translation3::from(ta + dir * reach),

@@ -5,6 +5,8 @@
 //! GPU and hybrid backends all run the same checks.
 
 pub mod bad_input;
+pub mod effect_bounds;
+pub mod facade;
 pub mod gpu_scene;
 pub mod gpu_solver_util;
 pub mod scene_support;

@@ -2,6 +2,8 @@
 //! scene, how far its bodies moved from where the scene put them, and random boxes for the
 //! broad phase.
 
+use std::ops::Range;
+
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tumble_geometry::nalgebra::{Quaternion, Translation3, UnitQuaternion};
@@ -29,6 +31,15 @@ pub fn gpu_world_of(
     )?;
     world.set_bodies(&bodies, &states)?;
     Ok(world)
+}
+
+/// A vector whose components are drawn from `range` in turn, x first.
+pub fn random_vec(rng: &mut impl Rng, range: Range<Real>) -> Vec3 {
+    Vec3::new(
+        rng.random_range(range.clone()),
+        rng.random_range(range.clone()),
+        rng.random_range(range),
+    )
 }
 
 /// The solver's bodies and states of a scene.
@@ -106,11 +117,7 @@ pub fn sparse_boxes(n: usize, extent: f32, seed: u64) -> Vec<Aabb> {
                 rng.random_range(0.0..extent),
                 rng.random_range(0.0..extent),
             );
-            let h = Vec3::new(
-                rng.random_range(0.05..0.5),
-                rng.random_range(0.05..0.5),
-                rng.random_range(0.05..0.5),
-            );
+            let h = random_vec(&mut rng, 0.05..0.5);
             Aabb::new(c - h, c + h)
         })
         .collect()

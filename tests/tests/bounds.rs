@@ -18,6 +18,7 @@ use tumble::solver::bounds::MAX_POSITION;
 use tumble::{EffectSwitch, WorldConfig};
 use tumble_gpu::GpuContext;
 use tumble_tests::bad_input::{self, Snapshot, floor_and_cube, snapshot};
+use tumble_tests::facade::add_floor;
 
 fn have_gpu() -> bool {
     GpuContext::for_tests().is_some()
@@ -40,14 +41,19 @@ fn runaway_world(config: WorldConfig) -> (World, BodyHandle) {
     })
     .unwrap();
     floor_and_cube(&mut world);
-    let runaway = world
+    let runaway = add_runaway(&mut world);
+    (world, runaway)
+}
+
+/// Adds a cube 2 m short of the position bound moving outward at 300 m/s; its handle.
+fn add_runaway(world: &mut World) -> BodyHandle {
+    world
         .add_body(
             BodyDesc::dynamic()
                 .translation(MAX_POSITION - 2.0, 0.0, 0.0)
                 .linear_velocity(Vec3::new(300.0, 0.0, 0.0)),
         )
-        .unwrap();
-    (world, runaway)
+        .unwrap()
 }
 
 /// Asserts `result` is the refusal of a step naming `body` and `quantity`.
@@ -113,13 +119,7 @@ fn cpu_refuses_a_step_past_the_position_bound_while_bodies_sleep() {
     }
     assert!(world.is_sleeping(sleeper).unwrap(), "the cube should rest");
     // A body far away, moving out fast and sideways, so gravity does not matter.
-    let runaway = world
-        .add_body(
-            BodyDesc::dynamic()
-                .translation(MAX_POSITION - 2.0, 0.0, 0.0)
-                .linear_velocity(Vec3::new(300.0, 0.0, 0.0)),
-        )
-        .unwrap();
+    let runaway = add_runaway(&mut world);
     let before = snapshot(&world);
     expect_refused(world.step(), runaway, "position");
     assert_eq!(snapshot(&world), before);
@@ -242,13 +242,7 @@ struct Tally {
 fn random_calls(backend: Backend, seed: u64, calls: usize) -> Tally {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut world = World::new(config(backend, SolverConfig::default())).unwrap();
-    world
-        .add_body(
-            BodyDesc::fixed()
-                .cuboid(Vec3::new(20.0, 0.5, 20.0))
-                .translation(0.0, -0.5, 0.0),
-        )
-        .unwrap();
+    add_floor(&mut world, 20.0);
     let mut tally = Tally::default();
     for call in 0..calls {
         let handles = world.handles().to_vec();

@@ -11,6 +11,7 @@ use tumble_broad::{
 };
 use tumble_geometry::nalgebra::{Translation3, UnitQuaternion};
 use tumble_geometry::{Aabb, Cuboid, Point3, Pose, Vec3};
+use tumble_tests::scene_support::random_vec;
 use tumble_tests::scene_support::sparse_boxes;
 
 /// Rotated cuboids gathered around a few cluster centres, as piles in a game level are: many
@@ -28,23 +29,11 @@ fn clustered_boxes(n: usize, clusters: usize, seed: u64) -> Vec<Aabb> {
         .collect();
     (0..n)
         .map(|i| {
-            let offset = Vec3::new(
-                rng.random_range(-4.0..4.0),
-                rng.random_range(-4.0..4.0),
-                rng.random_range(-4.0..4.0),
-            );
-            let axis = Vec3::new(
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-            );
+            let offset = random_vec(&mut rng, -4.0..4.0);
+            let axis = random_vec(&mut rng, -1.0..1.0);
             let rot = UnitQuaternion::from_scaled_axis(axis * 3.0);
             let pose = Pose::from_parts(Translation3::from(centres[i % clusters] + offset), rot);
-            let cuboid = Cuboid::new(Vec3::new(
-                rng.random_range(0.1..0.6),
-                rng.random_range(0.1..0.6),
-                rng.random_range(0.1..0.6),
-            ));
+            let cuboid = Cuboid::new(random_vec(&mut rng, 0.1..0.6));
             cuboid.aabb(&pose, 0.0)
         })
         .collect()

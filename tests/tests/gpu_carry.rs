@@ -26,6 +26,7 @@ use tumble_solver::{
     Body, BodyKind, Contact, ContactCache, Material, PERSIST_DISTANCE, PERSIST_NORMAL_COS,
     PointImpulse,
 };
+use tumble_tests::scene_support::random_vec;
 
 const PER: usize = MAX_MANIFOLD_POINTS as usize;
 
@@ -54,11 +55,7 @@ const LARGE_TURN: (f32, f32) = (8.0, 30.0);
 /// A random unit vector (uniform enough for spreading directions around).
 fn random_unit(rng: &mut ChaCha8Rng) -> Vec3 {
     loop {
-        let v = Vec3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        );
+        let v = random_vec(rng, -1.0..1.0);
         let norm = v.norm();
         if norm > 0.1 && norm <= 1.0 {
             return v / norm;
@@ -102,11 +99,7 @@ fn first_step(rng: &mut ChaCha8Rng) -> (Step, Vec<[Vec3; PER]>, Vec<Vec3>) {
     let mut local_points = vec![[Vec3::zeros(); PER]; n];
     let mut local_normals = vec![Vec3::zeros(); n];
     for (k, p) in step.poses.iter_mut().enumerate() {
-        let t = Vec3::new(
-            rng.random_range(-20.0..20.0),
-            rng.random_range(-20.0..20.0),
-            rng.random_range(-20.0..20.0),
-        );
+        let t = random_vec(rng, -20.0..20.0);
         let rotation = if k < n {
             random_rotation(rng)
         } else {
@@ -180,11 +173,7 @@ fn second_step(
     }
     for p in step.poses.iter_mut().take(n) {
         let pose = tumble_gpu::kernels::update_aabbs::pose_from_gpu(p);
-        let shift = Vec3::new(
-            rng.random_range(-2e-3..2e-3),
-            rng.random_range(-2e-3..2e-3),
-            rng.random_range(-2e-3..2e-3),
-        );
+        let shift = random_vec(rng, -2e-3..2e-3);
         let nudge = Rot::from_scaled_axis(random_unit(rng) * 0.3f32.to_radians());
         *p = GpuPose::from_pose(&Pose::from_parts(
             Translation3::from(pose.translation.vector + shift),

@@ -16,6 +16,7 @@ use tumble_gpu::solver::SolvePath;
 use tumble_gpu::step::{GpuWorld, GpuWorldConfig, PathPolicy, ReadRequest};
 use tumble_solver::{Body, BodyKind, BodyState, Material};
 use tumble_tests::gpu_solver_util::{floor, pose_bits};
+use tumble_tests::scene_support::random_vec;
 
 /// Steps per run: 5 s at 60 Hz, long enough for the dropped boxes to land, tumble and pile up.
 const STEPS: usize = 300;
@@ -42,21 +43,13 @@ fn scene() -> (Vec<Body>, Vec<BodyState>) {
     }
     let mut states = vec![BodyState::default(); bodies.len()];
     for k in 0..12 {
-        let h = Vec3::new(
-            rng.random_range(0.2..0.6),
-            rng.random_range(0.2..0.6),
-            rng.random_range(0.2..0.6),
-        );
+        let h = random_vec(&mut rng, 0.2..0.6);
         let p = Vec3::new(
             rng.random_range(-2.0..2.0),
             5.0 + 1.3 * k as Real,
             rng.random_range(-1.0..1.0),
         );
-        let spin = Vec3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        );
+        let spin = random_vec(&mut rng, -1.0..1.0);
         bodies.push(
             Body::new(
                 BodyKind::Dynamic,
@@ -76,11 +69,7 @@ fn scene() -> (Vec<Body>, Vec<BodyState>) {
                 0.0,
                 rng.random_range(-1.0..1.0),
             ),
-            Vec3::new(
-                rng.random_range(-3.0..3.0),
-                rng.random_range(-3.0..3.0),
-                rng.random_range(-3.0..3.0),
-            ),
+            random_vec(&mut rng, -3.0..3.0),
         ));
     }
     (bodies, states)

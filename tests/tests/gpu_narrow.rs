@@ -20,6 +20,7 @@ use tumble_gpu::kernels::{
 use tumble_gpu::layout::{GpuContact, GpuPose};
 use tumble_gpu::{GpuContext, MAX_MANIFOLD_POINTS, ReadbackRequest};
 use tumble_tests::gpu_scene::{Scene, collision, contact_pairs};
+use tumble_tests::scene_support::random_vec;
 
 /// Position and depth tolerance of a pair: 1e-4 of its largest half extent, plus four f32
 /// ulps of the world coordinate, which the CPU and the GPU round independently when they
@@ -99,11 +100,7 @@ fn is_near_tie(
                 p.position[k] += rng.random_range(-ulp..ulp);
             }
             let pose = tumble_gpu::kernels::update_aabbs::pose_from_gpu(p);
-            let nudge = Rot::from_scaled_axis(Vec3::new(
-                rng.random_range(-1e-6..1e-6),
-                rng.random_range(-1e-6..1e-6),
-                rng.random_range(-1e-6..1e-6),
-            ));
+            let nudge = Rot::from_scaled_axis(random_vec(&mut rng, -1e-6..1e-6));
             *p = GpuPose::from_pose(&Pose::from_parts(pose.translation, nudge * pose.rotation));
         }
         let cpu = tumble_gpu::kernels::collide_gpu_pair(
@@ -219,11 +216,7 @@ fn second_step_keeps_features_by_hysteresis_and_carries_impulses_by_id_and_posit
             rng.random_range(-4e-3..4e-3),
             0.0,
         ));
-        let shift = Vec3::new(
-            rng.random_range(-1e-3..1e-3),
-            rng.random_range(-1e-3..1e-3),
-            rng.random_range(-1e-3..1e-3),
-        );
+        let shift = random_vec(&mut rng, -1e-3..1e-3);
         *p = GpuPose::from_pose(&Pose::from_parts(
             Translation3::from(pose.translation.vector + shift),
             nudge * pose.rotation,

@@ -14,6 +14,7 @@ use tumble::prelude::*;
 use tumble::{EffectOverrides, EffectSwitch, ReadbackOverrides};
 use tumble_gpu::GpuContext;
 use tumble_gpu::layout::{GpuPose, GpuVelocity};
+use tumble_tests::facade::{add_floor, cube_at};
 
 /// Steps per run: 1.5 s at 60 Hz, enough for the dropped cube to land on the stacks and the
 /// user's pokes to play out.
@@ -33,10 +34,7 @@ fn world(readback: ReadbackOverrides) -> (World, Vec<BodyHandle>) {
         ..Default::default()
     };
     let mut world = World::new(config).expect("GPU world");
-    let floor = BodyDesc::fixed()
-        .cuboid(Vec3::new(10.0, 0.5, 10.0))
-        .translation(0.0, -0.5, 0.0);
-    let mut handles = vec![world.add_body(floor).unwrap()];
+    let mut handles = vec![add_floor(&mut world, 10.0)];
     for (x, z) in [(-1.5, 0.0), (0.0, 0.0), (1.5, 0.0)] {
         for level in 0..3 {
             let cube = BodyDesc::dynamic().translation(x, 0.5 + level as Real, z);
@@ -99,9 +97,7 @@ fn run(readback: ReadbackOverrides, read_every: usize, poke: bool) -> (Vec<u32>,
         }
         if step == 60 {
             // Renumbers the bodies: a full upload from the host arrays.
-            world
-                .add_body(BodyDesc::dynamic().translation(3.0, 0.5, 0.0))
-                .unwrap();
+            cube_at(&mut world, 3.0, 0.5, 0.0);
         }
         // The user's changes, each of which needs the current state on the host first.
         if !poke {
@@ -273,13 +269,7 @@ fn sleep_on_the_gpu_is_read_through_the_facade() {
         ..Default::default()
     };
     let mut world = World::new(config).expect("GPU world");
-    world
-        .add_body(
-            BodyDesc::fixed()
-                .cuboid(Vec3::new(10.0, 0.5, 10.0))
-                .translation(0.0, -0.5, 0.0),
-        )
-        .unwrap();
+    add_floor(&mut world, 10.0);
     let mut stacks = Vec::new();
     for x in [-2.0, 2.0] {
         let stack: Vec<BodyHandle> = (0..2)

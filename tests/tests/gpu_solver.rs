@@ -230,6 +230,7 @@ use tumble_gpu::solver::layout::{GpuConstraint, GpuSolverBody};
 use tumble_gpu::solver::prepare::{prepare_bodies_cpu, prepare_contacts_cpu};
 use tumble_gpu::step::ReadRequest;
 use tumble_solver::{ContactCache, SolverConfig, finalize_bodies};
+use tumble_tests::scene_support::random_vec;
 
 const MARGIN: Real = 0.02;
 
@@ -280,11 +281,7 @@ fn jittered_piles(
                 rng.random_range(-1.0..0.0),
                 rng.random_range(-0.3..0.3),
             );
-            let w = Vec3::new(
-                rng.random_range(-0.5..0.5),
-                rng.random_range(-0.5..0.5),
-                rng.random_range(-0.5..0.5),
-            );
+            let w = random_vec(rng, -0.5..0.5);
             states.push(BodyState::moving(v, w));
         }
     }
@@ -495,22 +492,13 @@ fn solve_step_matches_cpu(ctx: &GpuContext, world: &mut GpuWorld, config: Solver
                 0.0,
                 0.0,
             );
-            assert_close(
-                &format!("{what} velocity"),
-                gs.linear_velocity.as_slice(),
-                cs.linear_velocity.as_slice(),
-                1e-4,
-                1e-4,
-                1.0,
-            );
-            assert_close(
-                &format!("{what} spin"),
-                gs.angular_velocity.as_slice(),
-                cs.angular_velocity.as_slice(),
-                1e-4,
-                1e-4,
-                1.0,
-            );
+            for (part, g, c) in [
+                ("velocity", gs.linear_velocity, cs.linear_velocity),
+                ("spin", gs.angular_velocity, cs.angular_velocity),
+            ] {
+                let what = format!("{what} {part}");
+                assert_close(&what, g.as_slice(), c.as_slice(), 1e-4, 1e-4, 1.0);
+            }
         }
         let gpu_contacts = snap.contacts.expect("contacts requested").contacts();
         assert_eq!(gpu_contacts.len(), cpu_contacts.len());

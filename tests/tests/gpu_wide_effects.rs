@@ -34,6 +34,10 @@ use tumble_gpu::solver::{Effects, SolvePath, effect_overrides};
 use tumble_gpu::step::{GpuWorld, GpuWorldConfig, PathPolicy, ReadRequest};
 use tumble_gpu::{GpuContext, KernelSpec};
 use tumble_solver::{Body, BodyKind, BodyState, Material};
+use tumble_tests::effect_bounds::{
+    Apex, BOUNCE, DROP, TILT, assert_free_fall, assert_friction_stops_the_slide,
+    assert_restitution_bounces, assert_tipped_cube_turns, tipped_height,
+};
 use tumble_tests::gpu_solver_util::floor;
 use tumble_tests::scene_support::thrown_pile_pose;
 use tumble_tests::shader_checks::compute_spirv;
@@ -274,23 +278,9 @@ fn wide_friction_forced_off_lets_a_thrown_cube_slide_on() {
         );
         v.x
     };
-    // Friction mu g = 5.9 m/s^2 stops a 3 m/s cube in 0.51 s, before the 0.6 s run ends;
-    // without friction rows nothing acts along the floor, so it keeps its 3 m/s up to
-    // round-off.
     let (on, off) = (speed(true), speed(false));
-    assert!(
-        on.abs() < 0.05,
-        "with friction the cube still slides at {on} m/s"
-    );
-    assert!(
-        (off - 3.0).abs() < 1e-3,
-        "without friction the cube slides at {off} m/s"
-    );
+    assert_friction_stops_the_slide(on, off);
 }
-
-/// Drop height of the bouncing cube's bottom face, m, and its restitution.
-const DROP: Real = 1.0;
-const BOUNCE: Real = 0.5;
 
 #[test]
 fn wide_restitution_forced_off_stops_the_bounce() {
@@ -307,7 +297,7 @@ fn wide_restitution_forced_off_stops_the_bounce() {
         vec![BodyState::default(), BodyState::default()],
     );
     let apex = |on| {
-        let (mut landed, mut apex) = (false, Real::NEG_INFINITY);
+        let mut apex = Apex::default();
         watch_wide(
             &ctx,
             G,
@@ -315,29 +305,12 @@ fn wide_restitution_forced_off_stops_the_bounce() {
             |e, s| e.restitution = s,
             on,
             45,
-            |p, s| {
-                // The impact is the first step that ends low and no longer falling fast.
-                let height = p.translation.y - 0.5;
-                landed |= s.linear_velocity.y > -0.5 && height < 0.5 * DROP;
-                if landed {
-                    apex = apex.max(height);
-                }
-            },
+            |p, s| apex.watch(p.translation.y - 0.5, s.linear_velocity.y),
         );
-        apex
+        apex.height
     };
     let (on, off) = (apex(true), apex(false));
-    // A restitution of e sends the cube back up at e times its impact speed, to e^2 times
-    // its drop height (0.25 m, within the 0.75 s run) at most; the soft contact absorbs part
-    // of the impact first (measured 0.21 m), hence the lower bound of 70%.
-    let ideal = BOUNCE * BOUNCE * DROP;
-    assert!(
-        on > 0.7 * ideal && on <= ideal,
-        "bounced {on} m, ideal {ideal} m"
-    );
-    // Without the restitution pass the contact only stops the fall: what rises is the soft
-    // contact pushing out its last overlap (measured 0.6 mm).
-    assert!(off < 0.01, "without restitution the cube bounced {off} m");
+    assert_restitution_bounces(on, off);
 }
 
 #[test]
@@ -364,19 +337,10 @@ fn wide_gravity_forced_off_leaves_a_cube_in_the_air() {
         );
         end
     };
-    // With gravity, semi-implicit Euler over n substeps of h drops the cube by
-    // g h^2 n (n + 1) / 2 (1.23 m in 0.5 s, still in the air); f32 round-off is far below
-    // the 1 mm bound.
     let (on, _) = end(true);
     let config = GpuWorldConfig::default();
-    let substeps = config.solver.substeps as Real;
-    let (n, h) = (steps as Real * substeps, config.dt / substeps);
-    let expected = -G.y * h * h * n * (n + 1.0) / 2.0;
     let dropped = 5.0 - on.translation.y;
-    assert!(
-        (dropped - expected).abs() < 1e-3,
-        "fell {dropped} m, expected {expected} m"
-    );
+    assert_free_fall(dropped, G.y, config.dt, config.solver.substeps, steps);
     // Without it nothing acts on the cube: it stays exactly where it was, at rest.
     let (off, state) = end(false);
     assert_eq!(
@@ -386,17 +350,12 @@ fn wide_gravity_forced_off_leaves_a_cube_in_the_air() {
     assert_eq!(state.linear_velocity, Vec3::zeros());
 }
 
-/// Tilt of the tipped cube about z, rad: under 45 degrees its centre lies beside the edge it
-/// stands on, over the face it was tipped from, so gravity turns it back onto that face.
-const TILT: Real = 0.6;
-
 #[test]
 fn wide_rotation_forced_off_keeps_a_tipped_cube_from_turning() {
     let Some(ctx) = GpuContext::for_tests() else {
         return;
     };
-    // Stood on one edge, that edge 1 mm above the floor: the centre is 0.5 (cos + sin) up.
-    let y = 0.5 * (TILT.cos() + TILT.sin()) + 0.001;
+    let y = tipped_height();
     let tilt = Rot::from_euler_angles(0.0, 0.0, TILT);
     let start = Pose::from_parts(Vec3::new(0.0, y, 0.0).into(), tilt);
     let scene = (
@@ -417,11 +376,7 @@ fn wide_rotation_forced_off_keeps_a_tipped_cube_from_turning() {
         turned
     };
     let (on, off) = (turned(true), turned(false));
-    // With rotation the cube falls back flat, turning through its whole tilt (it lands,
-    // rocks a little past flat: measured 0.637 rad); 90% of it leaves room for the landing.
-    assert!(on > 0.9 * TILT, "turned {on} rad, tilt {TILT} rad");
-    // Without it the body passes zero its inverse inertia and spin: it cannot turn at all.
-    assert!(off < 1e-6, "turned {off} rad with rotation off");
+    assert_tipped_cube_turns(on, off);
 }
 
 // ---------------------------------------------------------------------------------------------

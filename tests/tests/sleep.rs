@@ -2,6 +2,7 @@
 
 use tumble::prelude::*;
 use tumble::{EffectSwitch, TIME_TO_SLEEP};
+use tumble_tests::facade::{add_floor, cube_at};
 
 /// Columns per side of the test pool, and boxes per column.
 const SIDE: usize = 3;
@@ -30,13 +31,7 @@ fn sleepy_world(backend: Backend) -> Option<World> {
         }
         Err(e) => panic!("{backend:?}: {e}"),
     };
-    world
-        .add_body(
-            BodyDesc::fixed()
-                .cuboid(Vec3::new(20.0, 0.5, 20.0))
-                .translation(0.0, -0.5, 0.0),
-        )
-        .unwrap();
+    add_floor(&mut world, 20.0);
     Some(world)
 }
 
@@ -50,9 +45,7 @@ fn columns(world: &mut World) -> Vec<Vec<BodyHandle>> {
             (0..HEIGHT)
                 .map(|k| {
                     let y = 0.51 + k as Real * 1.01;
-                    world
-                        .add_body(BodyDesc::dynamic().translation(x, y, z))
-                        .unwrap()
+                    cube_at(world, x, y, z)
                 })
                 .collect(),
         );
@@ -71,11 +64,35 @@ fn steps_until_asleep(world: &mut World, hs: &[BodyHandle], limit: usize) -> Opt
     None
 }
 
-#[test]
-fn a_resting_pool_falls_asleep_and_stays_put() {
-    for backend in BACKENDS {
-        a_resting_pool_falls_asleep_and_stays_put_on(backend);
-    }
+/// The pool of `columns` in a `sleepy_world`, stepped until all of it sleeps (within 3 s, as
+/// `a_resting_pool_falls_asleep_and_stays_put` checks); `None` when the backend is skipped.
+fn sleeping_pool(backend: Backend) -> Option<(World, Vec<Vec<BodyHandle>>)> {
+    let mut world = sleepy_world(backend)?;
+    let cols = columns(&mut world);
+    steps_until_asleep(&mut world, &cols.concat(), 180)
+        .unwrap_or_else(|| panic!("{backend:?}: the pool never slept"));
+    Some((world, cols))
+}
+
+/// A `#[test]` `name` for each `name => body`, running `body` on each of `BACKENDS`.
+macro_rules! on_each_backend {
+    ($($name:ident => $body:ident,)*) => {$(
+        #[test]
+        fn $name() {
+            for backend in BACKENDS {
+                $body(backend);
+            }
+        }
+    )*};
+}
+
+on_each_backend! {
+    a_resting_pool_falls_asleep_and_stays_put => a_resting_pool_falls_asleep_and_stays_put_on,
+    a_box_dropped_on_the_pile_wakes_only_the_island_it_touches =>
+        a_box_dropped_on_the_pile_wakes_only_the_island_it_touches_on,
+    user_changes_wake_the_island => user_changes_wake_the_island_on,
+    a_moving_kinematic_body_wakes_what_it_reaches => a_moving_kinematic_body_wakes_what_it_reaches_on,
+    neighbours_a_few_millimetres_apart_sleep_together => neighbours_a_few_millimetres_apart_sleep_together_on,
 }
 
 fn a_resting_pool_falls_asleep_and_stays_put_on(backend: Backend) {
@@ -109,24 +126,12 @@ fn a_resting_pool_falls_asleep_and_stays_put_on(backend: Backend) {
     assert_eq!(world.contact_pairs().len(), SIDE * SIDE * HEIGHT);
 }
 
-#[test]
-fn a_box_dropped_on_the_pile_wakes_only_the_island_it_touches() {
-    for backend in BACKENDS {
-        a_box_dropped_on_the_pile_wakes_only_the_island_it_touches_on(backend);
-    }
-}
-
 fn a_box_dropped_on_the_pile_wakes_only_the_island_it_touches_on(backend: Backend) {
-    let Some(mut world) = sleepy_world(backend) else {
+    let Some((mut world, cols)) = sleeping_pool(backend) else {
         return;
     };
-    let cols = columns(&mut world);
-    steps_until_asleep(&mut world, &cols.concat(), 180)
-        .unwrap_or_else(|| panic!("{backend:?}: the pool never slept"));
     let top = world.pose(cols[0][HEIGHT - 1]).unwrap().translation.vector;
-    let dropped = world
-        .add_body(BodyDesc::dynamic().translation(top.x, top.y + 2.0, top.z))
-        .unwrap();
+    let dropped = cube_at(&mut world, top.x, top.y + 2.0, top.z);
     let mut woke = false;
     // A 1.5 m fall lasts about 0.55 s; the other columns must sleep all along.
     for _ in 0..60 {
@@ -152,20 +157,10 @@ fn a_box_dropped_on_the_pile_wakes_only_the_island_it_touches_on(backend: Backen
         .unwrap_or_else(|| panic!("{backend:?}: the woken column never slept again"));
 }
 
-#[test]
-fn user_changes_wake_the_island() {
-    for backend in BACKENDS {
-        user_changes_wake_the_island_on(backend);
-    }
-}
-
 fn user_changes_wake_the_island_on(backend: Backend) {
-    let Some(mut world) = sleepy_world(backend) else {
+    let Some((mut world, cols)) = sleeping_pool(backend) else {
         return;
     };
-    let cols = columns(&mut world);
-    steps_until_asleep(&mut world, &cols.concat(), 180)
-        .unwrap_or_else(|| panic!("{backend:?}: the pool never slept"));
     // Each change is made to the top cube of its own column; the whole column wakes (its
     // base too), and the columns not touched yet stay asleep.
     let top = |c: usize| cols[c][HEIGHT - 1];
@@ -207,20 +202,10 @@ fn user_changes_wake_the_island_on(backend: Backend) {
     assert!(world.pose(top(1)).unwrap().translation.x > before);
 }
 
-#[test]
-fn a_moving_kinematic_body_wakes_what_it_reaches() {
-    for backend in BACKENDS {
-        a_moving_kinematic_body_wakes_what_it_reaches_on(backend);
-    }
-}
-
 fn a_moving_kinematic_body_wakes_what_it_reaches_on(backend: Backend) {
-    let Some(mut world) = sleepy_world(backend) else {
+    let Some((mut world, cols)) = sleeping_pool(backend) else {
         return;
     };
-    let cols = columns(&mut world);
-    steps_until_asleep(&mut world, &cols.concat(), 180)
-        .unwrap_or_else(|| panic!("{backend:?}: the pool never slept"));
     // A kinematic pusher sliding along +x at floor level toward the first row of columns.
     let pusher = world
         .add_body(
@@ -242,13 +227,6 @@ fn a_moving_kinematic_body_wakes_what_it_reaches_on(backend: Backend) {
     assert!(!world.is_sleeping(pusher).unwrap());
 }
 
-#[test]
-fn neighbours_a_few_millimetres_apart_sleep_together() {
-    for backend in BACKENDS {
-        neighbours_a_few_millimetres_apart_sleep_together_on(backend);
-    }
-}
-
 fn neighbours_a_few_millimetres_apart_sleep_together_on(backend: Backend) {
     // Two cubes 5 mm apart, the second dropped from 0.5 m so the first falls asleep before it
     // lands: inside the 2 cm speculative margin, so they share a manifold
@@ -257,12 +235,8 @@ fn neighbours_a_few_millimetres_apart_sleep_together_on(backend: Backend) {
     let Some(mut world) = sleepy_world(backend) else {
         return;
     };
-    let a = world
-        .add_body(BodyDesc::dynamic().translation(0.0, 0.5, 0.0))
-        .unwrap();
-    let b = world
-        .add_body(BodyDesc::dynamic().translation(1.005, 1.0, 0.0))
-        .unwrap();
+    let a = cube_at(&mut world, 0.0, 0.5, 0.0);
+    let b = cube_at(&mut world, 1.005, 1.0, 0.0);
     steps_until_asleep(&mut world, &[a, b], 120)
         .unwrap_or_else(|| panic!("{backend:?}: the pair never slept"));
     for _ in 0..120 {

@@ -259,17 +259,20 @@ fn compare(scene: &Scene, bounds: &Bounds) -> (Outcome, Outcome) {
     );
     let mm = |x: f32| x * 1e3;
     let name = &scene.name;
-    assert!(
-        tumble.drift <= bounds.tumble_drift,
-        "{name}: tumble drifted {:.2} mm, bound {:.2} mm",
-        mm(tumble.drift),
-        mm(bounds.tumble_drift)
-    );
-    assert!(
-        rapier.drift <= bounds.rapier_drift,
-        "{name}: the reference changed: rapier drifted {:.2} mm, bound {:.2} mm",
-        mm(rapier.drift),
-        mm(bounds.rapier_drift)
+    // A measure, m, at most its bound.
+    let within = |what: &str, value: f32, bound: f32| {
+        assert!(
+            value <= bound,
+            "{name}: {what} {:.2} mm, bound {:.2} mm",
+            mm(value),
+            mm(bound)
+        );
+    };
+    within("tumble drifted", tumble.drift, bounds.tumble_drift);
+    within(
+        "the reference changed: rapier drifted",
+        rapier.drift,
+        bounds.rapier_drift,
     );
     assert!(
         tumble.drift <= rapier.drift,
@@ -289,11 +292,10 @@ fn compare(scene: &Scene, bounds: &Bounds) -> (Outcome, Outcome) {
         "{name}: sag ratio {ratio:.3}, measured {:.3} within {SAG_RATIO_TOLERANCE}",
         bounds.sag_ratio
     );
-    assert!(
-        d.horizontal <= bounds.horizontal_difference,
-        "{name}: final positions {:.2} mm apart sideways, bound {:.2} mm",
-        mm(d.horizontal),
-        mm(bounds.horizontal_difference)
+    within(
+        "final positions apart sideways by",
+        d.horizontal,
+        bounds.horizontal_difference,
     );
     assert!(
         d.max <= bounds.max_difference && d.mean <= bounds.mean_difference,

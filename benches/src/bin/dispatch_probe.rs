@@ -15,6 +15,7 @@
 
 use std::collections::BTreeMap;
 
+use tumble_benches::gpu_pool::contact_counts;
 use tumble_gpu::GpuContext;
 use tumble_gpu::solver::SolvePath;
 use tumble_gpu::solver::constants::COLOR_SLOTS;
@@ -91,14 +92,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     *sums.entry(name).or_default() += seconds / PROFILED_STEPS as f64;
                 }
             }
-            let snapshot = world.read_now(ReadRequest {
-                contacts: true,
-                ..Default::default()
-            })?;
-            let manifolds = snapshot
-                .contacts
-                .as_ref()
-                .map_or(0, |c| c.manifolds.iter().filter(|m| m.len > 0).count());
+            let (manifolds, _) = contact_counts(&mut world)?;
             let ms = |name: &str| sums.get(name).copied().unwrap_or(0.0) * 1e3;
             let total: f64 = sums.values().sum::<f64>() * 1e3;
             let solver: f64 = ["color", "prepare", "solve", "finish"]

@@ -20,18 +20,15 @@ use std::time::{Duration, Instant};
 use clap::{Parser, ValueEnum};
 use tumble::prelude::*;
 use tumble::{EffectOverrides, EffectSwitch, Effects};
-use tumble_benches::cli::count;
+use tumble_benches::cli::{PoolSize, median, ms};
 use tumble_benches::effect_pool::{PoolOptions, effect_pool, with_sleep};
+use tumble_tests::bad_input::body_state;
 
 /// Step time of each effect forced on and skipped, and of a settled pool awake and asleep.
 #[derive(Parser, Debug)]
 struct Args {
-    /// Cubes in the pool.
-    #[arg(long, default_value_t = 1000, value_parser = count())]
-    cubes: usize,
-    /// Timed steps per world (after the warm-up steps).
-    #[arg(long, default_value_t = 40, value_parser = count())]
-    steps: usize,
+    #[command(flatten)]
+    size: PoolSize,
     /// Runs the effect rows on `Backend::Gpu` (the asleep and awake rows are CPU only).
     #[arg(long)]
     gpu: bool,
@@ -78,27 +75,12 @@ const WARMUP_STEPS: usize = 90;
 /// Most steps to wait for the pool to sleep (30 s at 60 Hz).
 const MAX_SETTLE_STEPS: usize = 1800;
 
-fn median(mut t: Vec<Duration>) -> Duration {
-    t.sort();
-    t[t.len() / 2]
-}
-
 /// Each body's pose (translation, rotation), linear and angular velocity, by component.
 fn state(world: &World) -> Vec<[Real; 13]> {
     world
         .handles()
         .iter()
-        .map(|&h| {
-            let p = world.pose(h).unwrap();
-            let v = world.linear_velocity(h).unwrap();
-            let w = world.angular_velocity(h).unwrap();
-            let mut out = [0.0; 13];
-            out[..3].copy_from_slice(p.translation.vector.as_slice());
-            out[3..7].copy_from_slice(p.rotation.coords.as_slice());
-            out[7..10].copy_from_slice(v.as_slice());
-            out[10..].copy_from_slice(w.as_slice());
-            out
-        })
+        .map(|&h| body_state(world, h))
         .collect()
 }
 
@@ -141,18 +123,11 @@ fn diff(name: &str, on: &mut World, off: &mut World, steps: usize) {
     println!("{name}: same bits for {steps} steps");
 }
 
+/// The bits of each body's pose and linear velocity (the first 10 components of its state).
 fn bits(world: &World) -> Vec<u32> {
-    world
-        .handles()
+    state(world)
         .iter()
-        .flat_map(|&h| {
-            let p = world.pose(h).unwrap();
-            let v = world.linear_velocity(h).unwrap();
-            let mut out: Vec<u32> = p.translation.vector.iter().map(|x| x.to_bits()).collect();
-            out.extend(p.rotation.coords.iter().map(|x| x.to_bits()));
-            out.extend(v.iter().map(|x| x.to_bits()));
-            out
-        })
+        .flat_map(|s| s[..10].iter().map(|x| x.to_bits()))
         .collect()
 }
 
@@ -178,14 +153,9 @@ fn race(a: &mut World, b: &mut World, steps: usize) -> (Duration, Duration) {
     (median(ta), median(tb))
 }
 
-fn ms(d: Duration) -> f64 {
-    d.as_secs_f64() * 1e3
-}
-
 fn main() {
     let Args {
-        cubes,
-        steps,
+        size: PoolSize { cubes, steps },
         gpu,
         diff: diff_row,
     } = Args::parse();

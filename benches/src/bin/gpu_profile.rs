@@ -16,9 +16,10 @@ use std::time::Instant;
 
 use clap::Parser;
 use tumble_benches::cli::count;
+use tumble_benches::gpu_pool::contact_counts;
 use tumble_gpu::GpuContext;
 use tumble_gpu::solver::constants::COLOR_OFFSETS_LEN;
-use tumble_gpu::step::{GpuWorldConfig, ReadRequest};
+use tumble_gpu::step::GpuWorldConfig;
 use tumble_tests::scene_support::gpu_world_of;
 
 /// Steps before profiling: one second at 60 Hz.
@@ -63,18 +64,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
         }
         let wall = clock.elapsed().as_secs_f64() / PROFILED_STEPS as f64;
-        let snapshot = world.read_now(ReadRequest {
-            contacts: true,
-            ..Default::default()
-        })?;
-        let manifolds = snapshot
-            .contacts
-            .as_ref()
-            .map_or(0, |c| c.manifolds.iter().filter(|m| m.len > 0).count());
-        let points: u32 = snapshot
-            .contacts
-            .as_ref()
-            .map_or(0, |c| c.manifolds.iter().map(|m| m.len).sum());
+        let (manifolds, points) = contact_counts(&mut world)?;
         let offsets: Vec<u32> = ctx.read_buffer(
             world.solver().color_offsets(),
             0,

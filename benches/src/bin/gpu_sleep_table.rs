@@ -23,7 +23,7 @@
 use std::time::{Duration, Instant};
 
 use clap::Parser;
-use tumble_benches::cli::count;
+use tumble_benches::cli::{PoolSize, median, ms};
 use tumble_benches::gpu_pool::{PoolRun, gpu_pool};
 use tumble_gpu::GpuContext;
 use tumble_gpu::step::{GpuWorld, ReadRequest};
@@ -31,12 +31,8 @@ use tumble_gpu::step::{GpuWorld, ReadRequest};
 /// The awake and asleep step of a settled pool on the GPU world.
 #[derive(Parser, Debug)]
 struct Args {
-    /// Cubes in the pool.
-    #[arg(long, default_value_t = 1000, value_parser = count())]
-    cubes: usize,
-    /// Timed steps per world (after the pool sleeps).
-    #[arg(long, default_value_t = 40, value_parser = count())]
-    steps: usize,
+    #[command(flatten)]
+    size: PoolSize,
     /// Adds the GPU time of each stage in the last timed step of each world.
     #[arg(long)]
     stages: bool,
@@ -57,11 +53,6 @@ const SLEEPING: ReadRequest = ReadRequest {
     sleeping: true,
 };
 
-fn median(mut t: Vec<Duration>) -> Duration {
-    t.sort();
-    t[t.len() / 2]
-}
-
 /// One step, waited for.
 fn timed_step(world: &mut GpuWorld) -> Duration {
     let t = Instant::now();
@@ -70,14 +61,9 @@ fn timed_step(world: &mut GpuWorld) -> Duration {
     t.elapsed()
 }
 
-fn ms(d: Duration) -> f64 {
-    d.as_secs_f64() * 1e3
-}
-
 fn main() {
     let Args {
-        cubes,
-        steps,
+        size: PoolSize { cubes, steps },
         stages,
     } = Args::parse();
     let ctx = GpuContext::new().expect("a GPU adapter");

@@ -23,6 +23,7 @@ use rand_chacha::ChaCha8Rng;
 use tumble::prelude::*;
 use tumble::{EffectOverrides, EffectSwitch};
 use tumble_benches::cli::count;
+use tumble_tests::facade::floor_desc;
 
 /// How long an uneven pile takes to rest and fall asleep, by solver setting.
 #[derive(Parser, Debug)]
@@ -49,13 +50,7 @@ fn pile(side: usize, layers: usize, solver: SolverConfig) -> (World, Vec<BodyHan
         ..Default::default()
     };
     let mut world = World::new(config).expect("a valid config");
-    world
-        .add_body(
-            BodyDesc::fixed()
-                .cuboid(Vec3::new(20.0, 0.5, 20.0))
-                .translation(0.0, -0.5, 0.0),
-        )
-        .expect("a valid floor");
+    world.add_body(floor_desc(20.0)).expect("a valid floor");
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let pitch = 0.52;
     let mut cubes = Vec::new();

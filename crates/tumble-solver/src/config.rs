@@ -236,36 +236,30 @@ mod tests {
     fn defaults_are_valid_and_bad_fields_are_named() {
         SolverConfig::default().validate().unwrap();
         SolverConfig::baumgarte().validate().unwrap();
-        let bad = SolverConfig {
-            substeps: 0,
-            ..Default::default()
-        };
-        assert_eq!(bad.validate().unwrap_err().field, "solver.substeps");
-        let bad = SolverConfig {
-            contact_hertz: Real::NAN,
-            ..Default::default()
-        };
-        assert_eq!(bad.validate().unwrap_err().field, "solver.contact_hertz");
-        let bad = SolverConfig {
-            baumgarte: 1.5,
-            ..SolverConfig::baumgarte()
-        };
-        assert_eq!(bad.validate().unwrap_err().field, "solver.baumgarte");
-        // Finite values past the bounds of crate::bounds are refused too.
-        let bad = SolverConfig {
-            substeps: 65,
-            ..Default::default()
-        };
-        assert_eq!(bad.validate().unwrap_err().field, "solver.substeps");
-        let bad = SolverConfig {
-            contact_hertz: 1e30,
-            ..Default::default()
-        };
-        assert_eq!(bad.validate().unwrap_err().field, "solver.contact_hertz");
-        let bad = SolverConfig {
-            slop: 1e30,
-            ..Default::default()
-        };
-        assert_eq!(bad.validate().unwrap_err().field, "solver.slop");
+        // Each case: a valid config, the edit that makes it bad, and the field the error names.
+        type Edit = fn(&mut SolverConfig);
+        let soft = SolverConfig::default();
+        let cases: [(SolverConfig, Edit, &str); 6] = [
+            (soft, |c| c.substeps = 0, "solver.substeps"),
+            (
+                soft,
+                |c| c.contact_hertz = Real::NAN,
+                "solver.contact_hertz",
+            ),
+            (
+                SolverConfig::baumgarte(),
+                |c| c.baumgarte = 1.5,
+                "solver.baumgarte",
+            ),
+            // Finite values past the bounds of crate::bounds are refused too.
+            (soft, |c| c.substeps = 65, "solver.substeps"),
+            (soft, |c| c.contact_hertz = 1e30, "solver.contact_hertz"),
+            (soft, |c| c.slop = 1e30, "solver.slop"),
+        ];
+        for (valid, edit, field) in cases {
+            let mut bad = valid;
+            edit(&mut bad);
+            assert_eq!(bad.validate().unwrap_err().field, field, "{bad:?}");
+        }
     }
 }

@@ -176,17 +176,16 @@ impl ContactCache {
 mod tests {
     use super::*;
     use crate::{BodyKind, Material};
-    use tumble_geometry::{ContactPoint, Cuboid, Point3};
+    use tumble_geometry::{ContactPoint, Point3};
 
     fn body() -> Body {
-        Body::new(
+        crate::tests::body(
             BodyKind::Dynamic,
-            Cuboid::new(Vec3::repeat(0.5)),
+            Vec3::repeat(0.5),
             Pose::translation(0.0, 0.5, 0.0),
             1.0,
             Material::default(),
         )
-        .unwrap()
     }
 
     /// A manifold whose points sit at distinct places chosen by id.

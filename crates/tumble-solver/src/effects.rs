@@ -60,21 +60,16 @@ impl Effects {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Material;
-    use tumble_geometry::{Cuboid, Pose};
+    use tumble_geometry::Pose;
 
     fn body(kind: BodyKind, friction: f32, restitution: f32) -> Body {
-        Body::new(
+        crate::tests::body(
             kind,
-            Cuboid::new(Vec3::repeat(0.5)),
+            Vec3::repeat(0.5),
             Pose::identity(),
             1.0,
-            Material {
-                friction,
-                restitution,
-            },
+            crate::tests::material(friction, restitution),
         )
-        .unwrap()
     }
 
     #[test]

@@ -136,20 +136,16 @@ pub fn finalize_bodies(bodies: &mut [Body], states: &mut [BodyState]) {
 mod tests {
     use super::*;
     use crate::Material;
-    use tumble_geometry::Cuboid;
 
     #[test]
     fn free_fall_for_one_second_matches_semi_implicit_euler() {
-        let mut bodies = vec![
-            Body::new(
-                BodyKind::Dynamic,
-                Cuboid::new(Vec3::repeat(0.5)),
-                Pose::translation(0.0, 10.0, 0.0),
-                1.0,
-                Material::default(),
-            )
-            .unwrap(),
-        ];
+        let mut bodies = vec![crate::tests::body(
+            BodyKind::Dynamic,
+            Vec3::repeat(0.5),
+            Pose::translation(0.0, 10.0, 0.0),
+            1.0,
+            Material::default(),
+        )];
         let mut states = vec![BodyState::moving(Vec3::new(1.0, 2.0, 0.0), Vec3::zeros())];
         let gravity = Vec3::new(0.0, -9.81, 0.0);
         let (steps, substeps) = (60usize, 4usize);
@@ -178,16 +174,13 @@ mod tests {
 
     #[test]
     fn kinematic_bodies_move_with_their_velocity_and_ignore_gravity() {
-        let mut bodies = vec![
-            Body::new(
-                BodyKind::Kinematic,
-                Cuboid::new(Vec3::repeat(0.5)),
-                Pose::identity(),
-                1.0,
-                Material::default(),
-            )
-            .unwrap(),
-        ];
+        let mut bodies = vec![crate::tests::body(
+            BodyKind::Kinematic,
+            Vec3::repeat(0.5),
+            Pose::identity(),
+            1.0,
+            Material::default(),
+        )];
         let mut states = vec![BodyState::moving(Vec3::new(1.0, 0.0, 0.0), Vec3::zeros())];
         let gravity = Vec3::new(0.0, -9.81, 0.0);
         for _ in 0..60 {
@@ -205,16 +198,13 @@ mod tests {
     fn a_free_tumbling_box_keeps_its_world_angular_momentum() {
         // The 1 x 2 x 3 box spinning mostly about its major axis with a wobble, one substep of
         // 1/60 s (the coarsest the solvers use), 10 s.
-        let mut bodies = vec![
-            Body::new(
-                BodyKind::Dynamic,
-                Cuboid::new(Vec3::new(0.5, 1.0, 1.5)),
-                Pose::identity(),
-                1.0,
-                Material::default(),
-            )
-            .unwrap(),
-        ];
+        let mut bodies = vec![crate::tests::body(
+            BodyKind::Dynamic,
+            Vec3::new(0.5, 1.0, 1.5),
+            Pose::identity(),
+            1.0,
+            Material::default(),
+        )];
         let mut states = vec![BodyState::moving(Vec3::zeros(), Vec3::new(6.0, 1.0, 1.0))];
         let momentum = |b: &Body, s: &BodyState| {
             let local = b

@@ -360,17 +360,16 @@ impl SleepState {
 mod tests {
     use super::*;
     use crate::Material;
-    use tumble_geometry::{Cuboid, Manifold, Pose};
+    use tumble_geometry::{Manifold, Pose};
 
     fn cube(kind: BodyKind, y: Real) -> Body {
-        Body::new(
+        crate::tests::body(
             kind,
-            Cuboid::new(Vec3::repeat(0.5)),
+            Vec3::repeat(0.5),
             Pose::translation(0.0, y, 0.0),
             1.0,
             Material::default(),
         )
-        .unwrap()
     }
 
     /// Floor 0, cubes 1 and 2 stacked on it, cube 3 alone.

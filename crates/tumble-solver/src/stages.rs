@@ -192,14 +192,13 @@ mod tests {
     use tumble_geometry::{Cuboid, Point3, Pose};
 
     fn cube(kind: BodyKind, x: Real, y: Real) -> Body {
-        Body::new(
+        crate::tests::body(
             kind,
-            Cuboid::new(Vec3::repeat(0.5)),
+            Vec3::repeat(0.5),
             Pose::translation(x, y, 0.0),
             1.0,
             Material::default(),
         )
-        .unwrap()
     }
 
     /// A fixed floor (top at y = 0), a cube resting on it, a second cube resting on the first,

@@ -1,7 +1,7 @@
 //! Adding, removing, reading and setting bodies.
 
 use tumble_geometry::{Point3, Pose, Real, Vec3};
-use tumble_solver::{BodyKind, InvalidParameter, bounds};
+use tumble_solver::{BodyKind, BodyState, InvalidParameter, Locks, bounds};
 
 use crate::{BodyDesc, BodyHandle, Error, World};
 
@@ -156,20 +156,9 @@ impl World {
     pub fn set_linear_velocity(&mut self, h: BodyHandle, v: Vec3) -> Result<(), Error> {
         let d = self.handles.dense(h)?;
         bounds::require_linear_speed("linear_velocity", &v)?;
-        let body = &self.host.bodies[d];
-        if body.kind == BodyKind::Fixed && v != Vec3::zeros() {
-            return Err(InvalidParameter::new(
-                "linear_velocity",
-                [v.x, v.y, v.z],
-                "zero for a fixed body",
-            )
-            .into());
-        }
-        let mask = body.locks.translation_mask();
-        self.backend.sync_motion(&mut self.host)?;
-        self.host.states[d].linear_velocity = v.component_mul(&mask);
-        self.host.sleep.wake(d);
-        Ok(())
+        self.set_velocity(d, "linear_velocity", v, Locks::translation_mask, |s| {
+            &mut s.linear_velocity
+        })
     }
 
     /// Sets the angular velocity (world axes). Errs for a fixed body unless `w` is zero, and
@@ -178,18 +167,35 @@ impl World {
         let d = self.handles.dense(h)?;
         let (dt, substeps) = (self.config.dt, self.config.solver.substeps);
         bounds::require_angular_speed("angular_velocity", &w, dt, substeps)?;
+        self.set_velocity(d, "angular_velocity", w, Locks::rotation_mask, |s| {
+            &mut s.angular_velocity
+        })
+    }
+
+    /// The rest of `set_linear_velocity` and `set_angular_velocity` for body `d`, once the
+    /// bound on `value` (the velocity named `field`) is checked: errs for a fixed body unless
+    /// `value` is zero, else writes `value` with the locked axes (`mask` of the body's locks)
+    /// zeroed into the velocity `slot` picks, and wakes the body.
+    fn set_velocity(
+        &mut self,
+        d: usize,
+        field: &'static str,
+        value: Vec3,
+        mask: fn(&Locks) -> Vec3,
+        slot: fn(&mut BodyState) -> &mut Vec3,
+    ) -> Result<(), Error> {
         let body = &self.host.bodies[d];
-        if body.kind == BodyKind::Fixed && w != Vec3::zeros() {
+        if body.kind == BodyKind::Fixed && value != Vec3::zeros() {
             return Err(InvalidParameter::new(
-                "angular_velocity",
-                [w.x, w.y, w.z],
+                field,
+                [value.x, value.y, value.z],
                 "zero for a fixed body",
             )
             .into());
         }
-        let mask = body.locks.rotation_mask();
+        let mask = mask(&body.locks);
         self.backend.sync_motion(&mut self.host)?;
-        self.host.states[d].angular_velocity = w.component_mul(&mask);
+        *slot(&mut self.host.states[d]) = value.component_mul(&mask);
         self.host.sleep.wake(d);
         Ok(())
     }

@@ -9,6 +9,9 @@
 //! covers that build.
 #![cfg(feature = "gpu")]
 
+mod common;
+
+use common::assert_gpu_backends_unavailable;
 use tumble::prelude::*;
 use tumble_gpu::context::ADAPTER_ENV;
 
@@ -20,23 +23,11 @@ fn a_gpu_backend_with_an_adapter_that_matches_nothing_is_unavailable() {
     // SAFETY: the only test of this binary, run before any thread of it reads the environment
     // (no world or device exists yet).
     unsafe { std::env::set_var(ADAPTER_ENV, NO_SUCH_ADAPTER) };
-    for backend in [Backend::Gpu, Backend::Hybrid] {
-        let err = World::new(WorldConfig {
-            backend,
-            ..Default::default()
-        })
-        .unwrap_err();
-        match &err {
-            Error::BackendUnavailable { backend: b, reason } => {
-                assert_eq!(*b, backend);
-                // The reason names what was asked for, so the user sees why.
-                assert!(reason.contains(NO_SUCH_ADAPTER), "{backend:?}: {reason}");
-                assert!(reason.contains(ADAPTER_ENV), "{backend:?}: {reason}");
-            }
-            other => panic!("{backend:?}: expected BackendUnavailable, got {other:?}"),
-        }
-        assert_eq!(err.field(), None, "not a bad field: {err}");
-    }
+    assert_gpu_backends_unavailable(|backend, reason| {
+        // The reason names what was asked for, so the user sees why.
+        assert!(reason.contains(NO_SUCH_ADAPTER), "{backend:?}: {reason}");
+        assert!(reason.contains(ADAPTER_ENV), "{backend:?}: {reason}");
+    });
     // The CPU backend opens no device, so the same setting cannot make it unavailable.
     let mut world = World::new(WorldConfig::default()).unwrap();
     let b = world.add_body(BodyDesc::dynamic()).unwrap();

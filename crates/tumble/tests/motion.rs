@@ -17,9 +17,7 @@ fn a_kinematic_platform_carries_a_box_and_ignores_it() {
                 .linear_velocity(Vec3::new(1.0, 0.0, 0.0)),
         )
         .unwrap();
-    let rider = w
-        .add_body(BodyDesc::dynamic().translation(0.0, 0.5, 0.0))
-        .unwrap();
+    let rider = cube_at(&mut w, 0.0, 0.5, 0.0);
     steps(&mut w, 120);
     // The platform moved exactly with its velocity, unaffected by the load (2 s at 1 m/s).
     let p = w.pose(platform).unwrap().translation.vector;
@@ -53,9 +51,7 @@ fn a_kinematic_pusher_shoves_a_box_sideways() {
                 .linear_velocity(Vec3::new(0.5, 0.0, 0.0)),
         )
         .unwrap();
-    let box_ = w
-        .add_body(BodyDesc::dynamic().translation(0.5, 0.5, 0.0))
-        .unwrap();
+    let box_ = cube_at(&mut w, 0.5, 0.5, 0.0);
     steps(&mut w, 180);
     // After 3 s the pusher's face is at -1 + 1.5 + 0.25 = 0.75 m, so the box's centre, held
     // against it, is at 1.25 m (within the contact overlap and the margin).
@@ -214,10 +210,7 @@ fn sequential_and_colored_orders_both_rest_a_stack() {
         .unwrap();
         floor(&mut w);
         let top = (0..5)
-            .map(|i| {
-                w.add_body(BodyDesc::dynamic().translation(0.0, 0.5 + i as Real, 0.0))
-                    .unwrap()
-            })
+            .map(|i| cube_at(&mut w, 0.0, 0.5 + i as Real, 0.0))
             .last()
             .unwrap();
         steps(&mut w, 120);

@@ -23,9 +23,7 @@ fn wake_up_on(backend: Backend) {
         return;
     };
     let ground = floor(&mut w);
-    let b = w
-        .add_body(BodyDesc::dynamic().translation(0.0, 0.5, 0.0))
-        .unwrap();
+    let b = cube_at(&mut w, 0.0, 0.5, 0.0);
     // At rest from the start, the box sleeps after TIME_TO_SLEEP (0.5 s, 30 steps).
     let mut n = 0;
     while !w.is_sleeping(b).unwrap() {

@@ -10,13 +10,9 @@ use tumble::prelude::*;
 fn handles_are_never_reused_and_removed_bodies_leave_the_world() {
     let mut w = world();
     let a = w.add_body(BodyDesc::dynamic()).unwrap();
-    let b = w
-        .add_body(BodyDesc::dynamic().translation(3.0, 0.0, 0.0))
-        .unwrap();
+    let b = cube_at(&mut w, 3.0, 0.0, 0.0);
     w.remove_body(a).unwrap();
-    let c = w
-        .add_body(BodyDesc::dynamic().translation(6.0, 0.0, 0.0))
-        .unwrap();
+    let c = cube_at(&mut w, 6.0, 0.0, 0.0);
     assert_ne!(a, c);
     assert_eq!(w.body_count(), 2);
     assert_eq!(w.pose(a), Err(Error::RemovedHandle(a)));
@@ -30,12 +26,8 @@ fn handles_are_never_reused_and_removed_bodies_leave_the_world() {
 fn removing_the_support_lets_a_resting_box_fall() {
     let mut w = world();
     let ground = floor(&mut w);
-    let base = w
-        .add_body(BodyDesc::dynamic().translation(0.0, 0.5, 0.0))
-        .unwrap();
-    let top = w
-        .add_body(BodyDesc::dynamic().translation(0.0, 1.5, 0.0))
-        .unwrap();
+    let base = cube_at(&mut w, 0.0, 0.5, 0.0);
+    let top = cube_at(&mut w, 0.0, 1.5, 0.0);
     steps(&mut w, 30);
     assert!(w.contact_pairs().contains(&(base, top)));
     w.remove_body(base).unwrap();
@@ -56,12 +48,8 @@ fn removing_the_support_lets_a_resting_box_fall() {
 fn contact_pairs_report_touching_bodies_only() {
     let mut w = world();
     let ground = floor(&mut w);
-    let resting = w
-        .add_body(BodyDesc::dynamic().translation(0.0, 0.5, 0.0))
-        .unwrap();
-    let high = w
-        .add_body(BodyDesc::dynamic().translation(5.0, 10.0, 0.0))
-        .unwrap();
+    let resting = cube_at(&mut w, 0.0, 0.5, 0.0);
+    let high = cube_at(&mut w, 5.0, 10.0, 0.0);
     w.step().unwrap();
     let pairs = w.contact_pairs();
     assert_eq!(pairs, vec![(ground, resting)]);
@@ -148,8 +136,7 @@ fn max_penetration_is_the_deepest_overlap_of_the_last_step() {
     // found at its start, so the first step reports exactly that depth (f32 round-off of the
     // 0.9 m offset, a few 1e-8 m, aside).
     w.add_body(BodyDesc::dynamic()).unwrap();
-    w.add_body(BodyDesc::dynamic().translation(0.9, 0.0, 0.0))
-        .unwrap();
+    cube_at(&mut w, 0.9, 0.0, 0.0);
     w.step().unwrap();
     let depth = w.max_penetration();
     assert!(
@@ -159,10 +146,8 @@ fn max_penetration_is_the_deepest_overlap_of_the_last_step() {
     let reported = w.contacts()[0].max_depth();
     assert_eq!(depth, reported, "the stat is the deepest reported point");
     // A second pair overlapping by 0.25 m becomes the deepest.
-    w.add_body(BodyDesc::dynamic().translation(0.0, 10.0, 0.0))
-        .unwrap();
-    w.add_body(BodyDesc::dynamic().translation(0.75, 10.0, 0.0))
-        .unwrap();
+    cube_at(&mut w, 0.0, 10.0, 0.0);
+    cube_at(&mut w, 0.75, 10.0, 0.0);
     w.step().unwrap();
     let depth = w.max_penetration();
     assert!(
@@ -174,8 +159,7 @@ fn max_penetration_is_the_deepest_overlap_of_the_last_step() {
     for gap in [5.0, 0.01] {
         let mut w = weightless();
         w.add_body(BodyDesc::dynamic()).unwrap();
-        w.add_body(BodyDesc::dynamic().translation(1.0 + gap, 0.0, 0.0))
-            .unwrap();
+        cube_at(&mut w, 1.0 + gap, 0.0, 0.0);
         w.step().unwrap();
         let expect_manifold = gap < tumble::DEFAULT_MARGIN;
         assert_eq!(
@@ -198,8 +182,7 @@ fn set_kinematic_target_rejects_nan_and_stale_handles_and_changes_nothing() {
                 .linear_velocity(Vec3::new(0.5, 0.0, 0.0)),
         )
         .unwrap();
-    w.add_body(BodyDesc::dynamic().translation(3.0, 0.5, 0.0))
-        .unwrap();
+    cube_at(&mut w, 3.0, 0.5, 0.0);
     steps(&mut w, 5);
     let snapshot = |w: &World| -> Vec<(Pose, Vec3, Vec3)> {
         w.handles()

@@ -3,6 +3,10 @@
 //! tests here and the GPU ones in `gpu.rs` run the same scenes against the same bounds.
 
 use super::*;
+use tumble_tests::effect_bounds::{
+    Apex, BOUNCE, DROP, TILT, assert_free_fall, assert_friction_stops_the_slide,
+    assert_restitution_bounces, assert_tipped_cube_turns, tipped_height,
+};
 
 /// Friction forced off lets a cube thrown along the rough floor slide on.
 pub fn check_friction(base: WorldConfig) {
@@ -12,22 +16,9 @@ pub fn check_friction(base: WorldConfig) {
         steps(&mut world, 36);
         world.linear_velocity(world.handles()[1]).unwrap().x
     };
-    // mu g = 5.9 m/s^2 stops the 3 m/s cube in 0.51 s, inside the 0.6 s run; without friction
-    // rows nothing acts along the floor and it keeps its speed up to round-off.
     let (on, off) = (slide(EffectSwitch::Auto), slide(EffectSwitch::Off));
-    assert!(
-        on.abs() < 0.05,
-        "with friction the cube still slides at {on} m/s"
-    );
-    assert!(
-        (off - 3.0).abs() < 1e-3,
-        "friction off: the cube slides at {off} m/s"
-    );
+    assert_friction_stops_the_slide(on, off);
 }
-
-/// Drop height of the bouncing cube's bottom face, m, and its restitution.
-const DROP: Real = 1.0;
-const BOUNCE: Real = 0.5;
 
 /// Restitution forced off stops a dropped bouncy cube's bounce.
 pub fn check_restitution(base: WorldConfig) {
@@ -41,31 +32,17 @@ pub fn check_restitution(base: WorldConfig) {
                     .restitution(BOUNCE),
             )
             .unwrap();
-        let (mut landed, mut apex) = (false, Real::NEG_INFINITY);
+        let mut apex = Apex::default();
         // 0.75 s: the fall takes 0.45 s and the rise to the apex 0.23 s.
         for _ in 0..45 {
             world.step().unwrap();
             let height = world.pose(cube).unwrap().translation.y - 0.5;
-            // The impact is the first step that ends low and no longer falling fast.
-            landed |= world.linear_velocity(cube).unwrap().y > -0.5 && height < 0.5 * DROP;
-            if landed {
-                apex = apex.max(height);
-            }
+            apex.watch(height, world.linear_velocity(cube).unwrap().y);
         }
-        apex
+        apex.height
     };
     let (on, off) = (apex(EffectSwitch::Auto), apex(EffectSwitch::Off));
-    // Restitution e sends the cube back up at e times its impact speed, to e^2 times its drop
-    // height (0.25 m) at most; the soft contact absorbs part of the impact first (measured
-    // 0.21 m), hence the lower bound of 70%.
-    let ideal = BOUNCE * BOUNCE * DROP;
-    assert!(
-        on > 0.7 * ideal && on <= ideal,
-        "bounced {on} m, ideal {ideal} m"
-    );
-    // Without it the contact only stops the fall: what rises is the soft contact pushing out
-    // its last step's overlap (measured 0.6 mm).
-    assert!(off < 0.01, "restitution off: bounced {off} m");
+    assert_restitution_bounces(on, off);
 }
 
 /// Gravity forced off leaves a cube let go in the air where it is.
@@ -84,17 +61,9 @@ pub fn check_gravity(base: WorldConfig) {
             world.linear_velocity(cube).unwrap(),
         )
     };
-    // Semi-implicit Euler over n substeps of h drops the cube by g h^2 n (n + 1) / 2 (1.23 m
-    // in 0.5 s, still in the air); f32 round-off stays far below the 1 mm bound.
     let (on, _) = end(EffectSwitch::Auto);
-    let substeps = base.solver.substeps as Real;
-    let (n, h) = (count as Real * substeps, base.dt / substeps);
-    let expected = -base.gravity.y * h * h * n * (n + 1.0) / 2.0;
-    let dropped = start.y - on.y;
-    assert!(
-        (dropped - expected).abs() < 1e-3,
-        "fell {dropped} m, expected {expected} m"
-    );
+    let (g, dt, substeps) = (base.gravity.y, base.dt, base.solver.substeps);
+    assert_free_fall(start.y - on.y, g, dt, substeps, count);
     // Without it nothing acts on the cube: it stays exactly where it was, at rest.
     let (off, v) = end(EffectSwitch::Off);
     assert_eq!(off, start, "gravity off: the cube moved");
@@ -209,17 +178,11 @@ fn rotation_forced_off_stops_every_spin() {
     assert_eq!(turned_off, 0.0, "rotation off: turned {turned_off} rad");
 }
 
-/// Tilt of the tipped cube about z, rad: under 45 degrees its centre lies beside the edge
-/// it stands on, over the face it was tipped from, so gravity turns it back onto that
-/// face.
-const TILT: Real = 0.6;
-
 /// With rotation off contacts cannot turn a body either (its inverse inertia is zero for the
 /// step): a cube stood on one edge falls back flat with rotation, and stays tilted exactly as
 /// it was without.
 pub fn check_tipped_cube(base: WorldConfig) {
-    // The edge 1 mm above the floor: the centre is 0.5 (cos + sin) above it.
-    let y = 0.5 * (TILT.cos() + TILT.sin()) + 0.001;
+    let y = tipped_height();
     let start = Rot::from_euler_angles(0.0, 0.0, TILT);
     let tip = |switch| {
         let mut world = world_with(base, |e, s| e.rotation = s, switch);
@@ -233,12 +196,8 @@ pub fn check_tipped_cube(base: WorldConfig) {
         }
         turned
     };
-    // With rotation it turns through its whole tilt (and rocks a little past flat:
-    // measured 0.637 rad); 90% of it leaves room for the landing.
-    let on = tip(EffectSwitch::Auto);
-    assert!(on > 0.9 * TILT, "turned {on} rad, tilt {TILT} rad");
-    let off = tip(EffectSwitch::Off);
-    assert!(off < 1e-6, "rotation off: the cube turned {off} rad");
+    let (on, off) = (tip(EffectSwitch::Auto), tip(EffectSwitch::Off));
+    assert_tipped_cube_turns(on, off);
 }
 
 #[test]

@@ -5,6 +5,7 @@
 
 use tumble::prelude::*;
 use tumble::{EffectOverrides, EffectSwitch};
+use tumble_tests::facade::floor_desc;
 use tumble_tests::scene_support::thrown_pile_pose;
 
 mod forced_off;
@@ -88,14 +89,7 @@ fn pile(world: &mut World, friction: Real, lock_rotations: bool) {
 
 /// A fixed 40 x 1 x 40 m floor whose top is y = 0, of friction `friction`.
 fn floor(world: &mut World, friction: Real) {
-    world
-        .add_body(
-            BodyDesc::fixed()
-                .cuboid(Vec3::new(20.0, 0.5, 20.0))
-                .translation(0.0, -0.5, 0.0)
-                .friction(friction),
-        )
-        .unwrap();
+    world.add_body(floor_desc(20.0).friction(friction)).unwrap();
 }
 
 /// The rough floor and a unit cube on it, thrown along x at 3 m/s.

@@ -409,6 +409,16 @@ fn cube_on_floor(mu: Real, softness: Softness) -> (ContactConstraint, BodyState,
     )
 }
 
+/// A pass at substep rate `inv_h`, feeding position error back when `use_bias`, under a
+/// 3 m/s push-out cap.
+fn pass_at(inv_h: Real, use_bias: bool) -> PassContext {
+    PassContext {
+        inv_h,
+        use_bias,
+        max_push_out: 3.0,
+    }
+}
+
 #[test]
 fn a_frictionless_warm_start_applies_only_the_normal_impulses() {
     // Friction 0 removes the friction rows: whatever the tangent slots hold, the warm start
@@ -435,11 +445,7 @@ fn an_exactly_touching_point_is_solved_as_a_soft_contact_not_a_speculative_one()
         0.0
     );
     cube.linear_velocity = Vec3::new(0.0, -1.0, 0.0);
-    let pass = PassContext {
-        inv_h: 240.0,
-        use_bias: true,
-        max_push_out: 3.0,
-    };
+    let pass = pass_at(240.0, true);
     solve_contact(&mut c, &mut floor, &mut cube, &pass);
     assert!(
         (cube.linear_velocity.y + softness.impulse_scale).abs() < 1e-6,
@@ -467,11 +473,7 @@ fn a_sliding_point_is_held_at_the_coulomb_limit_against_its_motion() {
     let (mut c, mut floor, mut cube) = cube_on_floor(0.4, Softness::RIGID);
     c.points[0].normal_impulse = 0.1;
     cube.linear_velocity = Vec3::new(2.0, 0.0, 0.0);
-    let relaxed = PassContext {
-        inv_h: 240.0,
-        use_bias: false,
-        max_push_out: 3.0,
-    };
+    let relaxed = pass_at(240.0, false);
     solve_contact(&mut c, &mut floor, &mut cube, &relaxed);
     let p = c.points[0];
     let friction = c.tangent1 * p.tangent_impulse[0] + c.tangent2 * p.tangent_impulse[1];
@@ -511,11 +513,7 @@ fn a_patch_whose_far_side_has_lifted_gets_no_tilt_torque() {
     // Tipping about the -x edge (rotation about +z lifts the +x side).
     cube.angular_velocity = Vec3::new(0.0, 0.0, 1.0);
     cube.linear_velocity = Vec3::new(0.0, 0.5, 0.0);
-    let pass = PassContext {
-        inv_h: 60.0,
-        use_bias: false,
-        max_push_out: 3.0,
-    };
+    let pass = pass_at(60.0, false);
     solve_contact(&mut c, &mut floor, &mut cube, &pass);
     assert_eq!(c.tilt_impulse, [0.0; 2]);
     // The lifting corners are apart in velocity: they got no impulse, the others none

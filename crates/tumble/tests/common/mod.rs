@@ -21,6 +21,13 @@ pub fn floor(world: &mut World) -> BodyHandle {
         .unwrap()
 }
 
+/// Adds a unit cube (a dynamic body of the default shape) centred at `(x, y, z)`; its handle.
+pub fn cube_at(world: &mut World, x: Real, y: Real, z: Real) -> BodyHandle {
+    world
+        .add_body(BodyDesc::dynamic().translation(x, y, z))
+        .unwrap()
+}
+
 pub fn steps(world: &mut World, n: usize) {
     for _ in 0..n {
         world.step().unwrap();
@@ -55,5 +62,28 @@ pub fn world_on(backend: Backend, config: WorldConfig) -> Option<World> {
             None
         }
         Err(e) => panic!("{backend:?}: {e}"),
+    }
+}
+
+/// Asserts that `Backend::Gpu` and `Backend::Hybrid` both refuse to open, each with
+/// `Error::BackendUnavailable` naming that backend (in the field and in the message) and no
+/// bad field; `check_reason` then checks the reason given for each.
+pub fn assert_gpu_backends_unavailable(check_reason: impl Fn(Backend, &str)) {
+    for backend in [Backend::Gpu, Backend::Hybrid] {
+        let err = World::new(WorldConfig {
+            backend,
+            ..Default::default()
+        })
+        .unwrap_err();
+        match &err {
+            Error::BackendUnavailable { backend: b, reason } => {
+                assert_eq!(*b, backend);
+                check_reason(backend, reason);
+            }
+            other => panic!("{backend:?}: expected BackendUnavailable, got {other:?}"),
+        }
+        // The message names the backend too, as `Display` prints it.
+        assert!(err.to_string().contains(&format!("{backend:?}")), "{err}");
+        assert_eq!(err.field(), None, "not a bad field: {err}");
     }
 }

@@ -44,13 +44,16 @@ fn slab_test(
     max: &Vec3,
     max_toi: Real,
 ) -> Option<(Real, Option<(usize, Real)>)> {
+    if max_toi.is_nan() || max_toi < 0.0 {
+        return None;
+    }
     let (mut enter, mut exit) = (0.0, max_toi);
     let mut entered = None;
     for k in 0..3 {
         if d[k] == 0.0 {
-            // Parallel to the slab: inside it for every t, or never. `!(a <= b)` rather than
-            // `a > b` so that a NaN misses instead of passing.
-            if !(min[k] <= o[k] && o[k] <= max[k]) {
+            // Parallel to the slab: inside it for every t, or never (a NaN is never inside).
+            let inside = min[k] <= o[k] && o[k] <= max[k];
+            if !inside {
                 return None;
             }
             continue;
@@ -74,7 +77,8 @@ fn slab_test(
         if far < exit {
             exit = far;
         }
-        if !(enter <= exit) {
+        // Both are numbers here (NaN times returned above).
+        if enter > exit {
             return None;
         }
     }
@@ -126,7 +130,8 @@ impl Aabb {
 impl Cuboid {
     /// The first hit of the ray `origin + t dir`, `t` in `[0, max_toi]`, with this box at
     /// `pose` (solid: `toi = 0` and a zero normal when `origin` is inside or on the surface).
-    /// `dir` need not be unit length; `toi` is in its units. `None` on a miss, and for a NaN
+    /// `dir` need not be unit length; `toi` is in its units. `None` on a miss, for a negative
+    /// `max_toi`, and for a NaN
     /// anywhere in the input. The slab test of the module docs, in the box's frame.
     pub fn cast_ray(
         &self,

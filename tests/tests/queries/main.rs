@@ -21,8 +21,9 @@ use parry3d::shape::Cuboid as PCuboid;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tumble::prelude::*;
+use tumble::{Aabb, Cuboid};
 
-/// The presence band, m: 1e-4 m. The scenes' coordinates reach 15 m, where an `f32` ulp is
+/// The presence band, m: 1e-4 m. The scenes' coordinates reach 10 m, where an `f32` ulp is
 /// 1e-6 m; the change of frame into a box adds a few ulps per product, both in parry and
 /// here, so the two disagree by about 1e-5 m at worst. The band is ten times that, and far
 /// below the smallest box (5 cm), so shrinking a box by it leaves a box.
@@ -56,7 +57,7 @@ fn random_half_extents(rng: &mut ChaCha8Rng) -> Vec3 {
     Vec3::from_fn(|_, _| (rng.random_range(0.05f32.ln()..2.0f32.ln())).exp())
 }
 
-/// `n` rotated boxes of varied sizes with centres in a 20 m cube about the origin (they may
+/// `n` rotated boxes of varied sizes with centres in a 10 m cube about the origin (they may
 /// overlap: the world is never stepped), half fixed and half dynamic.
 fn random_scene(seed: u64, n: usize) -> Scene {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
@@ -68,7 +69,7 @@ fn random_scene(seed: u64, n: usize) -> Scene {
     let bodies = (0..n)
         .map(|_| {
             let h = random_half_extents(&mut rng);
-            let c = Vec3::from_fn(|_, _| rng.random_range(-10.0..10.0));
+            let c = Vec3::from_fn(|_, _| rng.random_range(-5.0..5.0));
             let pose = Pose::from_parts(c.into(), random_rotation(&mut rng));
             let desc = if rng.random_bool(0.5) {
                 BodyDesc::fixed()

@@ -11,11 +11,11 @@ const SCENES: u64 = 20;
 const PER_SCENE: usize = 500;
 
 /// How far our nearest distance may be from parry's, m: both clamp the point in the box's
-/// frame in `f32`; the frames differ by a few ulps of the 15 m coordinates (1e-6 m).
+/// frame in `f32`; the frames differ by a few ulps of the coordinates of up to 10 m (1e-6 m).
 const DISTANCE_TOL: Real = 2e-5;
 
 /// Largest share of queries with a body inside the presence band: a box face within 1e-4 m
-/// of a random AABB face or point is rare (a few in 10,000 expected).
+/// of a random AABB face or point is rare (last run: 7 of 10,000 AABBs, 6 of 10,000 points).
 const MAX_AMBIGUOUS_SHARE: f64 = 0.01;
 
 /// Per body, parry's verdict on the band: `Some(true)` certainly in, `Some(false)` certainly
@@ -38,7 +38,7 @@ fn random_aabb_queries_agree_with_parry() {
         let mut rng = ChaCha8Rng::seed_from_u64(3000 + seed);
         let scene = random_scene(200 + seed, rng.random_range(60..=200));
         for _ in 0..PER_SCENE {
-            let c = Vec3::from_fn(|_, _| rng.random_range(-12.0..12.0));
+            let c = Vec3::from_fn(|_, _| rng.random_range(-7.0..7.0));
             let e = random_half_extents(&mut rng) * 1.5;
             let aabb = Aabb::new((c - e).into(), (c + e).into());
             let ours = scene
@@ -58,6 +58,7 @@ fn random_aabb_queries_agree_with_parry() {
                         &pcuboid(h, grow),
                     )
                     .expect("cuboids are supported")
+                    .intersecting
                 };
                 match banded(meets) {
                     Some(true) => assert!(ours.contains(handle), "missed {handle:?} in {aabb:?}"),
@@ -90,7 +91,14 @@ fn random_point_queries_agree_with_parry() {
         let mut rng = ChaCha8Rng::seed_from_u64(4000 + seed);
         let scene = random_scene(300 + seed, rng.random_range(60..=200));
         for _ in 0..PER_SCENE {
-            let p = Point3::from(Vec3::from_fn(|_, _| rng.random_range(-12.0..12.0)));
+            // Half the points near a random body (often inside it), half anywhere.
+            let p = if rng.random_bool(0.5) {
+                let (_, pose, h) = &scene.bodies[rng.random_range(0..scene.bodies.len())];
+                let local = Point3::from(Vec3::from_fn(|k, _| h[k] * rng.random_range(-1.5..1.5)));
+                pose * local
+            } else {
+                Point3::from(Vec3::from_fn(|_, _| rng.random_range(-7.0..7.0)))
+            };
             let pp = PVec::new(p.x, p.y, p.z);
             let f = QueryFilter::default();
             let ours = scene.world.bodies_containing_point(p, f).unwrap();
@@ -144,6 +152,6 @@ fn random_point_queries_agree_with_parry() {
          worst distance error {worst} m"
     );
     assert_eq!(queries, 10_000);
-    assert!(inside > 1_000, "the points land in bodies");
+    assert!(inside > 2_000, "the points land in bodies");
     assert!(ambiguous as f64 / queries as f64 <= MAX_AMBIGUOUS_SHARE);
 }

@@ -25,6 +25,7 @@ mod error;
 #[cfg(feature = "gpu")]
 mod gpu_reads;
 mod handle;
+mod query;
 mod scene;
 mod sleep;
 pub mod stages;
@@ -38,6 +39,7 @@ pub use contact_report::{ContactPointReport, ContactReport};
 pub use effects::{EffectOverrides, EffectSwitch, ReadbackOverrides};
 pub use error::Error;
 pub use handle::BodyHandle;
+pub use query::{BoxHit, PointHit, QueryFilter, RayHit};
 pub use scene::body_desc;
 pub use sleep::{ANGULAR_SLEEP_TOLERANCE, LINEAR_SLEEP_TOLERANCE, TIME_TO_SLEEP};
 pub use stats::{StageTimings, StepStats};

@@ -4,7 +4,8 @@ use tumble_geometry::Real;
 
 use crate::backend::{Host, StepArgs, StepBackend, new_backend};
 use crate::{
-    BodyHandle, ContactPointReport, ContactReport, Error, StepStats, WorldConfig, handle::HandleMap,
+    BodyHandle, ContactPointReport, ContactReport, Error, StepStats, WorldConfig,
+    handle::HandleMap, query::QueryCache,
 };
 
 /// A simulated world of boxes.
@@ -20,6 +21,9 @@ pub struct World {
     pub(crate) host: Host,
     /// Where the step runs, and how the state is read and written there.
     pub(crate) backend: Box<dyn StepBackend>,
+    /// The spatial queries' tree over the current poses (`crate::query`), dropped by every
+    /// call that moves, adds or removes a body.
+    pub(crate) query: QueryCache,
     steps: u64,
 }
 
@@ -33,6 +37,7 @@ impl World {
             handles: HandleMap::default(),
             host: Host::default(),
             backend,
+            query: QueryCache::default(),
             steps: 0,
         })
     }
@@ -55,6 +60,7 @@ impl World {
     /// Advances the world by `config.dt`.
     pub fn step(&mut self) -> Result<(), Error> {
         let effects = self.effects();
+        self.query.invalidate();
         let args = StepArgs {
             handles: &self.handles,
             config: &self.config,

@@ -10,6 +10,7 @@ impl World {
     pub fn add_body(&mut self, desc: BodyDesc) -> Result<BodyHandle, Error> {
         let (body, state) = desc.build(&self.config)?;
         self.backend.sync_all(&mut self.host)?;
+        self.query.invalidate();
         self.host.bodies.push(body);
         self.host.states.push(state);
         self.host.sleep.push();
@@ -45,6 +46,7 @@ impl World {
                 self.wake_up(other)?;
             }
         }
+        self.query.invalidate();
         self.host.bodies.swap_remove(d);
         self.host.states.swap_remove(d);
         self.host.sleep.swap_remove(d);
@@ -146,6 +148,7 @@ impl World {
         self.backend.sync_motion(&mut self.host)?;
         let mut pose = pose;
         pose.rotation.renormalize();
+        self.query.invalidate();
         self.host.bodies[d].pose = pose;
         self.host.sleep.wake(d);
         Ok(())

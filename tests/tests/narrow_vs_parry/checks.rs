@@ -14,7 +14,11 @@ pub(super) fn bounded(
 ) {
     let ratio = error / unit;
     *max = max.max(ratio);
-    if !(ratio <= bound) {
+    // Not `ratio <= bound` fails, NaN included.
+    if !matches!(
+        ratio.partial_cmp(&bound),
+        Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal)
+    ) {
         fail(format!("{} ({ratio:.1} > {bound} units)", what()));
     }
 }

@@ -69,7 +69,7 @@ impl Box64 {
     /// Outward unit normal of face `f` (axis `f / 2`, positive when `f` is even) and the plane's
     /// offset along it.
     pub(super) fn face_plane(&self, f: usize) -> (V64, f64) {
-        let sign = if f % 2 == 0 { 1.0 } else { -1.0 };
+        let sign = if f.is_multiple_of(2) { 1.0 } else { -1.0 };
         let n = self.axes[f / 2] * sign;
         (n, n.dot(&self.centre) + self.half[f / 2])
     }

@@ -3,16 +3,14 @@
 //! only the manifolds in contact, compacted), and the CPU stages on the same scene.
 //!
 //! ```text
-//! cargo run --release -p tumble-gpu --example collision_stage_times -- [--csv] [bodies...]
+//! cargo run --release -p tumble-benches --bin collision_stage_times -- [--csv] [bodies...]
 //! ```
 //! Default body counts: 1000 10000 100000. Set `TUMBLE_ADAPTER` to pick an adapter. With
 //! `--csv` the rows are printed as CSV (the committed results in `benches/results/`).
 
-#[path = "../benches/support/random_pile.rs"]
-mod random_pile;
-
 use std::time::Instant;
 
+use tumble_benches::random_pile;
 use tumble_geometry::Aabb;
 use tumble_gpu::collision;
 use tumble_gpu::{CollisionConfig, GpuCollision, GpuContext, ReadbackRequest, StageTimer};

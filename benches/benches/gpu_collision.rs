@@ -1,11 +1,9 @@
 //! Wall time of the GPU collision stages per step (record, submit, wait), with and without
 //! reading back the contacts, on seeded random piles. Per-stage GPU times come from
-//! `examples/collision_stage_times.rs`, which reads the timestamp queries.
-
-#[path = "support/random_pile.rs"]
-mod random_pile;
+//! `src/bin/collision_stage_times.rs`, which reads the timestamp queries.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use tumble_benches::random_pile;
 use tumble_gpu::{CollisionConfig, GpuCollision, GpuContext, ReadbackRequest};
 
 fn collision_step(c: &mut Criterion) {

@@ -21,10 +21,10 @@ use criterion::{criterion_main, measurement::WallTime};
 use parry3d::bounding_volume::Aabb as PAabb;
 use parry3d::math::Vector as PVec;
 use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
-use tumble_broad::{BroadPhase, SweepAndPrune, brute_force_pairs, motion_aabb};
-use tumble_geometry::{Aabb, Vec3};
+use tumble_broad::{BroadPhase, SweepAndPrune, brute_force_pairs};
+use tumble_geometry::Aabb;
 use tumble_scenes::pyramid;
-use tumble_tests::scene_support::sparse_boxes;
+use tumble_tests::scene_support::{resting_aabbs, sparse_boxes};
 
 /// Boxes per cubic meter: about what a settled pile of 1 m boxes with gaps looks like, giving
 /// each box a handful of overlapping neighbours (about 1.5 pairs per box).
@@ -37,24 +37,7 @@ fn random_boxes(n: usize, seed: u64) -> Vec<Aabb> {
 
 /// The resting pyramid of `h` layers: each body's step AABB at rest and its immovable flag.
 fn pyramid_boxes(h: usize) -> (Vec<Aabb>, Vec<bool>) {
-    let scene = pyramid(h);
-    let zero = Vec3::zeros();
-    let aabbs = scene
-        .bodies
-        .iter()
-        .map(|b| {
-            motion_aabb(
-                &b.cuboid(),
-                &b.pose(),
-                &zero,
-                &zero,
-                tumble::DEFAULT_MARGIN,
-                1.0 / 60.0,
-            )
-        })
-        .collect();
-    let immovable = scene.bodies.iter().map(|b| !b.is_dynamic()).collect();
-    (aabbs, immovable)
+    resting_aabbs(&pyramid(h))
 }
 
 fn to_parry(aabbs: &[Aabb]) -> Vec<PAabb> {

@@ -122,3 +122,25 @@ pub fn sparse_boxes(n: usize, extent: f32, seed: u64) -> Vec<Aabb> {
         })
         .collect()
 }
+
+/// Each body's step AABB at rest (zero velocities, the default margin, a 60 Hz step) and its
+/// immovable flag: the broad phase's input for a scene standing still.
+pub fn resting_aabbs(scene: &Scene) -> (Vec<Aabb>, Vec<bool>) {
+    let zero = Vec3::zeros();
+    let aabbs = scene
+        .bodies
+        .iter()
+        .map(|b| {
+            tumble_broad::motion_aabb(
+                &b.cuboid(),
+                &b.pose(),
+                &zero,
+                &zero,
+                tumble::DEFAULT_MARGIN,
+                1.0 / 60.0,
+            )
+        })
+        .collect();
+    let immovable = scene.bodies.iter().map(|b| !b.is_dynamic()).collect();
+    (aabbs, immovable)
+}

@@ -12,7 +12,7 @@ use tumble_broad::{
 use tumble_geometry::nalgebra::{Translation3, UnitQuaternion};
 use tumble_geometry::{Aabb, Cuboid, Point3, Pose, Vec3};
 use tumble_tests::scene_support::random_vec;
-use tumble_tests::scene_support::sparse_boxes;
+use tumble_tests::scene_support::{resting_aabbs, sparse_boxes};
 
 /// Rotated cuboids gathered around a few cluster centres, as piles in a game level are: many
 /// boxes share the sweep window, the case that makes a sweep degrade.
@@ -310,22 +310,7 @@ fn the_resting_pyramid_equals_brute_force_with_its_floor_on_the_side_list() {
     // the side list, so that the cells stay one cube across, and the pairs, filtered as the
     // step filters them, must equal the reference's exactly.
     let scene = tumble_scenes::pyramid(24);
-    let zero = Vec3::zeros();
-    let aabbs: Vec<Aabb> = scene
-        .bodies
-        .iter()
-        .map(|b| {
-            tumble_broad::motion_aabb(
-                &b.cuboid(),
-                &b.pose(),
-                &zero,
-                &zero,
-                tumble::DEFAULT_MARGIN,
-                1.0 / 60.0,
-            )
-        })
-        .collect();
-    let immovable: Vec<bool> = scene.bodies.iter().map(|b| !b.is_dynamic()).collect();
+    let (aabbs, immovable) = resting_aabbs(&scene);
     let expected = brute_force_pairs_filtered(&aabbs, &immovable).unwrap();
     let mut grid = BroadPhase::new();
     let mut out = Vec::new();

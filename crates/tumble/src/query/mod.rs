@@ -94,6 +94,37 @@ impl World {
     }
 
     /// Whether `filter` keeps `e`. `sleep` is whether the sleep effect runs.
+    /// The earliest hit among the bodies `filter` keeps of a cast from `origin` along `dir`
+    /// (boxes grown by `grow` for the tree's culling) up to `max_toi`, `cast` giving one body's
+    /// hit before a time; ties go to the body first in `World::handles` order.
+    fn first_along(
+        &self,
+        origin: &Point3,
+        dir: &Vec3,
+        grow: &Vec3,
+        max_toi: Real,
+        filter: &QueryFilter<'_>,
+        cast: impl Fn(&Entry, Real) -> Option<CastHit>,
+    ) -> Result<Option<(CastHit, Entry)>, Error> {
+        let sleep = self.effects().sleep;
+        let mut best: Option<(CastHit, Entry)> = None;
+        let mut max = max_toi;
+        self.query_tree()?
+            .along_ray(origin, dir, grow, &mut max, |e, max| {
+                let Some(hit) = cast(e, *max) else {
+                    return Ok(());
+                };
+                let better =
+                    best.is_none_or(|(b, be)| earlier((hit.toi, e.dense), (b.toi, be.dense)));
+                if better && self.keeps(filter, e, sleep)? {
+                    *max = hit.toi;
+                    best = Some((hit, *e));
+                }
+                Ok::<(), Error>(())
+            })?;
+        Ok(best)
+    }
+
     fn keeps(&self, filter: &QueryFilter<'_>, e: &Entry, sleep: bool) -> Result<bool, Error> {
         if !filter.passes_static(e.handle, e.kind) {
             return Ok(false);
@@ -153,21 +184,9 @@ impl World {
         filter: QueryFilter<'_>,
     ) -> Result<Option<RayHit>, Error> {
         ray_input(&origin, &dir, max_toi)?;
-        let sleep = self.effects().sleep;
-        let mut best: Option<(CastHit, Entry)> = None;
-        let mut max = max_toi;
-        self.query_tree()?
-            .along_ray(&origin, &dir, &Vec3::zeros(), &mut max, |e, max| {
-                let Some(hit) = e.shape.cast_ray(&e.pose, &origin, &dir, *max) else {
-                    return Ok(());
-                };
-                let better =
-                    best.is_none_or(|(b, be)| earlier((hit.toi, e.dense), (b.toi, be.dense)));
-                if better && self.keeps(&filter, e, sleep)? {
-                    *max = hit.toi;
-                    best = Some((hit, *e));
-                }
-                Ok::<(), Error>(())
+        let best =
+            self.first_along(&origin, &dir, &Vec3::zeros(), max_toi, &filter, |e, max| {
+                e.shape.cast_ray(&e.pose, &origin, &dir, max)
             })?;
         Ok(best.map(|(hit, e)| ray_hit(&e, &hit, &origin, &dir)))
     }
@@ -229,23 +248,9 @@ impl World {
         let moving = Cuboid::new(half_extents);
         let grow = moving.aabb(&pose, 0.0).half_extents();
         let centre = Point3::from(pose.translation.vector);
-        let sleep = self.effects().sleep;
-        let mut best: Option<(CastHit, Entry)> = None;
-        let mut max = max_toi;
-        self.query_tree()?
-            .along_ray(&centre, &velocity, &grow, &mut max, |e, max| {
-                let Some(hit) = cast_cuboid(&moving, &pose, &velocity, &e.shape, &e.pose, *max)
-                else {
-                    return Ok(());
-                };
-                let better =
-                    best.is_none_or(|(b, be)| earlier((hit.toi, e.dense), (b.toi, be.dense)));
-                if better && self.keeps(&filter, e, sleep)? {
-                    *max = hit.toi;
-                    best = Some((hit, *e));
-                }
-                Ok::<(), Error>(())
-            })?;
+        let best = self.first_along(&centre, &velocity, &grow, max_toi, &filter, |e, max| {
+            cast_cuboid(&moving, &pose, &velocity, &e.shape, &e.pose, max)
+        })?;
         Ok(best.map(|(hit, e)| BoxHit {
             body: e.handle,
             toi: hit.toi,

@@ -17,4 +17,10 @@ impl World {
     pub fn gpu_draw_buffers(&self) -> Option<(GpuContext, DrawBuffers)> {
         self.backend.draw_buffers()
     }
+
+    /// On `Backend::Gpu`: the device holding the world (from its creation on), the one a
+    /// renderer must use to bind [`World::gpu_draw_buffers`]. `None` on the other backends.
+    pub fn gpu_context(&self) -> Option<GpuContext> {
+        self.backend.gpu_context()
+    }
 }

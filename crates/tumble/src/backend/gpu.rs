@@ -303,4 +303,8 @@ impl StepBackend for GpuBackend {
         let gpu = self.gpu.lock().ok()?;
         Some((gpu.context().clone(), gpu.draw_buffers()?))
     }
+
+    fn gpu_context(&self) -> Option<tumble_gpu::GpuContext> {
+        Some(self.gpu.lock().ok()?.context().clone())
+    }
 }

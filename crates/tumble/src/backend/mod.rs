@@ -138,6 +138,12 @@ pub(crate) trait StepBackend: fmt::Debug + Send + Sync {
     fn draw_buffers(&self) -> Option<(tumble_gpu::GpuContext, tumble_gpu::step::DrawBuffers)> {
         None
     }
+
+    /// The device holding the bodies' state, when it lives on a GPU.
+    #[cfg(feature = "gpu")]
+    fn gpu_context(&self) -> Option<tumble_gpu::GpuContext> {
+        None
+    }
 }
 
 /// The backend `config.backend` asks for. Errs when the GPU it needs is unavailable, or when

@@ -3,6 +3,7 @@
 //!   measured (docs/validation.md), tabled and plotted;
 //! - `bench`: the criterion benches;
 //! - `bench-gpu`: Tumble's GPU step beside rapier3d (and nexus, from its peer script's CSV);
+//! - `render`: a scene's frames as PNG pictures and a GIF animation (tumble-render);
 //! - `tidy`: formatting and the layer rule of docs/architecture.md.
 #![warn(missing_docs)]
 
@@ -20,6 +21,7 @@ mod layers;
 mod metrics;
 mod penetration;
 mod plot;
+mod render;
 mod report;
 mod results;
 mod run;
@@ -67,6 +69,9 @@ enum Task {
     /// GPU times, memory per body and the traffic model; joins nexus's rows from the CSV of
     /// benches/peers/nexus_scenes.py.
     BenchGpu(bench_gpu::BenchGpuArgs),
+    /// Steps a scene and draws each frame with tumble-render: PNG frames and an animated GIF
+    /// (on any adapter, lavapipe included).
+    Render(render::RenderArgs),
     /// Checks formatting (`cargo fmt --check`) and that no crate imports one to its right in
     /// the layer order of docs/architecture.md.
     Tidy,
@@ -133,6 +138,7 @@ fn main() -> ExitCode {
         Task::Validate(v) => run_validate(v),
         Task::Bench { args } => bench::run_benches(&workspace_root(), &args),
         Task::BenchGpu(args) => bench_gpu::bench_gpu(&args),
+        Task::Render(args) => render::render(&args, &workspace_root()),
         Task::Tidy => tidy::tidy(&workspace_root()),
     };
     match result {

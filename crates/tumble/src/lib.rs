@@ -20,6 +20,8 @@ mod backend;
 mod body_desc;
 mod config;
 mod contact_report;
+#[cfg(feature = "gpu")]
+mod draw;
 mod effects;
 mod error;
 #[cfg(feature = "gpu")]
@@ -47,6 +49,10 @@ pub use world::World;
 
 pub use tumble_geometry as geometry;
 pub use tumble_geometry::{Aabb, Cuboid, Point3, Pose, Real, Rot, Vec3, nalgebra};
+/// The GPU crate (devices, buffers and their layouts), for code drawing or reading a
+/// `Backend::Gpu` world's buffers directly ([`World::gpu_draw_buffers`]).
+#[cfg(feature = "gpu")]
+pub use tumble_gpu as gpu;
 pub use tumble_scenes as scenes;
 pub use tumble_solver as solver;
 pub use tumble_solver::{BodyKind, Effects, Locks, Material, SolveOrder, SolverConfig, SolverKind};

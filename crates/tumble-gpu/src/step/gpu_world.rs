@@ -28,7 +28,10 @@ use super::read_plan::{PendingRead, ReadSizes, decode};
 use super::snapshot::{ContactSnapshot, ReadRequest, Snapshot};
 use super::stats_ring::StatsRing;
 
+pub use draw::DrawBuffers;
+
 mod bodies;
+mod draw;
 mod host_contacts;
 mod reads;
 

@@ -11,6 +11,6 @@ pub mod snapshot;
 pub mod stats_ring;
 
 pub use config::{GpuWorldConfig, PathPolicy};
-pub use gpu_world::GpuWorld;
+pub use gpu_world::{DrawBuffers, GpuWorld};
 pub use hybrid::HybridCollision;
 pub use snapshot::{ContactSnapshot, ReadRequest, Snapshot};

@@ -298,4 +298,13 @@ impl StepBackend for GpuBackend {
     fn readback_bytes(&self) -> u64 {
         self.gpu.lock().map_or(0, |g| g.bytes_read())
     }
+
+    fn draw_buffers(&self) -> Option<(tumble_gpu::GpuContext, tumble_gpu::step::DrawBuffers)> {
+        let gpu = self.gpu.lock().ok()?;
+        Some((gpu.context().clone(), gpu.draw_buffers()?))
+    }
+
+    fn gpu_context(&self) -> Option<tumble_gpu::GpuContext> {
+        Some(self.gpu.lock().ok()?.context().clone())
+    }
 }

@@ -131,6 +131,19 @@ pub(crate) trait StepBackend: fmt::Debug + Send + Sync {
     fn readback_bytes(&self) -> u64 {
         0
     }
+
+    /// The device and buffers holding the bodies' state, when it lives on a GPU (see
+    /// [`crate::World::gpu_draw_buffers`]).
+    #[cfg(feature = "gpu")]
+    fn draw_buffers(&self) -> Option<(tumble_gpu::GpuContext, tumble_gpu::step::DrawBuffers)> {
+        None
+    }
+
+    /// The device holding the bodies' state, when it lives on a GPU.
+    #[cfg(feature = "gpu")]
+    fn gpu_context(&self) -> Option<tumble_gpu::GpuContext> {
+        None
+    }
 }
 
 /// The backend `config.backend` asks for. Errs when the GPU it needs is unavailable, or when

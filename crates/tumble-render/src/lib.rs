@@ -1,0 +1,132 @@
+//! Offscreen pictures of Tumble worlds with wgpu.
+//!
+//! [`Renderer::render`] draws every box of a [`tumble::World`] as one instance of a unit cube,
+//! reading its pose (position and quaternion) and half extents from storage buffers laid out
+//! as the GPU step's (`GpuPose`, `GpuShape`):
+//!
+//! - on `Backend::Gpu` those are the world's own buffers ([`World::gpu_draw_buffers`]), bound
+//!   as they are: nothing about the bodies is read back, and only each body's kind (4 bytes,
+//!   from the host, when the bodies change) is uploaded;
+//! - on the other backends the state lives on the host, and each frame uploads every pose
+//!   and shape once into the renderer's buffers, in the same layout.
+//!
+//! Lambert and ambient light from a fixed direction, a shadow map from that light, and dark
+//! edge lines make depth readable; fixed, dynamic, kinematic and sleeping bodies have the
+//! colours of [`Palette`]. The optional [`Overlay`] draws a dot at each contact point and a
+//! line along each manifold normal, from the manifold buffers on `Backend::Gpu` and from
+//! [`World::contacts`] elsewhere. The picture comes back as an [`Image`], written as PNG with
+//! [`Image::write_png`].
+//!
+//! [`World::gpu_draw_buffers`]: tumble::World::gpu_draw_buffers
+//! [`World::contacts`]: tumble::World::contacts
+#![warn(missing_docs)]
+
+mod bodies;
+pub mod camera;
+mod config;
+mod image;
+mod renderer;
+
+pub use camera::Camera;
+pub use image::Image;
+pub use renderer::{Overlay, RenderConfig, Renderer, Source};
+
+/// Colours of the picture, linear 0..1 values written to the 8-bit picture as they are.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Palette {
+    /// Where no box is.
+    pub background: [f32; 3],
+    /// Fixed bodies.
+    pub fixed: [f32; 3],
+    /// Dynamic bodies, awake.
+    pub dynamic: [f32; 3],
+    /// Kinematic bodies.
+    pub kinematic: [f32; 3],
+    /// Dynamic bodies asleep.
+    pub sleeping: [f32; 3],
+    /// Contact point dots (outlined in near black).
+    pub contact: [f32; 3],
+}
+
+impl Palette {
+    /// The default colours: fixed grey, dynamic orange, kinematic blue, sleeping a dimmed
+    /// brown, magenta contact dots, on a pale blue-grey background.
+    pub const DEFAULT: Palette = Palette {
+        background: [0.90, 0.92, 0.95],
+        fixed: [0.56, 0.57, 0.60],
+        dynamic: [0.96, 0.55, 0.16],
+        kinematic: [0.22, 0.50, 0.96],
+        sleeping: [0.62, 0.50, 0.40],
+        contact: [0.95, 0.05, 0.75],
+    };
+
+    /// `colour` as the 8-bit RGBA of the picture (opaque).
+    pub fn rgba8(colour: [f32; 3]) -> [u8; 4] {
+        let c = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+        [c(colour[0]), c(colour[1]), c(colour[2]), 255]
+    }
+
+    /// The shader's override constants for these colours.
+    pub(crate) fn constants(&self) -> Vec<(&'static str, f64)> {
+        const NAMES: [[&str; 3]; 5] = [
+            ["fixed_r", "fixed_g", "fixed_b"],
+            ["dynamic_r", "dynamic_g", "dynamic_b"],
+            ["kinematic_r", "kinematic_g", "kinematic_b"],
+            ["sleeping_r", "sleeping_g", "sleeping_b"],
+            ["dot_r", "dot_g", "dot_b"],
+        ];
+        let colours = [
+            self.fixed,
+            self.dynamic,
+            self.kinematic,
+            self.sleeping,
+            self.contact,
+        ];
+        NAMES
+            .iter()
+            .zip(colours)
+            .flat_map(|(names, c)| names.iter().copied().zip(c.map(f64::from)))
+            .collect()
+    }
+}
+
+impl Default for Palette {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// Why a picture could not be made.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum RenderError {
+    /// No device, or the device failed.
+    #[error("GPU: {0}")]
+    Gpu(String),
+    /// A setting out of range.
+    #[error("invalid render setting {field}: {value}")]
+    InvalidConfig {
+        /// The setting.
+        field: &'static str,
+        /// Its value and what it should be.
+        value: String,
+    },
+    /// Reading the world failed.
+    #[error("reading the world: {0}")]
+    World(String),
+    /// The PNG encoder failed.
+    #[error("encoding the picture: {0}")]
+    Encode(String),
+    /// A file could not be written.
+    #[error("{path}: {message}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The error.
+        message: String,
+    },
+}
+
+/// The README's example, compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -1,0 +1,206 @@
+//! tumble-render's pictures checked pixel by pixel: a floor and three boxes at known poses,
+//! drawn from the host (`Backend::Cpu`) and from the GPU world's own buffers
+//! (`Backend::Gpu`), checked where the host's projection of known points says they land.
+//!
+//! Needs a GPU (or lavapipe): without one the tests print "skipped: no GPU adapter" and pass,
+//! unless `TUMBLE_REQUIRE_GPU=1`. Each picture is 240 x 160: a few milliseconds on lavapipe.
+
+use tumble::gpu::GpuContext;
+use tumble::prelude::*;
+use tumble_render::{Camera, Image, Overlay, Palette, RenderConfig, Renderer, Source};
+
+const WIDTH: u32 = 240;
+const HEIGHT: u32 = 160;
+
+/// The world of every test: a fixed floor (top at y = 0), a dynamic cube resting on it at
+/// the origin, a dynamic box turned 30 degrees about y, and a kinematic cube, all at rest
+/// on the floor and without gravity, so a step leaves the poses where they are and finds
+/// the floor contacts.
+fn world(backend: Backend) -> (World, [BodyHandle; 4]) {
+    let mut world = World::new(WorldConfig {
+        gravity: Vec3::zeros(),
+        backend,
+        ..Default::default()
+    })
+    .expect("world");
+    let floor = BodyDesc::fixed()
+        .cuboid(Vec3::new(3.0, 0.5, 3.0))
+        .translation(0.0, -0.5, 0.0);
+    let cube = BodyDesc::dynamic()
+        .cuboid(Vec3::repeat(0.5))
+        .translation(0.0, 0.5, 0.0);
+    let mut turned = Pose::translation(-1.6, 0.4, 1.0);
+    turned.rotation = Rot::from_axis_angle(&Vec3::y_axis(), 30f32.to_radians());
+    let slab = BodyDesc::dynamic()
+        .cuboid(Vec3::new(0.6, 0.4, 0.3))
+        .pose(turned);
+    let kinematic = BodyDesc::kinematic()
+        .cuboid(Vec3::repeat(0.4))
+        .translation(1.6, 0.4, -1.4);
+    let handles = [floor, cube, slab, kinematic].map(|d| world.add_body(d).expect("body"));
+    world.step().expect("step");
+    (world, handles)
+}
+
+fn camera() -> Camera {
+    Camera::looking_at(Point3::new(4.0, 4.0, 6.0), Point3::new(0.0, 0.3, 0.0))
+}
+
+fn config() -> RenderConfig {
+    RenderConfig {
+        width: WIDTH,
+        height: HEIGHT,
+        shadow_map_size: 512,
+        ..Default::default()
+    }
+}
+
+/// The pixel `point` projects into.
+fn pixel_at(image: &Image, point: Point3) -> [u8; 4] {
+    let [x, y, _] = camera().project(point, WIDTH, HEIGHT).expect("in front");
+    assert!(
+        (0.0..WIDTH as f32).contains(&x) && (0.0..HEIGHT as f32).contains(&y),
+        "{point} projects outside the picture"
+    );
+    image.pixel(x as u32, y as u32)
+}
+
+/// Whether `px` is `base` lit or shaded: `base` times one factor within the light's range,
+/// channel by channel within 6 of 255. The factor runs from 0.46 (ambient, in shadow, on a
+/// face looking up) to 1.04 (full light); 0.2..1.1 leaves room for the edge lines' darkening
+/// and excludes the background, which is 1.6 times the fixed grey.
+fn tinted(px: [u8; 4], base: [f32; 3]) -> bool {
+    let p = [px[0], px[1], px[2]].map(|c| f32::from(c) / 255.0);
+    let k = (0..3).map(|i| p[i] * base[i]).sum::<f32>()
+        / (0..3).map(|i| base[i] * base[i]).sum::<f32>();
+    (0.2..1.1).contains(&k) && (0..3).all(|i| (p[i] - k * base[i]).abs() <= 6.0 / 255.0)
+}
+
+/// Within 3 of 255 per channel: a flat colour through 8-bit rounding.
+fn near(px: [u8; 4], colour: [f32; 3]) -> bool {
+    let want = Palette::rgba8(colour);
+    (0..3).all(|i| px[i].abs_diff(want[i]) <= 3)
+}
+
+fn top_centre(world: &World, h: BodyHandle) -> Point3 {
+    let pose = world.pose(h).unwrap();
+    let half = world.half_extents(h).unwrap();
+    Point3::from(pose.translation.vector + Vec3::new(0.0, half.y, 0.0))
+}
+
+/// The checks every picture of the world passes, whichever backend drew it.
+fn check_picture(image: &Image, world: &World, [floor, cube, slab, kinematic]: [BodyHandle; 4]) {
+    let palette = Palette::DEFAULT;
+    // The top left corner looks over the floor's far edge, at the sky.
+    assert_eq!(image.pixel(0, 0), Palette::rgba8(palette.background));
+    assert_eq!(
+        image.pixel(WIDTH - 1, 0),
+        Palette::rgba8(palette.background)
+    );
+    let cube_px = pixel_at(image, top_centre(world, cube));
+    assert!(tinted(cube_px, palette.dynamic), "cube top {cube_px:?}");
+    let slab_px = pixel_at(image, top_centre(world, slab));
+    assert!(tinted(slab_px, palette.dynamic), "slab top {slab_px:?}");
+    let kin_px = pixel_at(image, top_centre(world, kinematic));
+    assert!(
+        tinted(kin_px, palette.kinematic),
+        "kinematic top {kin_px:?}"
+    );
+    // Floor points away from the boxes, in light and in the cube's shadow alike.
+    let _ = floor;
+    for p in [
+        Point3::new(2.0, 0.0, 2.0),
+        Point3::new(-2.2, 0.0, -2.2),
+        Point3::new(0.9, 0.0, 1.5),
+    ] {
+        let px = pixel_at(image, p);
+        assert!(tinted(px, palette.fixed), "floor at {p}: {px:?}");
+    }
+}
+
+fn check_contact_dots(image: &Image, world: &World, cube: BodyHandle) {
+    let reports = world.contacts();
+    let points: Vec<Point3> = reports
+        .iter()
+        .filter(|r| r.body_a == cube || r.body_b == cube)
+        .flat_map(|r| r.points.iter().map(|p| p.position))
+        .collect();
+    assert!(
+        points.len() >= 4,
+        "the cube rests on the floor on 4 points: {points:?}"
+    );
+    for p in points {
+        let px = pixel_at(image, p);
+        assert!(
+            near(px, Palette::DEFAULT.contact),
+            "contact dot at {p}: {px:?}"
+        );
+    }
+}
+
+#[test]
+fn cpu_world_picture_shows_each_box_in_its_colour_and_the_contact_dots() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let (world, handles) = world(Backend::Cpu);
+    let mut renderer = Renderer::new(&ctx, config()).expect("renderer");
+    let image = renderer
+        .render(&world, &camera(), &Overlay::CONTACTS)
+        .expect("render");
+    assert_eq!(renderer.last_source(), Some(Source::Uploaded));
+    check_picture(&image, &world, handles);
+    check_contact_dots(&image, &world, handles[1]);
+    // Without the overlay the dots' pixels show the boxes and floor again.
+    let plain = renderer
+        .render(&world, &camera(), &Overlay::NONE)
+        .expect("render");
+    check_picture(&plain, &world, handles);
+    assert!(plain.count_different(&image, 24) > 0);
+}
+
+/// The GPU world is drawn from its own buffers with no byte read back, and its picture is
+/// the CPU world's within a few pixels.
+///
+/// Threshold: at most 0.5% of the pixels (192 of 38,400) differ by more than 24 of 255 in a
+/// channel. The two worlds hold the same poses up to the GPU step's round-off (no gravity,
+/// resting contacts), so only antialiased edge pixels may change; a box drawn with a wrong
+/// pose, half extent or colour changes hundreds of pixels, a missing box thousands.
+#[test]
+fn gpu_world_is_drawn_from_its_buffers_like_the_cpu_world() {
+    if GpuContext::for_tests().is_none() {
+        return;
+    }
+    let (gpu_world, _) = world(Backend::Gpu);
+    let ctx = gpu_world.gpu_context().expect("a GPU world has a device");
+    let mut renderer = Renderer::new(&ctx, config()).expect("renderer");
+    let read_before = gpu_world.readback_bytes();
+    let gpu_image = renderer
+        .render(&gpu_world, &camera(), &Overlay::NONE)
+        .expect("render");
+    let gpu_dots = renderer
+        .render(&gpu_world, &camera(), &Overlay::CONTACTS)
+        .expect("render");
+    assert_eq!(renderer.last_source(), Some(Source::WorldBuffers));
+    assert_eq!(
+        gpu_world.readback_bytes(),
+        read_before,
+        "rendering read nothing back"
+    );
+
+    let (cpu_world, cpu_handles) = world(Backend::Cpu);
+    let cpu_image = renderer
+        .render(&cpu_world, &camera(), &Overlay::NONE)
+        .expect("render");
+    assert_eq!(renderer.last_source(), Some(Source::Uploaded));
+    let differing = gpu_image.count_different(&cpu_image, 24);
+    let allowed = (WIDTH * HEIGHT / 200) as usize;
+    assert!(
+        differing <= allowed,
+        "{differing} pixels differ (at most {allowed})"
+    );
+
+    check_picture(&gpu_image, &cpu_world, cpu_handles);
+    // The GPU's manifolds, drawn from its buffers, have dots where the CPU's points are.
+    check_contact_dots(&gpu_dots, &cpu_world, cpu_handles[1]);
+}

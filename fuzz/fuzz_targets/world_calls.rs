@@ -73,37 +73,35 @@ enum Call {
 /// Everything a call may change, as bits (so that NaN compares equal to itself and -0 differs
 /// from 0).
 fn snapshot(world: &World) -> (usize, Vec<BodyHandle>, Vec<u32>) {
-    let mut bits = Vec::new();
-    for &h in world.handles() {
-        let pose = world.pose(h).expect("a listed handle is live");
-        let v = world.linear_velocity(h).expect("a listed handle is live");
-        let w = world.angular_velocity(h).expect("a listed handle is live");
-        bits.extend(
-            pose.translation
-                .vector
-                .iter()
-                .chain(pose.rotation.coords.iter())
-                .chain(v.iter())
-                .chain(w.iter())
-                .map(|c| c.to_bits()),
-        );
-    }
+    let bits = world
+        .handles()
+        .iter()
+        .flat_map(|&h| state(world, h))
+        .map(f32::to_bits)
+        .collect();
     (world.body_count(), world.handles().to_vec(), bits)
 }
 
+/// Body `h`'s 13 state numbers: position, rotation quaternion, linear and angular velocity.
+fn state(world: &World, h: BodyHandle) -> Vec<f32> {
+    let pose = world.pose(h).expect("a listed handle is live");
+    let v = world.linear_velocity(h).expect("a listed handle is live");
+    let w = world.angular_velocity(h).expect("a listed handle is live");
+    pose.translation
+        .vector
+        .iter()
+        .chain(pose.rotation.coords.iter())
+        .chain(v.iter())
+        .chain(w.iter())
+        .copied()
+        .collect()
+}
+
 fn all_finite(world: &World) -> bool {
-    world.handles().iter().all(|&h| {
-        let pose = world.pose(h).expect("a listed handle is live");
-        let v = world.linear_velocity(h).expect("a listed handle is live");
-        let w = world.angular_velocity(h).expect("a listed handle is live");
-        pose.translation
-            .vector
-            .iter()
-            .chain(pose.rotation.coords.iter())
-            .chain(v.iter())
-            .chain(w.iter())
-            .all(|c| c.is_finite())
-    })
+    world
+        .handles()
+        .iter()
+        .all(|&h| state(world, h).iter().all(|c| c.is_finite()))
 }
 
 fn desc(call: &Call) -> Option<BodyDesc> {

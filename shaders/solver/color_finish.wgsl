@@ -4,9 +4,7 @@
 // what is left after the last round to the overflow set. Everything over all constraints
 // runs wide, before (color_propose, color_resolve, color_withdraw) and after (color_count).
 
-// Bindings 0 to 6 are color_bindings.wgsl's.
-@group(0) @binding(7) var<storage, read_write> color_scratch: array<u32>;
-@group(0) @binding(8) var<storage, read_write> color_tally: array<atomic<u32>>;
+// The bindings are color_bindings.wgsl's.
 
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn main(@builtin(local_invocation_index) local: u32) {

@@ -4,9 +4,7 @@
 // color_finish continues from. The list's order depends on thread timing; what color_finish
 // computes from it does not (coloring.wgsl).
 
-// Bindings 0 to 6 are color_bindings.wgsl's.
-@group(0) @binding(7) var<storage, read_write> color_scratch: array<u32>;
-@group(0) @binding(8) var<storage, read_write> color_tally: array<atomic<u32>>;
+// The bindings are color_bindings.wgsl's.
 
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn main(thread: Thread) {

@@ -1,5 +1,6 @@
 // requires: common/indexing.wgsl solver/common/constraint_access.wgsl
 // requires: solver/common/color_workgroup.wgsl solver/common/prepare_constraint.wgsl
+// requires: solver/common/store_slot.wgsl
 // solve_fused: the whole color-and-solve stage in ONE workgroup and one dispatch, for small
 // scenes. Per-dispatch overhead, not arithmetic, made the thesis's GPU solver slow: a step of
 // the wide path issues about 80 dispatches per substep (one per color and pass), while here
@@ -150,13 +151,7 @@ fn main(@builtin(local_invocation_index) local: u32) {
 
     // finish
     for (var s = local; s < n; s += WORKGROUP_SIZE) {
-        let i = color_order[s];
-        let c = load_constraint(s);
-        for (var p = 0u; p < c.point_count; p++) {
-            let slot = i * MAX_MANIFOLD_POINTS + p;
-            contacts[slot] = stored_point(c, p, contacts[slot]);
-        }
-        tilts[i] = stored_tilt(c, poses[c.body_a].rotation);
+        store_slot(s);
     }
     // The tilts read the poses the manifolds were made from: finalize only after them.
     sync_workgroup();

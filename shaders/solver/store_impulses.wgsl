@@ -1,10 +1,7 @@
-// requires: common/indexing.wgsl solver/common/contact_math.wgsl solver/common/constraint_store.wgsl
+// requires: common/indexing.wgsl solver/common/store_slot.wgsl
 // store_impulses: one thread per constraint slot writes the final impulses of the manifold
-// there (color_order[slot]) into its
-// contact points, where the next step's carry_impulses finds them for warm starting, and its
-// tilt impulse (with the normal in body A's frame) where the next step's prepare_contacts
-// finds it through the manifold's `previous` index. Runs before finalize_bodies: the poses
-// are still those the manifolds were made from.
+// there (store_slot.wgsl). Runs before finalize_bodies: the poses are still those the
+// manifolds were made from.
 
 @group(0) @binding(0) var<storage, read> contact_work: WorkList;
 @group(0) @binding(1) var<storage, read> color_order: array<u32>;
@@ -19,11 +16,5 @@ fn main(thread: Thread) {
     if s >= contact_work.count {
         return;
     }
-    let i = color_order[s];
-    let c = load_constraint(s);
-    for (var p = 0u; p < c.point_count; p++) {
-        let slot = i * MAX_MANIFOLD_POINTS + p;
-        contacts[slot] = stored_point(c, p, contacts[slot]);
-    }
-    tilts[i] = stored_tilt(c, poses[c.body_a].rotation);
+    store_slot(s);
 }

@@ -1,6 +1,7 @@
 // tumble-render: boxes instanced from the body buffers, a shadow map, contact dots and
-// normals. The storage structs are those of shaders/common/layout.wgsl (GpuPose, GpuShape,
-// GpuManifold, GpuContact), read as the physics step left them.
+// normals. The renderer composes this file after shaders/common/layout.wgsl (and what it
+// requires), so the storage structs (GpuPose, GpuShape, GpuManifold, GpuContact) and
+// BODY_STATIC and MAX_MANIFOLD_POINTS are the physics step's own, read as the step left them.
 
 struct Frame {
     // World to clip space of the camera (depth 0..1).
@@ -13,44 +14,9 @@ struct Frame {
     viewport: vec4<f32>,
 }
 
-struct Pose {
-    position: vec4<f32>,
-    rotation: vec4<f32>,
-}
-
-struct Shape {
-    hx: f32,
-    hy: f32,
-    hz: f32,
-    flags: u32,
-}
-
-struct Manifold {
-    normal: vec4<f32>,
-    body_a: u32,
-    body_b: u32,
-    kind: u32,
-    feature: u32,
-    len: u32,
-    previous: u32,
-    _pad0: u32,
-    _pad1: u32,
-}
-
-struct Contact {
-    position: vec4<f32>,
-    friction_impulse: vec4<f32>,
-    depth: f32,
-    id: u32,
-    normal_impulse: f32,
-    _pad: u32,
-}
-
-const BODY_STATIC: u32 = 1u;
 const KIND_FIXED: u32 = 0u;
 const KIND_DYNAMIC: u32 = 1u;
 const KIND_KINEMATIC: u32 = 2u;
-const MAX_POINTS: u32 = 4u;
 
 // Overridden by the renderer with its palette (linear 0..1 values written as they are).
 override fixed_r: f32 = 0.56;
@@ -70,12 +36,12 @@ override dot_g: f32 = 0.05;
 override dot_b: f32 = 0.75;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
-@group(0) @binding(1) var<storage, read> poses: array<Pose>;
-@group(0) @binding(2) var<storage, read> shapes: array<Shape>;
+@group(0) @binding(1) var<storage, read> poses: array<GpuPose>;
+@group(0) @binding(2) var<storage, read> shapes: array<GpuShape>;
 @group(0) @binding(3) var<storage, read> kinds: array<u32>;
 @group(0) @binding(4) var<storage, read> work: array<u32>;
-@group(0) @binding(5) var<storage, read> manifolds: array<Manifold>;
-@group(0) @binding(6) var<storage, read> contacts: array<Contact>;
+@group(0) @binding(5) var<storage, read> manifolds: array<GpuManifold>;
+@group(0) @binding(6) var<storage, read> contacts: array<GpuContact>;
 
 @group(1) @binding(0) var shadow_map: texture_depth_2d;
 @group(1) @binding(1) var shadow_sampler: sampler_comparison;
@@ -208,11 +174,11 @@ struct DotOut {
     @location(0) offset: vec2<f32>,
 }
 
-// Contact point `p` of manifold slot `k`, instance `k * MAX_POINTS + p`; false past the
+// Contact point `p` of manifold slot `k`, instance `k * MAX_MANIFOLD_POINTS + p`; false past the
 // manifolds in use or past the manifold's points.
 fn contact_point(instance: u32, point: ptr<function, vec3<f32>>, normal: ptr<function, vec3<f32>>) -> bool {
-    let k = instance / MAX_POINTS;
-    let p = instance % MAX_POINTS;
+    let k = instance / MAX_MANIFOLD_POINTS;
+    let p = instance % MAX_MANIFOLD_POINTS;
     if k >= work[0] || p >= manifolds[k].len {
         return false;
     }

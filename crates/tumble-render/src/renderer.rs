@@ -170,9 +170,10 @@ impl Renderer {
     pub fn new(ctx: &GpuContext, config: RenderConfig) -> Result<Self, RenderError> {
         config.validate(ctx)?;
         let device = &ctx.device;
+        let (source, shared) = render_source()?;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("tumble-render"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("render.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
         });
         let mut entries = vec![wgpu::BindGroupLayoutEntry {
             binding: 0,
@@ -217,7 +218,8 @@ impl Renderer {
                 immediate_size: 0,
             })
         };
-        let constants = config.palette.constants();
+        let mut constants = config.palette.constants();
+        constants.extend(shared);
         let main = PipelineMaker {
             ctx,
             module: module.clone(),
@@ -555,4 +557,20 @@ impl Renderer {
             pixels,
         })
     }
+}
+
+/// Pipeline `override` values by name.
+type Overrides = Vec<(&'static str, f64)>;
+
+/// render.wgsl after shaders/common/layout.wgsl and what it requires, and the values of the
+/// shared `override` constants that composition declares (tumble-gpu's, as every kernel gets).
+fn render_source() -> Result<(String, Overrides), RenderError> {
+    let layout = tumble::gpu::shader::ShaderSource::of_path("common/layout.wgsl")
+        .map_err(|e| RenderError::Gpu(e.to_string()))?
+        .compose();
+    let shared = tumble::gpu::constants::shader_constants()
+        .into_iter()
+        .filter(|(name, _)| layout.contains(&format!("override {name}:")))
+        .collect();
+    Ok((format!("{layout}\n{}", include_str!("render.wgsl")), shared))
 }

@@ -1,7 +1,8 @@
 // requires: solver/common/coloring.wgsl
 // The bindings of the coloring kernels that run rounds (color_propose, color_resolve,
-// color_withdraw, color_finish): what coloring.wgsl expects, and the pair work list.
-// color_withdraw and color_finish bind more after these.
+// color_withdraw, color_finish): what coloring.wgsl expects, the pair work list, and the
+// undecided list and tally that color_withdraw writes and color_finish reads (the first
+// round's two kernels bind them too, unused, so that all four take one argument struct).
 
 @group(0) @binding(0) var<uniform> params: SolverParams;
 @group(0) @binding(1) var<storage, read> contact_work: WorkList;
@@ -10,3 +11,7 @@
 @group(0) @binding(4) var<storage, read> previous_colors: array<ColorSlot>;
 @group(0) @binding(5) var<storage, read_write> color_state: array<ColorSlot>;
 @group(0) @binding(6) var<storage, read_write> color_marks: array<atomic<u32>>;
+// Two lists of undecided constraints (2 x capacity).
+@group(0) @binding(7) var<storage, read_write> color_scratch: array<u32>;
+// The coloring tally (TALLY_UNDECIDED, then TALLY_COUNTS + color).
+@group(0) @binding(8) var<storage, read_write> color_tally: array<atomic<u32>>;

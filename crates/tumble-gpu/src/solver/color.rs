@@ -13,33 +13,9 @@ use crate::kernel::kernel;
 use super::pipelines::SolverPipelines;
 
 kernel! {
-    /// Buffers of [`COLOR_PROPOSE`] and [`COLOR_RESOLVE`].
+    /// Buffers of the kernels that run coloring rounds: [`COLOR_PROPOSE`], [`COLOR_RESOLVE`],
+    /// [`COLOR_WITHDRAW`] and [`COLOR_FINISH`] (the first two leave the list and tally alone).
     pub struct ColorRoundArgs {
-        /// `SolverParams` (for the body count).
-        params,
-        /// The contacts' `WorkList`.
-        contact_work,
-        /// `array<GpuManifold>`.
-        manifolds,
-        /// `array<GpuBody>`.
-        bodies,
-        /// Last step's `array<ColorSlot>`.
-        previous_colors,
-        /// This step's `array<ColorSlot>`.
-        color_state,
-        /// Used-color masks then claims, `u32`.
-        color_marks,
-    }
-    /// Kernel: round 0 proposals, one thread per constraint.
-    pub static COLOR_PROPOSE = "solver/color_propose.wgsl";
-    /// Kernel: round 0 decisions, one thread per constraint.
-    pub static COLOR_RESOLVE = "solver/color_resolve.wgsl";
-}
-
-kernel! {
-    /// Buffers of [`COLOR_WITHDRAW`] and [`COLOR_FINISH`]: those of [`ColorRoundArgs`], then
-    /// the undecided list and the tally.
-    pub struct ColorFinishArgs {
         /// `SolverParams` (for the body count).
         params,
         /// The contacts' `WorkList`.
@@ -59,6 +35,10 @@ kernel! {
         /// The tally, `COLOR_TALLY_LEN` `u32` (zeroed before the stage).
         color_tally,
     }
+    /// Kernel: round 0 proposals, one thread per constraint.
+    pub static COLOR_PROPOSE = "solver/color_propose.wgsl";
+    /// Kernel: round 0 decisions, one thread per constraint.
+    pub static COLOR_RESOLVE = "solver/color_resolve.wgsl";
     /// Kernel: withdraws round 0's claims and lists the undecided constraints, one thread per
     /// constraint.
     pub static COLOR_WITHDRAW = "solver/color_withdraw.wgsl";
@@ -101,8 +81,6 @@ kernel! {
 /// The color stage's buffers for one parity (which copy of the color state is this step's).
 pub(super) struct ColorBuffers<'a> {
     pub rounds: ColorRoundArgs<'a>,
-    pub color_scratch: &'a wgpu::Buffer,
-    pub color_tally: &'a wgpu::Buffer,
     pub color_offsets: &'a wgpu::Buffer,
     pub color_args: &'a wgpu::Buffer,
     pub sort_keys: &'a wgpu::Buffer,
@@ -123,28 +101,17 @@ pub(super) struct ColorGroups {
 impl ColorGroups {
     pub(super) fn new(ctx: &crate::GpuContext, k: &SolverPipelines, b: &ColorBuffers<'_>) -> Self {
         let r = &b.rounds;
-        let finish = ColorFinishArgs {
-            params: r.params,
-            contact_work: r.contact_work,
-            manifolds: r.manifolds,
-            bodies: r.bodies,
-            previous_colors: r.previous_colors,
-            color_state: r.color_state,
-            color_marks: r.color_marks,
-            color_scratch: b.color_scratch,
-            color_tally: b.color_tally,
-        };
         Self {
             propose: k.color_propose.bind(ctx, r),
             resolve: k.color_resolve.bind(ctx, r),
-            withdraw: k.color_withdraw.bind(ctx, &finish),
-            finish: k.color_finish.bind(ctx, &finish),
+            withdraw: k.color_withdraw.bind(ctx, r),
+            finish: k.color_finish.bind(ctx, r),
             count: k.color_count.bind(
                 ctx,
                 &ColorCountArgs {
                     contact_work: r.contact_work,
                     color_state: r.color_state,
-                    color_tally: b.color_tally,
+                    color_tally: r.color_tally,
                     sort_keys: b.sort_keys,
                     sort_values: b.sort_values,
                 },
@@ -152,7 +119,7 @@ impl ColorGroups {
             plan: k.color_plan.bind(
                 ctx,
                 &ColorPlanArgs {
-                    color_tally: b.color_tally,
+                    color_tally: r.color_tally,
                     color_offsets: b.color_offsets,
                     color_args: b.color_args,
                 },

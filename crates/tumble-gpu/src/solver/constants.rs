@@ -41,8 +41,8 @@ pub const CONSTRAINT_POINT_ROWS: u32 =
 /// Rows before the first point.
 pub const CONSTRAINT_HEADER_ROWS: u32 =
     CONSTRAINT_ROWS - CONSTRAINT_POINT_ROWS * tumble_geometry::MAX_MANIFOLD_POINTS as u32;
-const _: () = assert!(size_of::<GpuConstraint>() % CONSTRAINT_ROW_BYTES == 0);
-const _: () = assert!(size_of::<GpuConstraintPoint>() % CONSTRAINT_ROW_BYTES == 0);
+const _: () = assert!(size_of::<GpuConstraint>().is_multiple_of(CONSTRAINT_ROW_BYTES));
+const _: () = assert!(size_of::<GpuConstraintPoint>().is_multiple_of(CONSTRAINT_ROW_BYTES));
 /// Entries of the color offsets buffer: `offsets[c]..offsets[c + 1]` for every slot.
 pub const COLOR_OFFSETS_LEN: u32 = COLOR_SLOTS + 1;
 

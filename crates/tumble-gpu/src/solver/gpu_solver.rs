@@ -416,6 +416,8 @@ impl GpuSolver {
             previous_colors: get(COLOR_STATE[1 - p]),
             color_state: get(COLOR_STATE[p]),
             color_marks: get(COLOR_MARKS),
+            color_scratch: get(COLOR_SCRATCH),
+            color_tally: get(COLOR_TALLY),
         };
         let both = |f: &dyn Fn(usize) -> wgpu::BindGroup| [f(0), f(1)];
         let radix = self.radix.bind(
@@ -456,8 +458,6 @@ impl GpuSolver {
                     k,
                     &ColorBuffers {
                         rounds: round(p),
-                        color_scratch: get(COLOR_SCRATCH),
-                        color_tally: get(COLOR_TALLY),
                         color_offsets: get(COLOR_OFFSETS),
                         color_args: get(COLOR_ARGS),
                         sort_keys: get(SORT_KEYS[0]),

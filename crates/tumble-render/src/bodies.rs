@@ -8,16 +8,18 @@ use tumble::{BodyKind, World};
 
 use crate::RenderError;
 
-/// Kind codes of the shader (`KIND_*` in render.wgsl).
+/// Kind codes of the shader: the GPU step's own `GpuBody::kind` values (`BODY_*` overrides
+/// in render.wgsl).
 fn kind_code(kind: BodyKind) -> u32 {
+    use tumble::gpu::solver::constants::{BODY_DYNAMIC, BODY_FIXED, BODY_KINEMATIC};
     match kind {
-        BodyKind::Fixed => 0,
-        BodyKind::Dynamic => 1,
-        BodyKind::Kinematic => 2,
+        BodyKind::Fixed => BODY_FIXED,
+        BodyKind::Dynamic => BODY_DYNAMIC,
+        BodyKind::Kinematic => BODY_KINEMATIC,
     }
 }
 
-/// Points per manifold slot in the contact arrays (`MAX_POINTS` in render.wgsl).
+/// Points per manifold slot in the contact arrays (`MAX_MANIFOLD_POINTS` in render.wgsl).
 pub(crate) const MAX_POINTS: usize = tumble::gpu::MAX_MANIFOLD_POINTS as usize;
 
 const USAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE.union(wgpu::BufferUsages::COPY_DST);

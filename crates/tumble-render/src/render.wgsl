@@ -14,9 +14,11 @@ struct Frame {
     viewport: vec4<f32>,
 }
 
-const KIND_FIXED: u32 = 0u;
-const KIND_DYNAMIC: u32 = 1u;
-const KIND_KINEMATIC: u32 = 2u;
+// Body kind codes: tumble-gpu's GpuBody.kind values (solver/constants.rs), supplied at
+// pipeline creation as every solver kernel gets them.
+override BODY_FIXED: u32;
+override BODY_DYNAMIC: u32;
+override BODY_KINEMATIC: u32;
 
 // Overridden by the renderer with its palette (linear 0..1 values written as they are).
 override fixed_r: f32 = 0.56;
@@ -90,10 +92,10 @@ fn box_vertex(i: u32, v: u32) -> BoxVertex {
 
 fn body_colour(i: u32) -> vec3<f32> {
     let kind = kinds[i];
-    if kind == KIND_FIXED {
+    if kind == BODY_FIXED {
         return vec3(fixed_r, fixed_g, fixed_b);
     }
-    if kind == KIND_KINEMATIC {
+    if kind == BODY_KINEMATIC {
         return vec3(kinematic_r, kinematic_g, kinematic_b);
     }
     // A dynamic body flagged static is out of the step: asleep.

@@ -563,14 +563,17 @@ impl Renderer {
 type Overrides = Vec<(&'static str, f64)>;
 
 /// render.wgsl after shaders/common/layout.wgsl and what it requires, and the values of the
-/// shared `override` constants that composition declares (tumble-gpu's, as every kernel gets).
+/// tumble-gpu `override` constants the whole declares (the shared ones and the body kinds),
+/// defined once in tumble-gpu as for every kernel.
 fn render_source() -> Result<(String, Overrides), RenderError> {
     let layout = tumble::gpu::shader::ShaderSource::of_path("common/layout.wgsl")
         .map_err(|e| RenderError::Gpu(e.to_string()))?
         .compose();
+    let source = format!("{layout}\n{}", include_str!("render.wgsl"));
     let shared = tumble::gpu::constants::shader_constants()
         .into_iter()
-        .filter(|(name, _)| layout.contains(&format!("override {name}:")))
+        .chain(tumble::gpu::solver::constants::solver_constants())
+        .filter(|(name, _)| source.contains(&format!("override {name}:")))
         .collect();
-    Ok((format!("{layout}\n{}", include_str!("render.wgsl")), shared))
+    Ok((source, shared))
 }

@@ -19,6 +19,7 @@ use tumble_gpu::kernels::{
     gather_sweep_boxes::gather_sweep_boxes_cpu,
     plan_dispatch::plan_dispatch_cpu,
     radix_sort::{RadixBuffers, RadixSort, radix_sort_cpu, result_copy},
+    rank_sort::{RANK_SORT, RANK_SORT_CAPACITY, RankSortArgs},
     update_aabbs::pose_from_gpu,
     velocity_from_gpu,
     write_sort_keys::write_sort_keys_cpu,
@@ -80,12 +81,20 @@ fn sweep_axis_and_body_order_match_the_cpu() {
     let Some(ctx) = GpuContext::for_tests() else {
         return;
     };
-    // A slab: wide along z, so the axis is not a coin toss.
-    let mut scene = random_scene(3000, 2);
+    // A slab: wide along z, so the axis is not a coin toss. 3000 bodies take the radix sort,
+    // 700 the one-workgroup rank sort (at most RANK_SORT_CAPACITY): both must give the CPU's
+    // stable order.
+    for n in [3000, 700] {
+        check_axis_and_order(&ctx, n);
+    }
+}
+
+fn check_axis_and_order(ctx: &GpuContext, n: usize) {
+    let mut scene = random_scene(n, 2);
     for p in &mut scene.poses {
         p.position[2] *= 4.0;
     }
-    let mut gpu = collision(&ctx, &scene, CollisionConfig::default());
+    let mut gpu = collision(ctx, &scene, CollisionConfig::default());
     gpu.step().unwrap();
     let aabbs = gpu.read_aabbs().unwrap();
     let axis = gpu.read_sweep_axis().unwrap();
@@ -94,7 +103,7 @@ fn sweep_axis_and_body_order_match_the_cpu() {
     assert_eq!(axis.axis, 2, "the slab is widest along z");
     for k in 0..3 {
         // Same summation order on both sides; fused multiply-adds on the GPU change the last
-        // bits of each of the 3000 squares: 1e-4 relative.
+        // bits of each of the n squares: 1e-4 relative.
         let rel = (axis.variance[k] - want.variance[k]).abs() / want.variance[k];
         assert!(
             rel < 1e-4,
@@ -189,6 +198,68 @@ fn radix_sort_is_a_stable_sort_equal_to_the_cpu() {
     let mut want: Vec<(u32, u32)> = a.iter().copied().zip(b.iter().copied()).collect();
     want.sort();
     assert_eq!(sa.into_iter().zip(sb).collect::<Vec<_>>(), want);
+}
+
+/// Runs the one-workgroup rank sort alone on `keys`/`values` (sorted in place).
+fn gpu_rank_sort(ctx: &GpuContext, keys: &[u32], values: &[u32]) -> (Vec<u32>, Vec<u32>) {
+    let n = keys.len() as u32;
+    let work = ctx.storage_buffer("work", &[WorkList::for_count(n)]);
+    let k = ctx.storage_buffer("keys", keys);
+    let v = ctx.storage_buffer("values", values);
+    let kernel = tumble_gpu::kernel::Kernel::new(ctx, &RANK_SORT).unwrap();
+    let group = kernel.bind(
+        ctx,
+        &RankSortArgs {
+            work: &work,
+            keys: &k,
+            values: &v,
+        },
+    );
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    {
+        let mut timer = StageTimer::disabled(ctx);
+        let mut pass = timer.begin_pass(&mut encoder, "rank sort");
+        kernel.dispatch_workgroups(&mut pass, &group, 1, 1);
+    }
+    ctx.queue.submit([encoder.finish()]);
+    (
+        ctx.read_buffer(&k, 0, u64::from(n)).unwrap(),
+        ctx.read_buffer(&v, 0, u64::from(n)).unwrap(),
+    )
+}
+
+#[test]
+fn rank_sort_is_the_radix_sorts_stable_order() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    // The collision stage sorts up to RANK_SORT_CAPACITY bodies with it, and the order decides
+    // the sweep's pair order, so it must be exactly the radix sort's: lengths from one item to
+    // the capacity, keys from a range of 7 (ties everywhere: a slot error shows as values out
+    // of input order), of 2^32 (all distinct, extremes included) and a constant key.
+    for (n, range) in [
+        (1usize, 7u64),
+        (2, 7),
+        (255, 7),
+        (257, 1 << 32),
+        (777, 7),
+        (RANK_SORT_CAPACITY as usize, 1 << 32),
+        (RANK_SORT_CAPACITY as usize, 1),
+    ] {
+        let mut keys: Vec<u32> = (0..n).map(|_| rng.random_range(0..range) as u32).collect();
+        if n > 2 && range > 7 {
+            keys[0] = u32::MAX;
+            keys[1] = 0;
+        }
+        let values: Vec<u32> = (0..n as u32).collect();
+        let got = gpu_rank_sort(&ctx, &keys, &values);
+        assert_eq!(
+            got,
+            radix_sort_cpu(&keys, &values, 32),
+            "n = {n}, range {range}"
+        );
+    }
 }
 
 #[test]

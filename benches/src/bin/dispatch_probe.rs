@@ -11,7 +11,8 @@
 //! The solve pass records `4 * (2 + COLOR_SLOTS * (2 + iterations))` dispatches whatever the
 //! scene, so a solve time that hardly grows from the smallest pyramid to the largest is the
 //! cost of the dispatches and their barriers, and the growth with the height is the cost of
-//! the constraints.
+//! the constraints. The last column hashes every pose and velocity after the profiled steps,
+//! so two builds meant to compute the same result can be compared bit for bit.
 
 use std::collections::BTreeMap;
 
@@ -56,9 +57,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let ctx = GpuContext::new()?;
     println!("device: {} ({:?})", ctx.info.name, ctx.info.backend);
     println!(
-        "| height | bodies | manifolds | iterations | path | solve dispatches | solve ms | per dispatch us | prepare ms | color ms | solver stages ms | collision ms | GPU total ms |"
+        "| height | bodies | manifolds | iterations | path | solve dispatches | solve ms | per dispatch us | prepare ms | color ms | solver stages ms | collision ms | GPU total ms | pose bits |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for &h in &heights {
         let scene = tumble_scenes::pyramid(h as usize);
         let bodies = scene.bodies.len();
@@ -93,6 +94,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 }
             }
             let (manifolds, _) = contact_counts(&mut world)?;
+            let bits = pose_bits(&mut world)?;
             let ms = |name: &str| sums.get(name).copied().unwrap_or(0.0) * 1e3;
             let total: f64 = sums.values().sum::<f64>() * 1e3;
             let solver: f64 = ["color", "prepare", "solve", "finish"]
@@ -104,7 +106,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 SolvePath::Fused => 1,
             };
             println!(
-                "| {h} | {} | {manifolds} | {iters} | {path:?} | {dispatches} | {:.3} | {:.1} | {:.3} | {:.3} | {solver:.3} | {:.3} | {total:.3} |",
+                "| {h} | {} | {manifolds} | {iters} | {path:?} | {dispatches} | {:.3} | {:.1} | {:.3} | {:.3} | {solver:.3} | {:.3} | {total:.3} | {bits:016x} |",
                 bodies,
                 ms("solve") + ms("solve_fused"),
                 (ms("solve") + ms("solve_fused")) * 1e3 / f64::from(dispatches),
@@ -116,6 +118,31 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     host_times(&ctx, &heights)?;
     Ok(())
+}
+
+/// A hash of the bits of every pose and velocity after the profiled steps: builds that should
+/// compute the same result (a faster kernel) must print the same value.
+fn pose_bits(world: &mut tumble_gpu::step::GpuWorld) -> Result<u64, Box<dyn std::error::Error>> {
+    let snapshot = world.read_now(ReadRequest {
+        poses: true,
+        velocities: true,
+        ..Default::default()
+    })?;
+    let mut hash = 0xcbf2_9ce4_8422_2325_u64;
+    let words = snapshot
+        .poses
+        .iter()
+        .flat_map(|p| p.position.into_iter().chain(p.rotation))
+        .chain(
+            snapshot
+                .velocities
+                .iter()
+                .flat_map(|v| v.linear.into_iter().chain(v.angular)),
+        );
+    for word in words {
+        hash = (hash ^ u64::from(word.to_bits())).wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    Ok(hash)
 }
 
 /// Where a step's wall time goes on the host, timestamps off, default path choice: recording

@@ -76,6 +76,10 @@ pub fn shader_constants() -> Vec<(&'static str, f64)> {
         ("RADIX_BITS", f64::from(RADIX_BITS)),
         ("RADIX", f64::from(RADIX)),
         (
+            "RANK_SORT_ITEMS",
+            f64::from(crate::kernels::rank_sort::RANK_SORT_ITEMS),
+        ),
+        (
             "MAX_WORKGROUPS_PER_DIMENSION",
             f64::from(MAX_WORKGROUPS_PER_DIMENSION),
         ),

@@ -17,6 +17,7 @@ pub static KERNELS: &[&KernelSpec] = &[
     &kernels::radix_sort::RADIX_HISTOGRAM,
     &kernels::radix_sort::RADIX_SCAN,
     &kernels::radix_sort::RADIX_SCATTER,
+    &kernels::rank_sort::RANK_SORT,
     &kernels::gather_sweep_boxes::GATHER_SWEEP_BOXES,
     &kernels::sweep_pairs::SWEEP_PAIRS,
     &kernels::sweep_pairs::LONG_PAIRS,

@@ -17,6 +17,7 @@ use crate::kernels::plan_dispatch::{PLAN_DISPATCH, PlanDispatchArgs};
 use crate::kernels::radix_sort::{
     RadixBindGroups, RadixBuffers, RadixSort, index_bits, plan_passes, result_copy,
 };
+use crate::kernels::rank_sort::{RANK_SORT, RankSortArgs};
 use crate::kernels::sweep_pairs::{LONG_PAIRS, SWEEP_PAIRS, SweepPairsArgs};
 use crate::kernels::update_aabbs::{UPDATE_AABBS, UpdateAabbsArgs};
 use crate::kernels::write_sort_keys::{WRITE_SORT_KEYS, WriteSortKeysArgs};
@@ -30,6 +31,8 @@ pipelines! {
         choose_axis: CHOOSE_AXIS,
         /// `write_sort_keys`.
         write_sort_keys: WRITE_SORT_KEYS,
+        /// `rank_sort` (the body sort of short lists).
+        rank_sort: RANK_SORT,
         /// `gather_sweep_boxes`.
         gather_sweep_boxes: GATHER_SWEEP_BOXES,
         /// `sweep_pairs`.
@@ -95,6 +98,9 @@ pub struct CollisionGroups {
     pub write_sort_keys: wgpu::BindGroup,
     /// The body sort.
     pub body_sort: RadixBindGroups,
+    /// The body sort of at most `RANK_SORT_CAPACITY` bodies (in place, in the radix sort's
+    /// result copy).
+    pub small_body_sort: wgpu::BindGroup,
     /// `gather_sweep_boxes`.
     pub gather_sweep_boxes: wgpu::BindGroup,
     /// Per parity.
@@ -149,6 +155,16 @@ pub fn build_groups(
             tile_counts: b(BODY_TILES),
         },
         &body_passes,
+    );
+    // The rank sort sorts copy 0 in place, where the radix sort's even number of passes
+    // leaves its result (asserted above).
+    let small_body_sort = kernels.rank_sort.bind(
+        ctx,
+        &RankSortArgs {
+            work: b(BODY_WORK),
+            keys: b(SORT_KEYS[0]),
+            values: b(SORT_BODIES[0]),
+        },
     );
     let gather_sweep_boxes = kernels.gather_sweep_boxes.bind(
         ctx,
@@ -276,6 +292,7 @@ pub fn build_groups(
         choose_axis,
         write_sort_keys,
         body_sort,
+        small_body_sort,
         gather_sweep_boxes,
         parity,
     }

@@ -3,7 +3,8 @@
 //!
 //! ```text
 //! update_aabbs   poses, velocities, shapes -> aabbs
-//! broad_phase    choose_axis -> write_sort_keys -> radix sort (bodies, 32-bit keys)
+//! broad_phase    choose_axis -> write_sort_keys -> radix sort (bodies, 32-bit keys; up to
+//!                1,024 bodies rank_sort, one workgroup, the same order)
 //!                -> gather_sweep_boxes (long boxes listed) -> sweep_pairs + long_pairs
 //!                (atomic append)
 //!                -> plan_dispatch (count -> work list)
@@ -29,6 +30,7 @@ use crate::buffer_pool::BufferPool;
 use crate::kernel::Kernel;
 use crate::kernels::compact_touching::ScatterImpulsesArgs;
 use crate::kernels::radix_sort::RadixSort;
+use crate::kernels::rank_sort::RANK_SORT_CAPACITY;
 use crate::layout::{
     GpuAabb, GpuContact, GpuLocalManifold, GpuManifold, GpuPose, GpuShape, GpuSweepBox,
     GpuTouching, GpuVelocity, NarrowParams, ScatterParams, SweepAxis, SweepParams, TouchingCounts,
@@ -409,8 +411,14 @@ impl GpuCollision {
             k.choose_axis
                 .dispatch_workgroups(&mut pass, &g.choose_axis, 1, 1);
             k.write_sort_keys.dispatch(&mut pass, &g.write_sort_keys, n);
-            self.radix
-                .record(&mut pass, &g.body_sort, self.pool.get(BODY_WORK));
+            // The same stable order either way; one dispatch instead of 24 for short lists.
+            if n <= RANK_SORT_CAPACITY {
+                k.rank_sort
+                    .dispatch_workgroups(&mut pass, &g.small_body_sort, 1, 1);
+            } else {
+                self.radix
+                    .record(&mut pass, &g.body_sort, self.pool.get(BODY_WORK));
+            }
         }
         {
             let mut pass = timer.begin_pass(encoder, BROAD_PHASE_SWEEP);

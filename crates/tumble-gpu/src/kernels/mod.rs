@@ -14,6 +14,7 @@ pub mod gather_sweep_boxes;
 pub mod match_pairs;
 pub mod plan_dispatch;
 pub mod radix_sort;
+pub mod rank_sort;
 pub mod sweep_pairs;
 pub mod update_aabbs;
 pub mod write_sort_keys;

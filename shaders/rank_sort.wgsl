@@ -1,0 +1,38 @@
+// requires: common/layout.wgsl
+// rank_sort: a stable sort of up to RANK_SORT_ITEMS * WORKGROUP_SIZE (key, value) pairs in
+// place, by one workgroup in one dispatch, for lists so short that the radix sort's passes
+// (three dispatches per 4-bit digit, 24 for a 32-bit key) cost far more than their work. The
+// pairs are copied to workgroup memory; each item's slot is the number of smaller keys plus
+// the number of equal keys before it, which is the order every stable sort produces, so the
+// result is bit for bit the radix sort's.
+
+@group(0) @binding(0) var<storage, read> work: WorkList;
+@group(0) @binding(1) var<storage, read_write> keys: array<u32>;
+@group(0) @binding(2) var<storage, read_write> values: array<u32>;
+
+// Items per thread; the host uses this kernel only for lists of at most
+// RANK_SORT_ITEMS * WORKGROUP_SIZE items (tumble-gpu's RANK_SORT_CAPACITY).
+override RANK_SORT_ITEMS: u32;
+
+var<workgroup> shared_keys: array<u32, RANK_SORT_ITEMS * WORKGROUP_SIZE>;
+var<workgroup> shared_values: array<u32, RANK_SORT_ITEMS * WORKGROUP_SIZE>;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn main(@builtin(local_invocation_index) local: u32) {
+    let n = min(work.count, RANK_SORT_ITEMS * WORKGROUP_SIZE);
+    for (var i = local; i < n; i += WORKGROUP_SIZE) {
+        shared_keys[i] = keys[i];
+        shared_values[i] = values[i];
+    }
+    workgroupBarrier();
+    for (var i = local; i < n; i += WORKGROUP_SIZE) {
+        let key = shared_keys[i];
+        var slot = 0u;
+        for (var j = 0u; j < n; j++) {
+            let other = shared_keys[j];
+            slot += select(0u, 1u, other < key || (other == key && j < i));
+        }
+        keys[slot] = key;
+        values[slot] = shared_values[i];
+    }
+}

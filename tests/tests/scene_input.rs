@@ -1,6 +1,6 @@
 //! Scene files as input (docs/errors.md): unknown fields are refused by name, the format
 //! version is checked, a body's error names its index and field, every committed scene file
-//! loads, and a scene body outside the engine's bounds is refused when the world is built.
+//! loads, and a scene value outside the engine's bounds is refused when the scene is read.
 
 use std::path::Path;
 
@@ -114,33 +114,76 @@ fn every_committed_scene_file_loads() {
     assert!(loaded >= 3, "only {loaded} scene files found in {dir:?}");
 }
 
-/// A scene passes its own validation with finite positive numbers, but the engine's bounds
-/// refuse a box of 1 um or 2 km half extent, or a centre 1e6 m out, when the world is built;
-/// the error names the body's index and the field.
+/// The world's ranges (`tumble_solver::bounds`) apply when a scene is read: a box of 1 um or
+/// 2 km half extent, a centre 1e6 m out, a density of 1e30, a speed of 1e4 m/s, a spin past
+/// what the default substeps carry, a friction of 50, a `dt` of 1e-30 s or a gravity of 1e30
+/// m/s^2 is refused by `Scene::validate` (and so by `Scene::from_json`) naming the body's index
+/// and the field, where before the scene was accepted and only `World::from_scene` refused it.
+/// A scene that validates builds a world.
 #[test]
-fn scene_bodies_outside_the_engine_bounds_are_named_by_index() {
-    type Edit = fn(&mut tumble::scenes::BodySpec);
-    let cases: [(Edit, &str); 4] = [
-        (|b| b.half_extents[0] = 1e-6, "half_extents.x"),
-        (|b| b.position[0] = 1e6, "pose"),
-        (|b| b.density = 1e30, "density"),
-        (|b| b.linear_velocity[1] = -1e4, "linear_velocity"),
+fn scene_values_outside_the_engine_bounds_are_refused_when_read() {
+    type Edit = fn(&mut Scene);
+    let cases: [(Edit, &str); 9] = [
+        (
+            |s| s.bodies[1].half_extents[0] = 1e-6,
+            "bodies[1].half_extents.x",
+        ),
+        (
+            |s| s.bodies[1].half_extents[2] = 2e3,
+            "bodies[1].half_extents.z",
+        ),
+        (|s| s.bodies[1].position[0] = 1e6, "bodies[1].position"),
+        (|s| s.bodies[1].density = 1e30, "bodies[1].density"),
+        (
+            |s| s.bodies[1].linear_velocity[1] = -1e4,
+            "bodies[1].linear_velocity",
+        ),
+        (
+            |s| s.bodies[1].angular_velocity[1] = 1e5,
+            "bodies[1].angular_velocity",
+        ),
+        (|s| s.bodies[1].friction = 50.0, "bodies[1].friction"),
+        (|s| s.dt = 1e-30, "dt"),
+        (|s| s.gravity = [0.0, -1e30, 0.0], "gravity"),
     ];
     for (edit, field) in cases {
         let mut scene = Scene::from_json(&scene_text("", "")).unwrap();
-        edit(&mut scene.bodies[1]);
-        scene.validate().unwrap();
-        let e = World::from_scene(&scene, WorldConfig::default()).unwrap_err();
-        let text = e.to_string();
-        assert!(matches!(e, Error::InvalidScene(_)), "{e:?}");
+        edit(&mut scene);
+        let e = scene.validate().unwrap_err();
+        match &e {
+            SceneError::InvalidField { field: f, .. } => assert_eq!(f, field, "{e}"),
+            other => panic!("{field}: {other:?}"),
+        }
+        // Through the file format too, and the world refuses the same scene.
+        let text = scene.to_json();
         assert!(
-            text.contains("bodies[1]") && text.contains(field),
-            "{field}: {text}"
+            Scene::from_json(&text)
+                .unwrap_err()
+                .to_string()
+                .contains(field)
         );
+        let refused = World::from_scene(&scene, WorldConfig::default()).unwrap_err();
+        assert!(matches!(refused, Error::InvalidScene(_)), "{refused:?}");
     }
-    // Gravity out of bounds names the world field.
+    // The fuzz seed of docs/reliability.md's finding 3 (dt 1e-30, half extents 1e-30 and
+    // 1e30, a position of 3e38): refused when read, naming dt, the first bad field.
+    let seed = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../fuzz/corpus/scene_from_json/seed_extreme_values.json"),
+    )
+    .unwrap();
+    let e = Scene::from_json(&seed).unwrap_err();
+    assert!(
+        matches!(&e, SceneError::InvalidField { field, .. } if field == "dt"),
+        "{e}"
+    );
+    // At the edges of the ranges the scene is read and the world is built.
     let mut scene = Scene::from_json(&scene_text("", "")).unwrap();
-    scene.gravity = [0.0, -1e30, 0.0];
-    let e = World::from_scene(&scene, WorldConfig::default()).unwrap_err();
-    assert_eq!(e.field(), Some("gravity"), "{e}");
+    scene.bodies[1].half_extents = [1e-3, 1e3, 0.5];
+    scene.bodies[1].density = 1e5;
+    scene.bodies[1].friction = 10.0;
+    scene.bodies[1].linear_velocity = [0.0, -400.0, 0.0];
+    scene.dt = 0.1;
+    scene.validate().unwrap();
+    World::from_scene(&scene, WorldConfig::default()).unwrap();
 }

@@ -3,8 +3,8 @@
 //!
 //! ```text
 //! tumble-geometry <- tumble-broad  <- tumble-solver <- tumble-gpu <- tumble (facade) <- tumble-render
-//!                 <- tumble-narrow <-'                 |                |
-//!                 <- tumble-scenes (scene data) <------+----------------'
+//!                 <- tumble-narrow <-'      |          |                |
+//!                    tumble-scenes (scene data) <------+----------------'
 //! tumble-shaders (the WGSL files) <--------------------'
 //! ```
 
@@ -15,7 +15,7 @@ pub const ARROWS: [(&str, &[&str]); 9] = [
     ("tumble-shaders", &[]),
     ("tumble-broad", &["tumble-geometry"]),
     ("tumble-narrow", &["tumble-geometry"]),
-    ("tumble-scenes", &["tumble-geometry"]),
+    ("tumble-scenes", &["tumble-solver"]),
     ("tumble-solver", &["tumble-broad", "tumble-narrow"]),
     ("tumble-gpu", &["tumble-solver", "tumble-shaders"]),
     ("tumble", &["tumble-gpu", "tumble-scenes"]),

@@ -1,8 +1,11 @@
-//! Scene validation: every number the engine will read is finite and physically meaningful.
+//! Scene validation: every number the engine will read is finite, physically meaningful and
+//! within the ranges the world accepts (`tumble_solver::bounds`), so a scene that reads
+//! without error also builds a world.
 
-use tumble_geometry::Real;
+use tumble_geometry::{Real, Vec3};
+use tumble_solver::{InvalidParameter, bounds};
 
-use crate::{BodyKind, BodySpec, Scene, SceneCheck, SceneError};
+use crate::{BodySpec, Scene, SceneCheck, SceneError};
 
 /// How far a rotation quaternion's length may be from 1. JSON written by hand with four or
 /// five decimals (e.g. `0.7071`) is off by about 1e-4; anything past 1e-3 is a mistake, not
@@ -19,11 +22,47 @@ impl Scene {
         if !(self.dt.is_finite() && self.dt > 0.0) {
             return Err(SceneError::invalid("dt", self.dt, "must be finite and > 0"));
         }
+        // The world's ranges (WorldConfig::validate checks the same two).
+        bounds::require_in_range(
+            "dt",
+            self.dt,
+            bounds::MIN_DT,
+            bounds::MAX_DT,
+            bounds::EXPECTED_DT,
+        )
+        .map_err(|e| out_of_bounds("", e))?;
+        bounds::require_length_at_most(
+            "gravity",
+            &Vec3::from(self.gravity),
+            bounds::MAX_GRAVITY,
+            bounds::EXPECTED_GRAVITY,
+        )
+        .map_err(|e| out_of_bounds("", e))?;
         for (i, body) in self.bodies.iter().enumerate() {
-            body.validate_at(&format!("bodies[{i}]"))?;
+            let path = format!("bodies[{i}]");
+            body.validate_at(&path)?;
+            body.within_bounds(self.dt)
+                .map_err(|e| out_of_bounds(&path, e))?;
         }
         self.check.validate_at("check")
     }
+}
+
+/// A world bound's error as a scene error naming `path.field`.
+fn out_of_bounds(path: &str, e: InvalidParameter) -> SceneError {
+    /// The value as the bound formatted it (no quotes added).
+    struct Formatted(String);
+    impl std::fmt::Debug for Formatted {
+        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.write_str(&self.0)
+        }
+    }
+    let field = if path.is_empty() {
+        e.field.to_string()
+    } else {
+        format!("{path}.{}", e.field)
+    };
+    SceneError::invalid(field, Formatted(e.value), e.expected)
 }
 
 impl BodySpec {
@@ -50,16 +89,12 @@ impl BodySpec {
         }
         finite_vec(&format!("{path}.linear_velocity"), &self.linear_velocity)?;
         finite_vec(&format!("{path}.angular_velocity"), &self.angular_velocity)?;
-        let density_ok = if self.kind == BodyKind::Dynamic {
-            self.density.is_finite() && self.density > 0.0
-        } else {
-            self.density.is_finite() && self.density >= 0.0
-        };
-        if !density_ok {
+        // Of every kind: the world checks a fixed body's density too.
+        if !(self.density.is_finite() && self.density > 0.0) {
             return Err(SceneError::invalid(
                 format!("{path}.density"),
                 self.density,
-                "must be finite and > 0 (>= 0 for fixed and kinematic bodies)",
+                "must be finite and > 0",
             ));
         }
         if !(self.friction.is_finite() && self.friction >= 0.0) {
@@ -77,6 +112,34 @@ impl BodySpec {
             ));
         }
         Ok(())
+    }
+}
+
+impl BodySpec {
+    /// The world's ranges for one body (`tumble_solver::Body::new` and the facade's body
+    /// check apply the same ones): half extents, density (of every kind: the world validates
+    /// it whatever the body's kind), friction, the centre's distance from the origin and the
+    /// speeds. The angular speed's bound grows with the substeps; a scene has none, so it is
+    /// checked at the default solver's `DEFAULT_SUBSTEPS` with the scene's `dt`, the
+    /// configuration a scene is built with unless the caller picks fewer substeps.
+    pub fn within_bounds(&self, dt: Real) -> Result<(), InvalidParameter> {
+        bounds::require_half_extents(&Vec3::from(self.half_extents))?;
+        bounds::require_density(self.density)?;
+        bounds::require_in_range(
+            "friction",
+            self.friction,
+            0.0,
+            bounds::MAX_FRICTION,
+            bounds::EXPECTED_FRICTION,
+        )?;
+        bounds::require_position("position", &Vec3::from(self.position))?;
+        bounds::require_linear_speed("linear_velocity", &Vec3::from(self.linear_velocity))?;
+        bounds::require_angular_speed(
+            "angular_velocity",
+            &Vec3::from(self.angular_velocity),
+            dt,
+            tumble_solver::DEFAULT_SUBSTEPS,
+        )
     }
 }
 

@@ -1,10 +1,11 @@
 // requires: common/layout.wgsl
-// rank_sort: a stable sort of up to RANK_SORT_ITEMS * WORKGROUP_SIZE (key, value) pairs in
-// place, by one workgroup in one dispatch, for lists so short that the radix sort's passes
-// (three dispatches per 4-bit digit, 24 for a 32-bit key) cost far more than their work. The
-// pairs are copied to workgroup memory; each item's slot is the number of smaller keys plus
-// the number of equal keys before it, which is the order every stable sort produces, so the
-// result is bit for bit the radix sort's.
+// rank_sort: sorts up to RANK_SORT_ITEMS * WORKGROUP_SIZE (key, value) pairs in place by key,
+// then value, equal pairs keeping their order, in one workgroup and one dispatch: for lists
+// so short that the radix sort's passes (three dispatches per 4-bit digit) cost far more than
+// their work. The pairs are copied to workgroup memory; each item's slot is the number of
+// items ordered before it. Both uses give the radix sort's result bit for bit: the bodies'
+// values are their input positions, so (key, value) order is the stable order by key; the
+// pairs (a, b) are sorted by b and then stably by a, which is (a, b) order.
 
 @group(0) @binding(0) var<storage, read> work: WorkList;
 @group(0) @binding(1) var<storage, read_write> keys: array<u32>;
@@ -27,12 +28,17 @@ fn main(@builtin(local_invocation_index) local: u32) {
     workgroupBarrier();
     for (var i = local; i < n; i += WORKGROUP_SIZE) {
         let key = shared_keys[i];
+        let value = shared_values[i];
         var slot = 0u;
         for (var j = 0u; j < n; j++) {
             let other = shared_keys[j];
-            slot += select(0u, 1u, other < key || (other == key && j < i));
+            let other_value = shared_values[j];
+            let same_key = other == key;
+            let before = other < key || (same_key && other_value < value)
+                || (same_key && other_value == value && j < i);
+            slot += select(0u, 1u, before);
         }
         keys[slot] = key;
-        values[slot] = shared_values[i];
+        values[slot] = value;
     }
 }

@@ -19,7 +19,7 @@ use tumble_gpu::kernels::{
     gather_sweep_boxes::gather_sweep_boxes_cpu,
     plan_dispatch::plan_dispatch_cpu,
     radix_sort::{RadixBuffers, RadixSort, radix_sort_cpu, result_copy},
-    rank_sort::{RANK_SORT, RANK_SORT_CAPACITY, RankSortArgs},
+    rank_sort::{RANK_SORT, RANK_SORT_CAPACITY, RankSortArgs, rank_sort_cpu},
     update_aabbs::pose_from_gpu,
     velocity_from_gpu,
     write_sort_keys::write_sort_keys_cpu,
@@ -229,15 +229,16 @@ fn gpu_rank_sort(ctx: &GpuContext, keys: &[u32], values: &[u32]) -> (Vec<u32>, V
 }
 
 #[test]
-fn rank_sort_is_the_radix_sorts_stable_order() {
+fn rank_sort_is_the_radix_sorts_order_for_bodies_and_pairs() {
     let Some(ctx) = GpuContext::for_tests() else {
         return;
     };
     let mut rng = ChaCha8Rng::seed_from_u64(5);
-    // The collision stage sorts up to RANK_SORT_CAPACITY bodies with it, and the order decides
-    // the sweep's pair order, so it must be exactly the radix sort's: lengths from one item to
-    // the capacity, keys from a range of 7 (ties everywhere: a slot error shows as values out
-    // of input order), of 2^32 (all distinct, extremes included) and a constant key.
+    // The collision stage sorts up to RANK_SORT_CAPACITY bodies or pairs with it, and the
+    // order decides the sweep's and the narrow phase's order, so it must be exactly the radix
+    // sort's. Bodies: values are input positions, so (key, value) order is the stable order by
+    // key. Lengths from one item to the capacity, keys from a range of 7 (ties everywhere: a
+    // slot error shows as values out of input order), of 2^32 (extremes included) and one key.
     for (n, range) in [
         (1usize, 7u64),
         (2, 7),
@@ -260,6 +261,27 @@ fn rank_sort_is_the_radix_sorts_stable_order() {
             "n = {n}, range {range}"
         );
     }
+    // Pairs (a, b) of 60 bodies, distinct, in random order: the radix chain (by b, then
+    // stably by a) gives (a, b) order, and so must the rank sort.
+    let mut pairs: Vec<(u32, u32)> = (0..60u32)
+        .flat_map(|a| (a + 1..60).map(move |b| (a, b)))
+        .filter(|_| rng.random_bool(0.5))
+        .take(RANK_SORT_CAPACITY as usize)
+        .collect();
+    for i in (1..pairs.len()).rev() {
+        pairs.swap(i, rng.random_range(0..=i));
+    }
+    let (a, b): (Vec<u32>, Vec<u32>) = pairs.iter().copied().unzip();
+    let radix = gpu_sort(&ctx, &a, &b, &[(false, 6), (true, 6)]);
+    assert_eq!(gpu_rank_sort(&ctx, &a, &b), radix);
+    assert_eq!(rank_sort_cpu(&a, &b), radix);
+    // Repeated pairs with values out of order: key, then value, equal pairs in input order.
+    let keys: Vec<u32> = (0..500).map(|_| rng.random_range(0..5)).collect();
+    let values: Vec<u32> = (0..500).map(|_| rng.random_range(0..5)).collect();
+    assert_eq!(
+        gpu_rank_sort(&ctx, &keys, &values),
+        rank_sort_cpu(&keys, &values)
+    );
 }
 
 #[test]

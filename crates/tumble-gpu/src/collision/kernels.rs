@@ -69,6 +69,8 @@ pub struct ParityGroups {
     pub plan: wgpu::BindGroup,
     /// The canonical pair sort.
     pub pair_sort: RadixBindGroups,
+    /// The pair sort when the pair buffers hold at most `RANK_SORT_CAPACITY` pairs.
+    pub small_pair_sort: wgpu::BindGroup,
     /// `match_pairs` against the other parity.
     pub match_pairs: wgpu::BindGroup,
     /// `collide_cuboids`.
@@ -213,6 +215,15 @@ pub fn build_groups(
                     tile_counts: b(PAIR_TILES),
                 },
                 &pair_passes,
+            ),
+            // In place in copy 0, the radix sort's result copy (asserted above).
+            small_pair_sort: kernels.rank_sort.bind(
+                ctx,
+                &RankSortArgs {
+                    work: b(PAIR_WORK[p]),
+                    keys: b(PAIR_A[p][0]),
+                    values: b(PAIR_B[p][0]),
+                },
             ),
             match_pairs: kernels.match_pairs.bind(
                 ctx,

@@ -8,7 +8,8 @@
 //!                -> gather_sweep_boxes (long boxes listed) -> sweep_pairs + long_pairs
 //!                (atomic append)
 //!                -> plan_dispatch (count -> work list)
-//!                -> radix sort (pairs by b, then by a: canonical order, indirect)
+//!                -> radix sort (pairs by b, then by a: canonical order, indirect; up to
+//!                1,024 pair slots rank_sort by (a, b), one workgroup)
 //! narrow_phase   match_pairs (last step's index) -> collide_cuboids -> carry_impulses
 //!                (by feature id, else by position in body A's frame; all three
 //!                dispatched indirectly from the pair work list)
@@ -431,8 +432,15 @@ impl GpuCollision {
         }
         {
             let mut pass = timer.begin_pass(encoder, BROAD_PHASE_SORT_PAIRS);
-            self.radix
-                .record(&mut pass, &g.parity[p].pair_sort, pair_work);
+            // A list no longer than its buffers' capacity: when that is at most the rank
+            // sort's, every step's pairs fit it (the count is clamped to the capacity).
+            if self.pair_capacity() <= RANK_SORT_CAPACITY {
+                k.rank_sort
+                    .dispatch_workgroups(&mut pass, &g.parity[p].small_pair_sort, 1, 1);
+            } else {
+                self.radix
+                    .record(&mut pass, &g.parity[p].pair_sort, pair_work);
+            }
         }
         {
             let mut pass = timer.begin_pass(encoder, NARROW_PHASE);

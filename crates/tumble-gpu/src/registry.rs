@@ -44,6 +44,7 @@ pub static KERNELS: &[&KernelSpec] = &[
     &solver::solve_color::SOLVE_COLOR,
     &solver::store::STORE_IMPULSES,
     &solver::fused::SOLVE_FUSED,
+    &solver::fused::SOLVE_FUSED_SHARED,
     &sleep::wake::WAKE_BODIES,
     &sleep::wake::WAKE_ISLANDS,
     &sleep::rest::UPDATE_REST,

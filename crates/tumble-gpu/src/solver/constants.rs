@@ -94,6 +94,10 @@ pub fn solver_constants() -> Vec<(&'static str, f64)> {
     vec![
         ("GRAPH_COLOR_COUNT", f64::from(GRAPH_COLOR_COUNT)),
         (
+            "FUSED_SHARED_BODIES",
+            f64::from(super::fused::FUSED_SHARED_BODIES),
+        ),
+        (
             "COLOR_PASS_WORKGROUP_SIZE",
             f64::from(COLOR_PASS_WORKGROUP_SIZE),
         ),

@@ -19,10 +19,10 @@ use super::constants::{
 };
 use super::constraint_store::{constraints_by_manifold, store_stride};
 use super::effects::{Effects, effect_overrides};
-use super::fused::SolveFusedArgs;
+use super::fused::{SolveFusedArgs, SolveFusedSharedArgs};
 use super::integrate::{FinalizeBodiesArgs, IntegratePositionsArgs, IntegrateVelocitiesArgs};
 use super::layout::{ColorPass, ColorSlot, GpuConstraint, GpuSolverBody, GpuTilt, SolverParams};
-use super::path::SolvePath;
+use super::path::{FusedMemory, SolvePath};
 use super::pipelines::{SolverPipelines, pass_kernels};
 use super::prepare::{PrepareBodiesArgs, PrepareContactsArgs};
 use super::solve_color::{PassKind, SolveColorArgs};
@@ -75,6 +75,7 @@ struct BindGroups {
     /// `[pass][color slot]`.
     passes: Vec<Vec<wgpu::BindGroup>>,
     solve_fused: [wgpu::BindGroup; 2],
+    solve_fused_shared: [wgpu::BindGroup; 2],
 }
 
 /// The GPU solver stage: owns its pipelines (shared per device and effects), its buffers
@@ -94,6 +95,7 @@ pub struct GpuSolver {
     sort_passes: Vec<RadixPass>,
     parity: usize,
     bind: Option<(BindKey, BindGroups)>,
+    fused_memory: FusedMemory,
 }
 
 impl GpuSolver {
@@ -141,7 +143,20 @@ impl GpuSolver {
             sort_passes,
             parity: 0,
             bind: None,
+            fused_memory: FusedMemory::default(),
         })
+    }
+
+    /// Where the fused path keeps the bodies from the next step on ([`FusedMemory`]; both
+    /// kernels compute the same bits).
+    pub fn set_fused_memory(&mut self, memory: FusedMemory) {
+        self.fused_memory = memory;
+    }
+
+    /// Whether the next fused step of `bodies` bodies keeps them in workgroup memory.
+    pub fn fused_in_workgroup(&self, bodies: u32) -> bool {
+        self.fused_memory
+            .in_workgroup(bodies, self.ctx.info.device_type)
     }
 
     /// Bytes of the solver's pooled device buffers (for memory reports).
@@ -324,8 +339,17 @@ impl GpuSolver {
         match path {
             SolvePath::Fused => {
                 let mut pass = timer.begin_pass(encoder, "solve_fused");
-                k.solve_fused
-                    .dispatch_workgroups(&mut pass, &groups.solve_fused[p], 1, 1);
+                if self.fused_in_workgroup(n) {
+                    k.solve_fused_shared.dispatch_workgroups(
+                        &mut pass,
+                        &groups.solve_fused_shared[p],
+                        1,
+                        1,
+                    );
+                } else {
+                    k.solve_fused
+                        .dispatch_workgroups(&mut pass, &groups.solve_fused[p], 1, 1);
+                }
             }
             SolvePath::Wide => {
                 let work = inputs.contact_work;
@@ -554,6 +578,30 @@ impl GpuSolver {
                         poses: inputs.poses,
                         velocities: inputs.velocities,
                         solver_bodies: get(SOLVER_BODIES),
+                        constraints: get(CONSTRAINTS),
+                        previous_tilts: get(TILTS[1 - p]),
+                        tilts: get(TILTS[p]),
+                    },
+                )
+            }),
+            solve_fused_shared: both(&|p| {
+                k.solve_fused_shared.bind(
+                    ctx,
+                    &SolveFusedSharedArgs {
+                        params: &self.params,
+                        contact_work: inputs.contact_work,
+                        manifolds: inputs.manifolds,
+                        contacts: inputs.contacts,
+                        bodies: inputs.bodies,
+                        previous_colors: get(COLOR_STATE[1 - p]),
+                        color_state: get(COLOR_STATE[p]),
+                        color_marks: get(COLOR_MARKS),
+                        color_scratch: get(COLOR_SCRATCH),
+                        color_offsets: get(COLOR_OFFSETS),
+                        color_order: order,
+                        poses: inputs.poses,
+                        velocity_buffer: inputs.velocities,
+                        solver_body_buffer: get(SOLVER_BODIES),
                         constraints: get(CONSTRAINTS),
                         previous_tilts: get(TILTS[1 - p]),
                         tilts: get(TILTS[p]),

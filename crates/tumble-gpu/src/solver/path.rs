@@ -58,3 +58,31 @@ impl SolvePath {
         }
     }
 }
+
+/// Where the fused path keeps the bodies' velocities and solver state during its stage.
+/// Both kernels run the same functions in the same order and compute the same bits; the
+/// choice is about speed and is fixed per device, never made from timing.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum FusedMemory {
+    /// Workgroup memory on GPUs, storage on CPU adapters (lavapipe runs the workgroup-memory
+    /// kernel about ten times slower; an H200 runs it 18% faster on a pyramid of 4).
+    #[default]
+    Auto,
+    /// Always in their storage buffers (`solve_fused`).
+    Storage,
+    /// In workgroup memory (`solve_fused_shared`) whenever the bodies fit
+    /// ([`super::fused::FUSED_SHARED_BODIES`]), else in storage.
+    Workgroup,
+}
+
+impl FusedMemory {
+    /// Whether a fused step of `bodies` bodies on `device_type` keeps them in workgroup memory.
+    pub fn in_workgroup(self, bodies: u32, device_type: wgpu::DeviceType) -> bool {
+        let wanted = match self {
+            FusedMemory::Auto => device_type != wgpu::DeviceType::Cpu,
+            FusedMemory::Storage => false,
+            FusedMemory::Workgroup => true,
+        };
+        wanted && bodies <= super::fused::FUSED_SHARED_BODIES
+    }
+}

@@ -10,7 +10,7 @@ use super::color::{
     COLOR_COUNT, COLOR_FINISH, COLOR_PLAN, COLOR_PROPOSE, COLOR_RESOLVE, COLOR_WITHDRAW,
 };
 use super::effects::{Effects, effect_overrides};
-use super::fused::SOLVE_FUSED;
+use super::fused::{SOLVE_FUSED, SOLVE_FUSED_SHARED};
 use super::integrate::{FINALIZE_BODIES, INTEGRATE_POSITIONS, INTEGRATE_VELOCITIES};
 use super::prepare::{PREPARE_BODIES, PREPARE_CONTACTS};
 use super::solve_color::{PassKind, SOLVE_COLOR};
@@ -45,6 +45,8 @@ pipelines! {
         store_impulses: STORE_IMPULSES,
         /// The whole color and solve stage in one workgroup.
         solve_fused: SOLVE_FUSED,
+        /// The same with the bodies in workgroup memory.
+        solve_fused_shared: SOLVE_FUSED_SHARED,
         /// Impulses queued by the host.
         apply_impulses: APPLY_IMPULSES,
     }

@@ -5,7 +5,7 @@ use tumble_solver::SolverConfig;
 
 use crate::GpuError;
 use crate::collision::CollisionConfig;
-use crate::solver::SolvePath;
+use crate::solver::{FusedMemory, SolvePath};
 
 /// How each step chooses between the wide and the fused solver paths.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -39,6 +39,8 @@ pub struct GpuWorldConfig {
     /// contact, no change by the host since; see [`super::idle`]). The results are the same
     /// bit for bit either way; off records every stage of every step (for measuring it).
     pub skip_idle_steps: bool,
+    /// Where the fused solve path keeps the bodies ([`FusedMemory`]; the same bits either way).
+    pub fused_memory: FusedMemory,
 }
 
 impl Default for GpuWorldConfig {
@@ -56,6 +58,7 @@ impl Default for GpuWorldConfig {
             min_pair_capacity: collision.min_pair_capacity,
             timestamps: false,
             skip_idle_steps: true,
+            fused_memory: FusedMemory::Auto,
         }
     }
 }

@@ -102,11 +102,13 @@ impl GpuWorld {
         } else {
             StageTimer::disabled(ctx)
         };
+        let mut solver = GpuSolver::new(ctx, Effects::of_bodies(&[], &config.gravity))?;
+        solver.set_fused_memory(config.fused_memory);
         Ok(Self {
             ctx: ctx.clone(),
             config,
             collision: GpuCollision::new(ctx, config.collision())?,
-            solver: GpuSolver::new(ctx, Effects::of_bodies(&[], &config.gravity))?,
+            solver,
             pool: BufferPool::new(ctx),
             bodies: Vec::new(),
             impulses: Vec::new(),

@@ -4,6 +4,8 @@
 //! - `bench`: the criterion benches;
 //! - `bench-gpu`: Tumble's GPU step beside rapier3d (and nexus, from its peer script's CSV);
 //! - `render`: a scene's frames as PNG pictures and a GIF animation (tumble-render);
+//! - `soak`: long runs of the pyramid of 24 and of a pool with bodies added and removed,
+//!   checked for finite state, bounded energy and flat memory (docs/reliability.md);
 //! - `tidy`: formatting and the layer rule of docs/architecture.md.
 #![warn(missing_docs)]
 
@@ -27,6 +29,7 @@ mod results;
 mod run;
 mod scene_info;
 mod scene_set;
+mod soak;
 mod table;
 mod tidy;
 mod timing;
@@ -72,6 +75,10 @@ enum Task {
     /// Steps a scene and draws each frame with tumble-render: PNG frames and an animated GIF
     /// (on any adapter, lavapipe included).
     Render(render::RenderArgs),
+    /// Long runs that must stay sound: the pyramid of 24 for 100,000 steps on the CPU and
+    /// 20,000 on the GPU, and a pool with a body added and one removed every step; fails when
+    /// a state turns non-finite, energy grows, the pyramid falls or memory grows.
+    Soak(soak::SoakArgs),
     /// Checks formatting (`cargo fmt --check`) and that no crate imports one to its right in
     /// the layer order of docs/architecture.md.
     Tidy,
@@ -139,6 +146,7 @@ fn main() -> ExitCode {
         Task::Bench { args } => bench::run_benches(&workspace_root(), &args),
         Task::BenchGpu(args) => bench_gpu::bench_gpu(&args),
         Task::Render(args) => render::render(&args, &workspace_root()),
+        Task::Soak(args) => soak::soak(&args, &workspace_root()),
         Task::Tidy => tidy::tidy(&workspace_root()),
     };
     match result {

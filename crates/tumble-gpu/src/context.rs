@@ -1,6 +1,6 @@
 //! The device every kernel runs on: adapter choice, device limits and optional features.
 
-use std::sync::OnceLock;
+use std::sync::{Arc, Mutex, OnceLock};
 
 use crate::GpuError;
 
@@ -34,6 +34,25 @@ pub struct GpuOptions {
     pub adapter_name: Option<String>,
     /// Request GPU timestamp queries when the adapter offers them (per-stage GPU timings).
     pub timestamps: bool,
+    /// The limits to ask the device for instead of the adapter's own (each at most the
+    /// adapter's, or opening fails with [`GpuError::DeviceRequest`]). Smaller limits make a
+    /// device that behaves as a smaller GPU would: scenes over them are refused with
+    /// [`GpuError::LimitExceeded`] before anything is uploaded.
+    pub limits: Option<wgpu::Limits>,
+}
+
+/// What the device reported outside any error scope: its loss (sticky) and the first error
+/// no scope caught since the last check (wgpu's default handler for those panics).
+#[derive(Debug, Default)]
+struct Health {
+    lost: Mutex<Option<String>>,
+    uncaptured: Mutex<Option<String>>,
+}
+
+impl Health {
+    fn lost(&self) -> Option<String> {
+        self.lost.lock().unwrap_or_else(|p| p.into_inner()).clone()
+    }
 }
 
 /// An opened GPU: device, queue and what they can do. Cheap to clone (handles are shared).
@@ -51,6 +70,8 @@ pub struct GpuContext {
     pub has_timestamps: bool,
     /// The pipelines built on this device.
     pub(crate) pipelines: crate::kernel::PipelineCache,
+    /// Device loss and uncaptured errors, as the device's callbacks reported them.
+    health: Arc<Health>,
 }
 
 /// The instance settings: wgpu's defaults without indirect-call validation, then whatever the
@@ -123,13 +144,22 @@ impl GpuContext {
             .ok_or(GpuError::NoAdapter {
                 requested: wanted.clone(),
             })?;
-        Self::from_adapter(adapter, options.timestamps)
+        Self::open(adapter, options.timestamps, options.limits.clone())
     }
 
     /// Opens a device on a given adapter, checking the limits the kernels rely on.
     pub fn from_adapter(adapter: wgpu::Adapter, timestamps: bool) -> Result<Self, GpuError> {
+        Self::open(adapter, timestamps, None)
+    }
+
+    /// Opens a device on `adapter` with `limits` (the adapter's own when `None`).
+    fn open(
+        adapter: wgpu::Adapter,
+        timestamps: bool,
+        limits: Option<wgpu::Limits>,
+    ) -> Result<Self, GpuError> {
         let info = adapter.get_info();
-        let limits = adapter.limits();
+        let limits = limits.unwrap_or_else(|| adapter.limits());
         if limits.max_storage_buffers_per_shader_stage < REQUIRED_STORAGE_BUFFERS_PER_STAGE {
             return Err(GpuError::LimitExceeded {
                 what: "kernels".into(),
@@ -170,6 +200,22 @@ impl GpuContext {
                     reason: e.to_string(),
                 }
             })?;
+        // Errors outside an error scope and the device's loss are recorded, not panicked on
+        // (wgpu's default): the next step or read returns them as an `Err` (`check_health`).
+        let health = Arc::new(Health::default());
+        let on_error = Arc::clone(&health);
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            let mut first = on_error
+                .uncaptured
+                .lock()
+                .unwrap_or_else(|p| p.into_inner());
+            first.get_or_insert_with(|| e.to_string());
+        }));
+        let on_loss = Arc::clone(&health);
+        device.set_device_lost_callback(move |reason, message| {
+            let mut lost = on_loss.lost.lock().unwrap_or_else(|p| p.into_inner());
+            lost.get_or_insert_with(|| format!("{reason:?}: {message}"));
+        });
         Ok(Self {
             adapter,
             device,
@@ -177,7 +223,41 @@ impl GpuContext {
             info,
             has_timestamps,
             pipelines: Default::default(),
+            health,
         })
+    }
+
+    /// `Err` when the device was lost ([`GpuError::DeviceLost`], every later call too) or
+    /// reported an error that no error scope caught since the last check
+    /// ([`GpuError::Device`], once). Every step checks before recording and after submitting.
+    pub fn check_health(&self) -> Result<(), GpuError> {
+        if let Some(reason) = self.health.lost() {
+            return Err(GpuError::DeviceLost { reason });
+        }
+        let taken = self
+            .health
+            .uncaptured
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .take();
+        match taken {
+            Some(message) => Err(GpuError::Device(message)),
+            None => Ok(()),
+        }
+    }
+
+    /// True once the device was lost: nothing on it can run again; open a new context.
+    pub fn is_lost(&self) -> bool {
+        self.health.lost().is_some()
+    }
+
+    /// Submits `encoder`'s commands, then [`check_health`](Self::check_health): a command
+    /// buffer that failed validation, or a device lost meanwhile, is an `Err` here.
+    pub fn submit(&self, encoder: wgpu::CommandEncoder) -> Result<wgpu::SubmissionIndex, GpuError> {
+        self.check_health()?;
+        let index = self.queue.submit([encoder.finish()]);
+        self.check_health()?;
+        Ok(index)
     }
 
     /// The device for tests: `None` (after a loud "skipped" on stderr) when there is no
@@ -227,10 +307,12 @@ impl GpuContext {
 
     /// Blocks until all submitted work is done.
     pub fn wait_idle(&self) -> Result<(), GpuError> {
+        self.check_health()?;
         self.device
             .poll(wgpu::PollType::wait_indefinitely())
             .map(|_| ())
-            .map_err(|e| GpuError::Device(e.to_string()))
+            .map_err(|e| GpuError::Device(e.to_string()))?;
+        self.check_health()
     }
 }
 

@@ -55,7 +55,15 @@ pub enum GpuError {
         /// What naga or wgpu reported.
         message: String,
     },
-    /// Mapping a readback buffer or waiting on the device failed.
+    /// The device was lost (driver reset, removal, or `Device::destroy`): nothing can run on
+    /// it again; a new `GpuContext` must be opened.
+    #[error("the GPU device was lost ({reason}); open a new device to continue")]
+    DeviceLost {
+        /// The reason wgpu gave, with its message.
+        reason: String,
+    },
+    /// Mapping a readback buffer or waiting on the device failed, or the device reported an
+    /// error that no error scope caught (a validation or out-of-memory error).
     #[error("GPU device error: {0}")]
     Device(String),
 }

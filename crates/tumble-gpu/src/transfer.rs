@@ -57,7 +57,7 @@ impl GpuContext {
         });
         let mut encoder = self.encoder("read");
         encoder.copy_buffer_to_buffer(buffer, first * size, &staging, 0, padded);
-        self.queue.submit([encoder.finish()]);
+        self.submit(encoder)?;
         staging.map_async(wgpu::MapMode::Read, .., |_| {});
         self.wait_idle()?;
         let data = {

@@ -128,6 +128,14 @@ impl World {
         self.backend.readback_bytes()
     }
 
+    /// Bytes of GPU buffers the world holds now: on `Backend::Gpu` every stage's pooled
+    /// buffers, on `Backend::Hybrid` the collision stages'; 0 on `Backend::Cpu`. Buffers
+    /// grow with the scene and are kept, so a world whose body count stays bounded holds a
+    /// bounded amount (`cargo xtask soak` samples it).
+    pub fn device_buffer_bytes(&self) -> u64 {
+        self.backend.device_buffer_bytes()
+    }
+
     /// Drops last step's contacts that involve `removed`, keeping the rest by handle (the host
     /// arrays must be up to date: see `StepBackend::sync_all`).
     pub(crate) fn forget_contacts_of(&mut self, removed: BodyHandle) {

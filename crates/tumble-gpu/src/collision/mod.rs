@@ -460,7 +460,7 @@ impl GpuCollision {
     pub fn step(&mut self) -> Result<(), GpuError> {
         let mut encoder = self.ctx.encoder("collision step");
         self.record(&mut encoder, &mut StageTimer::disabled(&self.ctx))?;
-        self.ctx.queue.submit([encoder.finish()]);
+        self.ctx.submit(encoder)?;
         Ok(())
     }
 
@@ -476,7 +476,7 @@ impl GpuCollision {
     }
 
     /// Bytes of the stage's pooled device buffers (for memory reports).
-    pub(crate) fn buffer_bytes(&self) -> u64 {
+    pub fn buffer_bytes(&self) -> u64 {
         self.pool.bytes()
     }
 }

@@ -259,7 +259,7 @@ impl GpuCollision {
                 .scatter_impulses
                 .dispatch(&mut pass, &group, t.manifolds);
         }
-        queue.submit([encoder.finish()]);
+        self.ctx.submit(encoder)?;
         Ok(())
     }
 
@@ -335,7 +335,7 @@ impl GpuCollision {
         let mut encoder = self.ctx.encoder("collision step");
         self.record(&mut encoder, &mut StageTimer::disabled(&self.ctx))?;
         let plan = self.record_readback(&mut encoder, request)?;
-        self.ctx.queue.submit([encoder.finish()]);
+        self.ctx.submit(encoder)?;
         let pending = self.submit_readback(plan);
         self.receive(pending)
     }

@@ -285,6 +285,8 @@ impl GpuWorld {
 
     /// One step, entirely on the GPU, submitted without waiting for the GPU.
     pub fn step(&mut self) -> Result<(), GpuError> {
+        // A lost device or an error from an earlier submission: nothing of this step runs.
+        self.ctx.check_health()?;
         if self.bodies.is_empty() {
             self.steps += 1;
             return Ok(());
@@ -361,7 +363,7 @@ impl GpuWorld {
             Some(self.record_read(&mut encoder, self.request, manifolds)?)
         };
         self.timer.resolve(&mut encoder);
-        let index = self.ctx.queue.submit([encoder.finish()]);
+        let index = self.ctx.submit(encoder)?;
         self.stats.submitted(index);
         if let Some((slot, regions, islands_copied)) = read {
             let ticket = self.readback.submitted(slot);

@@ -48,6 +48,11 @@ impl HybridCollision {
         })
     }
 
+    /// Bytes of the collision stages' device buffers.
+    pub fn buffer_bytes(&self) -> u64 {
+        self.collision.buffer_bytes()
+    }
+
     /// Forgets the uploaded bodies: the next [`Self::collide`] uploads shapes again and
     /// starts without matching history (after bodies were added, removed or reordered).
     pub fn invalidate(&mut self) {
@@ -122,7 +127,7 @@ impl HybridCollision {
         let plan = self
             .collision
             .record_readback(&mut encoder, ReadbackRequest::CONTACTS)?;
-        self.ctx.queue.submit([encoder.finish()]);
+        self.ctx.submit(encoder)?;
         let pending = self.collision.submit_readback(plan);
         let deadline = std::time::Instant::now() + crate::readback::READ_TIMEOUT;
         loop {

@@ -299,6 +299,10 @@ impl StepBackend for GpuBackend {
         self.gpu.lock().map_or(0, |g| g.bytes_read())
     }
 
+    fn device_buffer_bytes(&self) -> u64 {
+        self.gpu.lock().map_or(0, |g| g.buffer_bytes())
+    }
+
     fn draw_buffers(&self) -> Option<(tumble_gpu::GpuContext, tumble_gpu::step::DrawBuffers)> {
         let gpu = self.gpu.lock().ok()?;
         Some((gpu.context().clone(), gpu.draw_buffers()?))

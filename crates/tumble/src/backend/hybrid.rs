@@ -122,4 +122,8 @@ impl StepBackend for HybridBackend {
     fn step(&mut self, host: &mut Host, args: StepArgs<'_>) -> Result<(), Error> {
         pipeline::step(host, args, &mut self.collision)
     }
+
+    fn device_buffer_bytes(&self) -> u64 {
+        self.collision.collision.buffer_bytes()
+    }
 }

@@ -132,6 +132,11 @@ pub(crate) trait StepBackend: fmt::Debug + Send + Sync {
         0
     }
 
+    /// Bytes of the device buffers the backend's GPU stages hold (0 without any).
+    fn device_buffer_bytes(&self) -> u64 {
+        0
+    }
+
     /// The device and buffers holding the bodies' state, when it lives on a GPU (see
     /// [`crate::World::gpu_draw_buffers`]).
     #[cfg(feature = "gpu")]
@@ -162,7 +167,7 @@ pub(crate) use device::shared_context;
 /// The GPU backends, opened on the process's one device.
 #[cfg(feature = "gpu")]
 mod device {
-    use std::sync::OnceLock;
+    use std::sync::Mutex;
 
     use tumble_gpu::GpuContext;
 
@@ -181,10 +186,17 @@ mod device {
 
     /// One device for every GPU world of the process: opening a device and compiling
     /// pipelines is the slow part of starting a world, and pipelines are shared per device.
+    /// A device that was lost is replaced for the worlds made after (the worlds on the lost
+    /// one return `Err` from every step); a failure to open one is kept, as retrying every
+    /// world would only repeat it.
     pub(crate) fn shared_context() -> Result<GpuContext, String> {
-        static SHARED: OnceLock<Result<GpuContext, String>> = OnceLock::new();
-        SHARED
-            .get_or_init(|| GpuContext::new().map_err(|e| e.to_string()))
+        static SHARED: Mutex<Option<Result<GpuContext, String>>> = Mutex::new(None);
+        let mut shared = SHARED.lock().unwrap_or_else(|p| p.into_inner());
+        if matches!(&*shared, Some(Ok(ctx)) if ctx.is_lost()) {
+            *shared = None;
+        }
+        shared
+            .get_or_insert_with(|| GpuContext::new().map_err(|e| e.to_string()))
             .clone()
     }
 }

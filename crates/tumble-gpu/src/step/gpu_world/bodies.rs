@@ -168,7 +168,7 @@ impl GpuWorld {
         let mut encoder = self.ctx.encoder("impulses");
         self.timer.reset();
         self.record_wakes_and_impulses(&mut encoder);
-        self.ctx.queue.submit([encoder.finish()]);
+        self.ctx.submit(encoder)?;
         Ok(())
     }
 }

@@ -1,0 +1,19 @@
+// The bindings of the two fused solve kernels (solve_fused and solve_fused_shared), all but
+// the bodies' velocities and solver state (bindings 12 and 13), which solve_fused reads in
+// place and solve_fused_shared copies into workgroup memory under the same names.
+
+@group(0) @binding(0) var<uniform> params: SolverParams;
+@group(0) @binding(1) var<storage, read> contact_work: WorkList;
+@group(0) @binding(2) var<storage, read> manifolds: array<GpuManifold>;
+@group(0) @binding(3) var<storage, read_write> contacts: array<GpuContact>;
+@group(0) @binding(4) var<storage, read> bodies: array<GpuBody>;
+@group(0) @binding(5) var<storage, read> previous_colors: array<ColorSlot>;
+@group(0) @binding(6) var<storage, read_write> color_state: array<ColorSlot>;
+@group(0) @binding(7) var<storage, read_write> color_marks: array<atomic<u32>>;
+@group(0) @binding(8) var<storage, read_write> color_scratch: array<u32>;
+@group(0) @binding(9) var<storage, read_write> color_offsets: array<u32>;
+@group(0) @binding(10) var<storage, read_write> color_order: array<u32>;
+@group(0) @binding(11) var<storage, read_write> poses: array<GpuPose>;
+@group(0) @binding(14) var<storage, read_write> constraints: array<vec4<f32>>;
+@group(0) @binding(15) var<storage, read> previous_tilts: array<GpuTilt>;
+@group(0) @binding(16) var<storage, read_write> tilts: array<GpuTilt>;

@@ -91,8 +91,15 @@ fn drop_and_lift_on(backend: Backend) {
         (total - expected).abs() < 0.01 * expected,
         "{backend:?}: floor impulse {total} N s, momentum balance {expected} N s"
     );
-    // The contact point lies on the floor's top face (y = 0) under the box's footprint.
-    assert!(begin.point.y.abs() < 0.02, "{backend:?}: {:?}", begin.point);
+    // The contact point lies under the box's footprint, midway between the floor's top face
+    // (y = 0) and the falling box: the speculative contact reaches at most the margin plus
+    // the closing speed times dt (0.02 + 4.4 / 60 = 0.094 m) ahead, so its midpoint is below
+    // 0.047 m.
+    assert!(
+        begin.point.y > -0.01 && begin.point.y < 0.047,
+        "{backend:?}: {:?}",
+        begin.point
+    );
     assert!(begin.point.x.abs() < 0.5 && begin.point.z.abs() < 0.5);
 
     // At rest the floor carries the weight: m g dt per step. 2% allows the soft contact's
@@ -107,7 +114,12 @@ fn drop_and_lift_on(backend: Backend) {
     );
     // Under a centred box at rest the impulse-weighted point is the footprint's centre.
     let p = touching[0].point;
-    assert!(p.x.abs() < 0.01 && p.z.abs() < 0.01 && p.y.abs() < 0.01, "{p:?}");
+    assert!(
+        p.x.abs() < 0.01 && p.z.abs() < 0.01 && p.y.abs() < 0.01,
+        "{p:?} pose {:?} contacts {:?}",
+        w.pose(cube).unwrap(),
+        w.contacts()
+    );
 
     // Lifted 2 m and thrown upward: the pair ends at the next step, once, and nothing else
     // happens while the box is away (at 3 m/s it rises for 0.3 s, 18 steps).

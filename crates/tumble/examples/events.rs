@@ -3,8 +3,8 @@
 //!
 //! `cargo run -p tumble --example events`
 
-use tumble::prelude::*;
 use tumble::ContactEventKind;
+use tumble::prelude::*;
 
 fn main() -> Result<(), tumble::Error> {
     let mut world = World::new(WorldConfig::default())?;
@@ -24,7 +24,11 @@ fn main() -> Result<(), tumble::Error> {
         }
         world.step()?;
         for e in world.contact_events() {
-            let other = if e.body_a == floor { e.body_b } else { e.body_a };
+            let other = if e.body_a == floor {
+                e.body_b
+            } else {
+                e.body_a
+            };
             match e.kind {
                 ContactEventKind::Begin => begins += 1,
                 ContactEventKind::End => ends += 1,

@@ -42,7 +42,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     // Friction 0.2 cannot hold a box on a 30 degree slope: it slid down and to the left, a
     // good part of a metre (down the ramp at a = g (sin 30 - 0.2 cos 30) = 3.2 m/s^2).
-    assert!(end.x < start.x - 0.5 && end.y < start.y - 0.3, "the box did not slide: {end:?}");
+    assert!(
+        end.x < start.x - 0.5 && end.y < start.y - 0.3,
+        "the box did not slide: {end:?}"
+    );
     Ok(())
 }
 

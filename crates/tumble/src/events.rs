@@ -167,7 +167,9 @@ pub(crate) fn touching_pair(c: &Contact, a: BodyHandle, b: BodyHandle) -> Option
         let sum = points
             .iter()
             .zip(impulses)
-            .fold(Vec3::zeros(), |s, (p, j)| s + p.position.coords * j.max(0.0));
+            .fold(Vec3::zeros(), |s, (p, j)| {
+                s + p.position.coords * j.max(0.0)
+            });
         Point3::from(sum / pushed)
     } else {
         let sum = points

@@ -130,7 +130,10 @@ impl HandleMap {
     /// world) must pass. The error says what is wrong.
     pub(crate) fn check(&self, bodies: usize) -> Result<(), String> {
         if self.handles.len() != bodies {
-            return Err(format!("{} handles for {bodies} bodies", self.handles.len()));
+            return Err(format!(
+                "{} handles for {bodies} bodies",
+                self.handles.len()
+            ));
         }
         for (d, h) in self.handles.iter().enumerate() {
             match self.slots.get(h.index as usize) {

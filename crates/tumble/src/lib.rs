@@ -46,8 +46,8 @@ pub use events::{ContactEvent, ContactEventKind, TouchingPair};
 pub use handle::BodyHandle;
 pub use query::{BoxHit, PointHit, QueryFilter, RayHit};
 pub use scene::body_desc;
-pub use snapshot::WorldSnapshot;
 pub use sleep::{ANGULAR_SLEEP_TOLERANCE, LINEAR_SLEEP_TOLERANCE, TIME_TO_SLEEP};
+pub use snapshot::WorldSnapshot;
 pub use stats::{StageTimings, StepStats};
 pub use world::World;
 

@@ -123,8 +123,7 @@ impl WorldSnapshot {
         let max_points = tumble_geometry::MAX_MANIFOLD_POINTS;
         for (k, c) in self.contacts.iter().enumerate() {
             let len = c.manifold.len as usize;
-            if c.body_a as usize >= n || c.body_b as usize >= n || len == 0 || len > max_points
-            {
+            if c.body_a as usize >= n || c.body_b as usize >= n || len == 0 || len > max_points {
                 return Err(corrupt(
                     "snapshot.contacts",
                     format!(
@@ -174,7 +173,10 @@ fn check_body(b: &Body, s: &BodyState) -> Result<(), String> {
             b.linear_damping, b.angular_damping
         ));
     }
-    let mut deltas = s.delta_position.iter().chain(s.delta_rotation.coords.iter());
+    let mut deltas = s
+        .delta_position
+        .iter()
+        .chain(s.delta_rotation.coords.iter());
     if !deltas.all(|x| x.is_finite()) {
         return Err("non-finite in-step delta".to_string());
     }

@@ -58,10 +58,22 @@ fn drop_and_lift_on(backend: Backend) {
     }
     // One pair, one landing: a speculative contact catches the box, it neither bounces off
     // (restitution 0) nor flickers while resting, so exactly one begin and no end.
-    assert_eq!(count(&events, ContactEventKind::Begin), 1, "{backend:?}: {events:?}");
-    assert_eq!(count(&events, ContactEventKind::End), 0, "{backend:?}: {events:?}");
+    assert_eq!(
+        count(&events, ContactEventKind::Begin),
+        1,
+        "{backend:?}: {events:?}"
+    );
+    assert_eq!(
+        count(&events, ContactEventKind::End),
+        0,
+        "{backend:?}: {events:?}"
+    );
     let (landed, begin) = events[0];
-    let (a, b) = if ground < cube { (ground, cube) } else { (cube, ground) };
+    let (a, b) = if ground < cube {
+        (ground, cube)
+    } else {
+        (cube, ground)
+    };
     assert_eq!((begin.body_a, begin.body_b), (a, b), "{backend:?}");
     // Free fall of 1 m takes sqrt(2 / g) = 0.45 s = 27 steps: the begin comes within a few
     // steps of it (the speculative margin catches the box up to one step early).
@@ -86,7 +98,10 @@ fn drop_and_lift_on(backend: Backend) {
     let total: Real = history[first..].iter().map(|(_, j)| j).sum();
     let steps = (DROP_STEPS - first) as Real;
     let expected = MASS * (v_end - v_before) + MASS * G * DT * steps;
-    assert!(v_before < -4.0, "{backend:?}: hit the floor at {v_before} m/s");
+    assert!(
+        v_before < -4.0,
+        "{backend:?}: hit the floor at {v_before} m/s"
+    );
     assert!(
         (total - expected).abs() < 0.01 * expected,
         "{backend:?}: floor impulse {total} N s, momentum balance {expected} N s"
@@ -124,14 +139,19 @@ fn drop_and_lift_on(backend: Backend) {
     // Lifted 2 m and thrown upward: the pair ends at the next step, once, and nothing else
     // happens while the box is away (at 3 m/s it rises for 0.3 s, 18 steps).
     w.set_pose(cube, Pose::translation(0.0, 2.5, 0.0)).unwrap();
-    w.set_linear_velocity(cube, Vec3::new(0.0, 3.0, 0.0)).unwrap();
+    w.set_linear_velocity(cube, Vec3::new(0.0, 3.0, 0.0))
+        .unwrap();
     let mut after = Vec::new();
     step_collecting(&mut w, 15, &mut after);
     assert_eq!(after.len(), 1, "{backend:?}: {after:?}");
     let (step, end) = after[0];
     assert_eq!(end.kind, ContactEventKind::End);
     assert_eq!((end.body_a, end.body_b), (a, b));
-    assert_eq!(step, DROP_STEPS as u64 + 1, "{backend:?}: ended at step {step}");
+    assert_eq!(
+        step,
+        DROP_STEPS as u64 + 1,
+        "{backend:?}: ended at step {step}"
+    );
     assert!(w.touching_pairs().is_empty());
 }
 
@@ -154,7 +174,11 @@ fn remove_on(backend: Backend) {
     step_collecting(&mut w, 5, &mut events);
     // Both boxes start resting on the floor: two begins at the first step, sorted by pair.
     assert_eq!(events.len(), 2, "{backend:?}: {events:?}");
-    assert!(events.iter().all(|(s, e)| *s == 1 && e.kind == ContactEventKind::Begin));
+    assert!(
+        events
+            .iter()
+            .all(|(s, e)| *s == 1 && e.kind == ContactEventKind::Begin)
+    );
     let pairs: Vec<_> = events.iter().map(|(_, e)| (e.body_a, e.body_b)).collect();
     let mut sorted = pairs.clone();
     sorted.sort();
@@ -168,7 +192,11 @@ fn remove_on(backend: Backend) {
     let (step, end) = after[0];
     assert_eq!(step, 6);
     assert_eq!(end.kind, ContactEventKind::End);
-    let (a, b) = if ground < cube { (ground, cube) } else { (cube, ground) };
+    let (a, b) = if ground < cube {
+        (ground, cube)
+    } else {
+        (cube, ground)
+    };
     assert_eq!((end.body_a, end.body_b), (a, b));
     assert_eq!(w.touching_pairs().len(), 1);
     assert!(w.contains(other));

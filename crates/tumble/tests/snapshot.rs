@@ -5,8 +5,8 @@
 mod common;
 
 use common::*;
+use tumble::EffectSwitch;
 use tumble::prelude::*;
-use tumble::{EffectSwitch, WorldSnapshot};
 
 /// Every pose and velocity, as bits: equal bits mean the same state, not merely a close one.
 fn bits(w: &World) -> Vec<u32> {
@@ -90,7 +90,11 @@ fn a_restored_world_continues_bit_for_bit() {
         w.restore(&snap).unwrap();
         assert_eq!(w.step_count(), before as u64);
         assert_eq!(cube_at(&mut w, -5.0, 0.5, 0.0), added);
-        assert_eq!(run(&mut w, 60), original, "restored in place, sleep {sleep}");
+        assert_eq!(
+            run(&mut w, 60),
+            original,
+            "restored in place, sleep {sleep}"
+        );
         assert_eq!(w.contact_events(), &events[..]);
         assert_eq!(w.sleeping_count(), asleep);
 
@@ -125,6 +129,7 @@ fn snapshots_refuse_another_backend() {
 #[cfg(feature = "serde")]
 mod json {
     use super::*;
+    use tumble::WorldSnapshot;
 
     #[test]
     fn a_json_round_trip_keeps_every_bit() {

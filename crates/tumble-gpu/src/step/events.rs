@@ -155,6 +155,10 @@ impl EventStage {
             touching: ctx.read_buffer(&b.touching, 0, touching)?,
         };
         let event = std::mem::size_of::<GpuContactEvent>() as u64;
-        Ok((list, self.compared, COUNTS_BYTES + (events + touching) * event))
+        Ok((
+            list,
+            self.compared,
+            COUNTS_BYTES + (events + touching) * event,
+        ))
     }
 }

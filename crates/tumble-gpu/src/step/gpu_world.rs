@@ -24,11 +24,11 @@ use crate::{GpuContext, GpuError, MAX_MANIFOLD_POINTS, StageTimer};
 
 use super::config::{GpuWorldConfig, PathPolicy};
 use super::events::EventStage;
-use crate::kernels::contact_events::ContactEventList;
 use super::idle::IdleSteps;
 use super::read_plan::{PendingRead, ReadSizes, decode};
 use super::snapshot::{ContactSnapshot, ReadRequest, Snapshot};
 use super::stats_ring::StatsRing;
+use crate::kernels::contact_events::ContactEventList;
 
 pub use draw::DrawBuffers;
 
@@ -367,9 +367,7 @@ impl GpuWorld {
     /// with host manifolds) or when its pairs were dropped since (bodies uploaded again, pair
     /// buffers grown); the events are then void and the touching pairs are to be compared on
     /// the host. `None` while events are off.
-    pub fn read_contact_events(
-        &mut self,
-    ) -> Result<Option<(ContactEventList, bool)>, GpuError> {
+    pub fn read_contact_events(&mut self) -> Result<Option<(ContactEventList, bool)>, GpuError> {
         let Some(events) = &self.events else {
             return Ok(None);
         };

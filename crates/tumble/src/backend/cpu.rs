@@ -6,8 +6,8 @@ use tumble_solver::{Body, Contact, ContactCache, PairKey, Stage, stages};
 use super::pipeline::{self, Collided, Collision, StepBodies};
 use super::{Host, StepArgs, StepBackend};
 use crate::snapshot::BackendSnapshot;
-use crate::{Backend, Error};
 use crate::stats::StageClock;
+use crate::{Backend, Error};
 
 /// The CPU collision stages: the grid broad phase, the box-box test, the contact cache.
 #[derive(Debug, Default)]

@@ -150,7 +150,8 @@ mod json {
         let snap = w.snapshot().unwrap();
         let text = serde_json::to_value(&snap).unwrap();
         let before = bits(&w);
-        let cases: [(&str, fn(&mut serde_json::Value)); 5] = [
+        type Alter = fn(&mut serde_json::Value);
+        let cases: [(&str, Alter); 5] = [
             ("snapshot.format", |v| v["format"] = 7.into()),
             ("snapshot.states", |v| {
                 v["states"].as_array_mut().unwrap().pop();

@@ -203,3 +203,17 @@ struct ScatterParams {
     _pad1: u32,
     _pad2: u32,
 }
+
+// A pair that began or ended touching, or one that touches. 32 bytes.
+struct GpuContactEvent {
+    // EVENT_BEGIN, EVENT_END or EVENT_TOUCHING.
+    kind: u32,
+    // The pair's bodies (dense indices at the step), body_a < body_b.
+    body_a: u32,
+    body_b: u32,
+    // The pair's slot in its step's pair list.
+    slot: u32,
+    // xyz: the contact point (the points' mean weighted by their normal impulses, or their
+    // plain mean when none pushed); w: the manifold's normal impulse over the step.
+    point: vec4<f32>,
+}

@@ -7,6 +7,7 @@ pub const MAX_MANIFOLD_POINTS: usize = 4;
 
 /// One contact point of a manifold.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ContactPoint {
     /// World-space point midway between the two surfaces along the manifold normal.
     pub position: Point3,
@@ -20,6 +21,7 @@ pub struct ContactPoint {
 
 /// Which SAT axis produced the manifold.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum FeatureKind {
     /// Face `0..6` of box A is the reference face.
     #[default]
@@ -33,6 +35,7 @@ pub enum FeatureKind {
 
 /// A contact manifold between two boxes A and B.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Manifold {
     /// Unit normal pointing from A to B.
     pub normal: Vec3,

@@ -296,6 +296,24 @@ host_structs! {
             /// Padding.
             pub _pad2: u32,
     }
+
+    /// A pair that began or ended touching, or one that touches (`contact_begins`,
+    /// `contact_ends`). 32 bytes.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct GpuContactEvent {
+            /// `EVENT_BEGIN`, `EVENT_END` or `EVENT_TOUCHING` (`crate::kernels::contact_events`).
+            pub kind: u32,
+            /// The pair's first body (dense index at the step), the smaller index.
+            pub body_a: u32,
+            /// The pair's second body.
+            pub body_b: u32,
+            /// The pair's slot in its step's pair list.
+            pub slot: u32,
+            /// xyz: the contact point (the points' mean weighted by their normal impulses, or
+            /// their plain mean when none pushed); w: the manifold's normal impulse over the
+            /// step, N s.
+            pub point: [f32; 4],
+    }
 }
 
 /// Flag bit of [`GpuShape::flags`]: the body never moves (two static bodies never pair).

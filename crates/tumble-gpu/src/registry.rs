@@ -29,6 +29,8 @@ pub static KERNELS: &[&KernelSpec] = &[
     &kernels::compact_touching::SCAN_TOUCHING,
     &kernels::compact_touching::WRITE_TOUCHING,
     &kernels::compact_touching::SCATTER_IMPULSES,
+    &kernels::contact_events::CONTACT_BEGINS,
+    &kernels::contact_events::CONTACT_ENDS,
     &solver::apply_impulses::APPLY_IMPULSES,
     &solver::color::COLOR_PROPOSE,
     &solver::color::COLOR_RESOLVE,

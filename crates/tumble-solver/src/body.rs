@@ -19,6 +19,7 @@ pub enum BodyKind {
 
 /// Per-axis locks in world axes: a locked axis neither translates nor rotates.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Locks {
     /// Translation along world x, y, z is locked.
     pub translation: [bool; 3],
@@ -50,6 +51,7 @@ impl Locks {
 
 /// The cold part of a body: read once per step to build constraints, written once at the end.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Body {
     /// Fixed, dynamic or kinematic.
     pub kind: BodyKind,
@@ -73,6 +75,7 @@ pub struct Body {
 
 /// The hot part of a body: what the solver's inner loops touch (52 bytes on the CPU).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct BodyState {
     /// Linear velocity of the centre of mass, m/s (12 bytes).
     pub linear_velocity: Vec3,

@@ -5,6 +5,7 @@ use tumble_geometry::{MAX_MANIFOLD_POINTS, Manifold, Real, Vec3};
 
 /// The impulses of one contact point, as stored between steps.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PointImpulse {
     /// Accumulated normal impulse of the last substep, N s (>= 0).
     pub normal: Real,
@@ -15,6 +16,7 @@ pub struct PointImpulse {
 
 /// One manifold between two bodies, with warm-start impulses in and solved impulses out.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Contact {
     /// Index of body A in the solver's body arrays.
     pub body_a: u32,

@@ -23,6 +23,7 @@ pub type PairKey = (u64, u64);
 
 /// What a pair's manifold left behind for the next step.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct CachedManifold {
     /// Which SAT axis kind made the manifold (hysteresis input for the narrow phase).
     pub kind: FeatureKind,
@@ -163,6 +164,21 @@ impl ContactCache {
                     len: m.len,
                 },
             );
+        }
+    }
+
+    /// Every cached pair with what it left behind, sorted by pair key (a copy of the cache
+    /// that does not depend on the map's iteration order).
+    pub fn entries(&self) -> Vec<(PairKey, CachedManifold)> {
+        let mut out: Vec<_> = self.manifolds.iter().map(|(k, m)| (*k, *m)).collect();
+        out.sort_unstable_by_key(|(k, _)| *k);
+        out
+    }
+
+    /// A cache holding exactly `entries` (as [`ContactCache::entries`] gave them).
+    pub fn from_entries(entries: impl IntoIterator<Item = (PairKey, CachedManifold)>) -> Self {
+        Self {
+            manifolds: entries.into_iter().collect(),
         }
     }
 

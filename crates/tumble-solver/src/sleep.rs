@@ -52,6 +52,7 @@ pub fn is_moving_kinematic(kind: BodyKind, linear: &Vec3, angular: &Vec3) -> boo
 /// fixed for that one step and wakes its island for the next (Box2D does the same: a touch
 /// wakes the island, which rejoins the solver on the following step).
 #[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SleepState {
     /// Time each body has stayed below the sleep tolerances, s.
     rest_time: Vec<Real>,
@@ -176,6 +177,39 @@ impl SleepState {
         self.wake(d);
         self.rest_time.swap_remove(d);
         self.island.swap_remove(d);
+    }
+
+    /// Checks that the state fits a world of `bodies` bodies (one rest time and one island
+    /// per body, the asleep count matching the islands, finite non-negative rest times, kept
+    /// manifolds of at most `MAX_MANIFOLD_POINTS` points): the check a state read from outside
+    /// (a saved world) must pass before a step uses it. The error says what is wrong.
+    pub fn check(&self, bodies: usize) -> Result<(), String> {
+        if self.rest_time.len() != bodies || self.island.len() != bodies {
+            return Err(format!(
+                "{} rest times and {} islands for {bodies} bodies",
+                self.rest_time.len(),
+                self.island.len()
+            ));
+        }
+        let asleep = self.island.iter().filter(|&&i| i != AWAKE).count();
+        if asleep != self.asleep {
+            return Err(format!(
+                "asleep count {} but {asleep} bodies in sleeping islands",
+                self.asleep
+            ));
+        }
+        if let Some(t) = self.rest_time.iter().find(|t| !t.is_finite() || **t < 0.0) {
+            return Err(format!("rest time {t}"));
+        }
+        let max_points = tumble_geometry::MAX_MANIFOLD_POINTS;
+        if let Some((c, _)) = self
+            .contacts
+            .iter()
+            .find(|(c, _)| c.manifold.len as usize > max_points)
+        {
+            return Err(format!("kept manifold of {} points", c.manifold.len));
+        }
+        Ok(())
     }
 
     /// True when the body at `d` sleeps.

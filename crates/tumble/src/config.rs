@@ -7,6 +7,7 @@ use tumble_solver::{InvalidParameter, SolverConfig, bounds};
 
 /// Where the step runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Backend {
     /// Every stage on the CPU (the reference).
     Cpu,
@@ -26,6 +27,7 @@ pub const DEFAULT_MARGIN: Real = 0.02;
 
 /// Everything a world needs besides its bodies.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct WorldConfig {
     /// Gravity acceleration, m/s^2.
     pub gravity: Vec3,

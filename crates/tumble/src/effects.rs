@@ -8,6 +8,7 @@ use crate::World;
 
 /// How one effect is chosen.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum EffectSwitch {
     /// On when the scene needs it (sleep: off, since sleeping changes results).
     #[default]
@@ -30,6 +31,7 @@ impl EffectSwitch {
 
 /// The user's choice per effect; `Auto` everywhere by default.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct EffectOverrides {
     /// Gravity.
     pub gravity: EffectSwitch,
@@ -56,6 +58,7 @@ pub struct EffectOverrides {
 /// reading it then costs a separate read of the GPU buffers. Whatever the setting, every
 /// getter returns the state after the last step: these switches change only the time.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ReadbackOverrides {
     /// Every body's pose.
     pub poses: EffectSwitch,

@@ -5,6 +5,7 @@ use crate::Error;
 /// Identifies a body of a [`crate::World`]. Never reused: removing a body bumps its slot's
 /// generation, so old handles report [`Error::RemovedHandle`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct BodyHandle {
     index: u32,
     generation: u32,
@@ -37,6 +38,7 @@ impl BodyHandle {
 
 /// One slot: its current generation and, while alive, the body's index in the dense arrays.
 #[derive(Clone, Copy, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 struct Slot {
     generation: u32,
     dense: Option<u32>,
@@ -44,6 +46,7 @@ struct Slot {
 
 /// Maps handles to dense body indices and back.
 #[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct HandleMap {
     slots: Vec<Slot>,
     free: Vec<u32>,
@@ -119,6 +122,39 @@ impl HandleMap {
     /// The handle of each dense index.
     pub(crate) fn handles(&self) -> &[BodyHandle] {
         &self.handles
+    }
+
+    /// Checks that the map is one `insert` and `remove` could have built for `bodies` live
+    /// bodies (each live handle's slot at its generation and dense index, every other slot
+    /// free or retired, free slots listed once): the check a map read from outside (a saved
+    /// world) must pass. The error says what is wrong.
+    pub(crate) fn check(&self, bodies: usize) -> Result<(), String> {
+        if self.handles.len() != bodies {
+            return Err(format!(
+                "{} handles for {bodies} bodies",
+                self.handles.len()
+            ));
+        }
+        for (d, h) in self.handles.iter().enumerate() {
+            match self.slots.get(h.index as usize) {
+                Some(slot) if slot.generation == h.generation && slot.dense == Some(d as u32) => {}
+                _ => return Err(format!("handle {h:?} does not name dense index {d}")),
+            }
+        }
+        let live = self.slots.iter().filter(|s| s.dense.is_some()).count();
+        if live != bodies {
+            return Err(format!("{live} live slots for {bodies} bodies"));
+        }
+        let mut listed = vec![false; self.slots.len()];
+        for &f in &self.free {
+            match self.slots.get(f as usize) {
+                Some(slot) if slot.dense.is_none() && !listed[f as usize] => {
+                    listed[f as usize] = true;
+                }
+                _ => return Err(format!("free slot {f} is live, listed twice or unknown")),
+            }
+        }
+        Ok(())
     }
 }
 

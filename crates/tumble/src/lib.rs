@@ -24,12 +24,14 @@ mod contact_report;
 mod draw;
 mod effects;
 mod error;
+mod events;
 #[cfg(feature = "gpu")]
 mod gpu_reads;
 mod handle;
 mod query;
 mod scene;
 mod sleep;
+mod snapshot;
 pub mod stages;
 mod stats;
 mod world;
@@ -40,10 +42,12 @@ pub use config::{Backend, DEFAULT_MARGIN, STANDARD_GRAVITY, WorldConfig};
 pub use contact_report::{ContactPointReport, ContactReport};
 pub use effects::{EffectOverrides, EffectSwitch, ReadbackOverrides};
 pub use error::Error;
+pub use events::{ContactEvent, ContactEventKind, TouchingPair};
 pub use handle::BodyHandle;
 pub use query::{BoxHit, PointHit, QueryFilter, RayHit};
 pub use scene::body_desc;
 pub use sleep::{ANGULAR_SLEEP_TOLERANCE, LINEAR_SLEEP_TOLERANCE, TIME_TO_SLEEP};
+pub use snapshot::WorldSnapshot;
 pub use stats::{StageTimings, StepStats};
 pub use world::World;
 

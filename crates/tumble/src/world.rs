@@ -3,9 +3,10 @@
 use tumble_geometry::Real;
 
 use crate::backend::{Host, StepArgs, StepBackend, new_backend};
+use crate::events::EventState;
 use crate::{
-    BodyHandle, ContactPointReport, ContactReport, Error, StepStats, WorldConfig,
-    handle::HandleMap, query::QueryCache,
+    BodyHandle, ContactEvent, ContactPointReport, ContactReport, Error, StepStats, TouchingPair,
+    WorldConfig, handle::HandleMap, query::QueryCache,
 };
 
 /// A simulated world of boxes.
@@ -24,7 +25,9 @@ pub struct World {
     /// The spatial queries' tree over the current poses (`crate::query`), dropped by every
     /// call that moves, adds or removes a body.
     pub(crate) query: QueryCache,
-    steps: u64,
+    /// Contact events: on or off, last step's touching pairs and events (`crate::events`).
+    pub(crate) events: EventState,
+    pub(crate) steps: u64,
 }
 
 impl World {
@@ -38,6 +41,7 @@ impl World {
             host: Host::default(),
             backend,
             query: QueryCache::default(),
+            events: EventState::default(),
             steps: 0,
         })
     }
@@ -68,7 +72,45 @@ impl World {
         };
         self.backend.step(&mut self.host, args)?;
         self.steps += 1;
+        if self.events.enabled {
+            let (touching, events) = self.backend.touching_and_events(&self.host)?;
+            self.events.update(touching, events);
+        }
         Ok(())
+    }
+
+    /// Turns contact events on or off (off by default, when steps compute and read nothing
+    /// for them). On, every step compares its touching pairs with the last step's (see
+    /// [`World::contact_events`]); the first step after turning them on begins every pair
+    /// touching then. Off forgets the touching pairs and events.
+    ///
+    /// `Backend::Gpu` compares the steps on the GPU and reads back only the events and the
+    /// touching pairs, waiting for each step to finish; Errs only when the GPU cannot build
+    /// the stage's kernels.
+    pub fn set_contact_events(&mut self, on: bool) -> Result<(), Error> {
+        self.backend.set_contact_events(on)?;
+        self.events.set_enabled(on);
+        Ok(())
+    }
+
+    /// Whether steps compute contact events.
+    pub fn contact_events_enabled(&self) -> bool {
+        self.events.enabled
+    }
+
+    /// The pairs that began or ended touching in the last step, sorted by body pair (smaller
+    /// handle first); empty while events are off. A pair touches when its manifold has a
+    /// point that overlapped at the start of the step or pushed during it (a speculative
+    /// point that stayed apart does not count; see `crate::events`). A pair one of whose
+    /// bodies was removed ends at the next step.
+    pub fn contact_events(&self) -> &[ContactEvent] {
+        &self.events.events
+    }
+
+    /// The pairs touching in the last step with their normal impulse and a contact point,
+    /// sorted by body pair; empty while events are off.
+    pub fn touching_pairs(&self) -> &[TouchingPair] {
+        &self.events.touching
     }
 
     /// Counts and per-stage timings of the last step.

@@ -168,6 +168,9 @@ pub struct GpuCollision {
     /// Manifolds and points of the last touching readback (what `store_touching_impulses`
     /// expects).
     last_touching: TouchingCounts,
+    /// Times last step's pairs were dropped ([`Self::forget_history`]): kernels comparing a
+    /// step with the one before (contact events) know the comparison is void when it changed.
+    history_resets: u64,
 }
 
 impl GpuCollision {
@@ -190,6 +193,7 @@ impl GpuCollision {
             readback_pairs: READBACK_MIN_PAIRS,
             readback_touching: READBACK_MIN_PAIRS,
             last_touching: TouchingCounts::default(),
+            history_resets: 0,
         })
     }
 
@@ -329,6 +333,7 @@ impl GpuCollision {
     /// Drops last step's pairs, so the next step carries no impulses and no hysteresis (for
     /// when body indices were reassigned).
     pub fn forget_history(&mut self) {
+        self.history_resets += 1;
         let empty = WorkList {
             capacity: self.pair_capacity,
             ..Default::default()
@@ -468,6 +473,25 @@ impl GpuCollision {
     /// recorded after it.
     pub fn buffers<'a>(&'a self, bodies: &'a wgpu::Buffer) -> StepBuffers<'a> {
         step_buffers(&self.pool, self.last_parity(), bodies)
+    }
+
+    /// The pair sets of the last recorded step (`[0]`) and of the step before it (`[1]`):
+    /// each its pair `WorkList`, manifolds and points, for kernels recorded after the step.
+    pub fn pair_sets(&self) -> [[&wgpu::Buffer; 3]; 2] {
+        let p = self.last_parity();
+        let set = |p: usize| {
+            [
+                self.pool.get(PAIR_WORK[p]),
+                self.pool.get(MANIFOLDS[p]),
+                self.pool.get(CONTACTS[p]),
+            ]
+        };
+        [set(p), set(1 - p)]
+    }
+
+    /// Times last step's pairs were dropped so far (see [`Self::forget_history`]).
+    pub fn history_resets(&self) -> u64 {
+        self.history_resets
     }
 
     /// The last recorded step's contact points (`array<GpuContact>`).

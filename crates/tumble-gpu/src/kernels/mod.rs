@@ -10,6 +10,7 @@ pub mod carry_impulses;
 pub mod choose_axis;
 pub mod collide_cuboids;
 pub mod compact_touching;
+pub mod contact_events;
 pub mod gather_sweep_boxes;
 pub mod match_pairs;
 pub mod plan_dispatch;

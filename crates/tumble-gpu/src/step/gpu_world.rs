@@ -23,10 +23,12 @@ use crate::solver::{Effects, GpuSolver, SolvePath, SolverInputs, StepParams};
 use crate::{GpuContext, GpuError, MAX_MANIFOLD_POINTS, StageTimer};
 
 use super::config::{GpuWorldConfig, PathPolicy};
+use super::events::EventStage;
 use super::idle::IdleSteps;
 use super::read_plan::{PendingRead, ReadSizes, decode};
 use super::snapshot::{ContactSnapshot, ReadRequest, Snapshot};
 use super::stats_ring::StatsRing;
+use crate::kernels::contact_events::ContactEventList;
 
 pub use draw::DrawBuffers;
 
@@ -84,6 +86,8 @@ pub struct GpuWorld {
     bytes_read: u64,
     sleep: GpuSleep,
     idle: IdleSteps,
+    /// The contact-event stage, while events are on.
+    events: Option<EventStage>,
 }
 
 fn invalid(field: impl Into<String>, value: impl std::fmt::Debug) -> GpuError {
@@ -126,6 +130,7 @@ impl GpuWorld {
             bytes_read: 0,
             sleep: GpuSleep::new(ctx),
             idle: IdleSteps::default(),
+            events: None,
         })
     }
 
@@ -297,7 +302,10 @@ impl GpuWorld {
             // Repeats an idle step: only the stats copy and the requested reads.
             self.idle.skipped();
             self.timer.reset();
-            let encoder = self.ctx.encoder("tumble idle step");
+            let mut encoder = self.ctx.encoder("tumble idle step");
+            if let Some(events) = &mut self.events {
+                events.record_idle(&mut encoder);
+            }
             return self.finish_step(encoder, self.last_path.unwrap_or(path));
         }
         let params = self.params();
@@ -336,8 +344,41 @@ impl GpuWorld {
                 }
             }
         }
+        if let Some(events) = &mut self.events {
+            events.record(&self.ctx, &mut encoder, &self.collision);
+        }
         self.source = ContactSource::Collision;
         self.finish_step(encoder, path)
+    }
+
+    /// Turns the contact-event stage on or off from the next step on. On, each step ends
+    /// with `contact_begins` and `contact_ends` (`crate::kernels::contact_events`), read by
+    /// [`Self::read_contact_events`]; off (the default), nothing is recorded for them.
+    pub fn set_contact_events(&mut self, on: bool) -> Result<(), GpuError> {
+        match (on, self.events.is_some()) {
+            (true, false) => self.events = Some(EventStage::new(&self.ctx)?),
+            (false, true) => self.events = None,
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// The last step's contact events and touching pairs (dense body indices), waiting for
+    /// the step, with whether the GPU compared the step with the one before: `false` when
+    /// the stage did not run after that step (events just turned on, an empty world, steps
+    /// with host manifolds) or when its pairs were dropped since (bodies uploaded again, pair
+    /// buffers grown); the events are then void and the touching pairs are to be compared on
+    /// the host. `None` while events are off.
+    pub fn read_contact_events(&mut self) -> Result<Option<(ContactEventList, bool)>, GpuError> {
+        let Some(events) = &self.events else {
+            return Ok(None);
+        };
+        if self.bodies.is_empty() || self.source == ContactSource::Host {
+            return Ok(Some((ContactEventList::default(), false)));
+        }
+        let (list, compared, bytes) = events.read(&self.ctx)?;
+        self.bytes_read += bytes;
+        Ok(Some((list, compared)))
     }
 
     /// Copies for the requested reads, the stats copy, timestamps, submit.

@@ -3,6 +3,7 @@
 //! [`HybridCollision`] runs the collision on the GPU for a CPU solver.
 
 pub mod config;
+mod events;
 pub mod gpu_world;
 pub mod hybrid;
 pub mod idle;

@@ -5,8 +5,9 @@ use tumble_solver::{Body, Contact, ContactCache, PairKey, Stage, stages};
 
 use super::pipeline::{self, Collided, Collision, StepBodies};
 use super::{Host, StepArgs, StepBackend};
-use crate::Error;
+use crate::snapshot::BackendSnapshot;
 use crate::stats::StageClock;
+use crate::{Backend, Error};
 
 /// The CPU collision stages: the grid broad phase, the box-box test, the contact cache.
 #[derive(Debug, Default)]
@@ -70,5 +71,21 @@ impl StepBackend for CpuBackend {
 
     fn forget_body(&mut self, id: u64) {
         self.collision.cache.forget_body(id);
+    }
+
+    fn kind(&self) -> Backend {
+        Backend::Cpu
+    }
+
+    fn save(&self) -> Result<BackendSnapshot, Error> {
+        Ok(BackendSnapshot::Cpu {
+            cache: self.collision.cache.entries(),
+        })
+    }
+
+    fn load(&mut self, saved: &BackendSnapshot) -> Result<(), Error> {
+        let BackendSnapshot::Cpu { cache } = saved;
+        self.collision.cache = ContactCache::from_entries(cache.iter().copied());
+        Ok(())
     }
 }

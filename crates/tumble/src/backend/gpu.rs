@@ -11,13 +11,20 @@
 
 use std::sync::{Mutex, OnceLock};
 
-use tumble_geometry::Pose;
+use tumble_geometry::{Point3, Pose};
+use tumble_gpu::kernels::contact_events::{EVENT_BEGIN, EVENT_END};
+use tumble_gpu::layout::GpuContactEvent;
 use tumble_gpu::step::{GpuWorld, GpuWorldConfig};
 use tumble_solver::{BodyKind, BodyState, bounds};
 
-use super::{ContactsView, Host, StepArgs, StepBackend, shared_context, unavailable};
+use super::{
+    ContactsView, Host, StepArgs, StepBackend, TouchingAndEvents, shared_context, unavailable,
+};
 use crate::gpu_reads::{ContactView, Reads, Unread};
-use crate::{Backend, BodyHandle, Error, StepStats, WorldConfig};
+use crate::{
+    Backend, BodyHandle, ContactEvent, ContactEventKind, Error, StepStats, TouchingPair,
+    WorldConfig,
+};
 
 fn failed(e: impl std::fmt::Display) -> Error {
     unavailable(Backend::Gpu, e)
@@ -47,6 +54,9 @@ pub(crate) struct GpuBackend {
     /// The first body state out of bounds that a step left, once found (by a read, which
     /// has `&self`): every later step and write returns it.
     invalid: OnceLock<Error>,
+    /// Whether the last step uploaded every body again (bodies were added or removed): the
+    /// GPU's comparison of its pairs with the step before's, by dense index, is then void.
+    uploaded_last_step: bool,
 }
 
 /// The error for the first moving body whose pose or velocities, as the GPU step left them,
@@ -96,6 +106,7 @@ impl GpuBackend {
             unread: None,
             last_asked: Reads::default(),
             invalid: OnceLock::new(),
+            uploaded_last_step: false,
         })
     }
 
@@ -123,6 +134,10 @@ impl GpuBackend {
 }
 
 impl StepBackend for GpuBackend {
+    fn kind(&self) -> Backend {
+        Backend::Gpu
+    }
+
     fn step(&mut self, host: &mut Host, args: StepArgs<'_>) -> Result<(), Error> {
         let StepArgs {
             handles,
@@ -139,6 +154,7 @@ impl StepBackend for GpuBackend {
         let asked = self.asked();
         let host_current = self.unread.as_ref().is_none_or(|u| u.motion_in_host);
         let gpu = self.gpu.get_mut().map_err(|_| poisoned())?;
+        self.uploaded_last_step = self.uploaded != handles;
         if self.uploaded != handles {
             // Adding or removing a body brought the host arrays up to date first.
             debug_assert!(host_current, "bodies changed while the host was behind");
@@ -173,6 +189,70 @@ impl StepBackend for GpuBackend {
             ..Default::default()
         };
         Ok(())
+    }
+
+    fn set_contact_events(&mut self, on: bool) -> Result<(), Error> {
+        let gpu = self.gpu.get_mut().map_err(|_| poisoned())?;
+        gpu.set_contact_events(on).map_err(failed)
+    }
+
+    fn touching_and_events(&self, host: &Host) -> Result<TouchingAndEvents, Error> {
+        let _ = host;
+        let read = {
+            let mut gpu = self.gpu.lock().map_err(|_| poisoned())?;
+            gpu.read_contact_events().map_err(failed)?
+        };
+        let Some((list, compared)) = read else {
+            return Ok((Vec::new(), None));
+        };
+        // Dense indices of the step, which the handles uploaded with it name.
+        let handles = &self.uploaded;
+        let name = |e: &GpuContactEvent| -> Option<(BodyHandle, BodyHandle)> {
+            let (a, b) = (
+                *handles.get(e.body_a as usize)?,
+                *handles.get(e.body_b as usize)?,
+            );
+            Some(if a <= b { (a, b) } else { (b, a) })
+        };
+        let point = |e: &GpuContactEvent| Point3::new(e.point[0], e.point[1], e.point[2]);
+        let mut touching: Vec<TouchingPair> = list
+            .touching
+            .iter()
+            .filter_map(|e| {
+                let (body_a, body_b) = name(e)?;
+                Some(TouchingPair {
+                    body_a,
+                    body_b,
+                    normal_impulse: e.point[3],
+                    point: point(e),
+                })
+            })
+            .collect();
+        touching.sort_unstable_by_key(|p| (p.body_a, p.body_b));
+        if !compared || self.uploaded_last_step {
+            return Ok((touching, None));
+        }
+        let mut events: Vec<ContactEvent> = list
+            .events
+            .iter()
+            .filter_map(|e| {
+                let (body_a, body_b) = name(e)?;
+                let kind = match e.kind {
+                    EVENT_BEGIN => ContactEventKind::Begin,
+                    EVENT_END => ContactEventKind::End,
+                    _ => return None,
+                };
+                Some(ContactEvent {
+                    kind,
+                    body_a,
+                    body_b,
+                    normal_impulse: e.point[3],
+                    point: point(e),
+                })
+            })
+            .collect();
+        events.sort_unstable_by_key(|e| (e.body_a, e.body_b));
+        Ok((touching, Some(events)))
     }
 
     fn pose(&self, host: &Host, d: usize) -> Result<Pose, Error> {

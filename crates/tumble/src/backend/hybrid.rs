@@ -119,6 +119,10 @@ impl HybridBackend {
 }
 
 impl StepBackend for HybridBackend {
+    fn kind(&self) -> Backend {
+        Backend::Hybrid
+    }
+
     fn step(&mut self, host: &mut Host, args: StepArgs<'_>) -> Result<(), Error> {
         pipeline::step(host, args, &mut self.collision)
     }

@@ -27,7 +27,8 @@ use tumble_geometry::Pose;
 use tumble_solver::{Body, BodyState, Contact, Effects, SleepState};
 
 use crate::handle::HandleMap;
-use crate::{Backend, BodyHandle, Error, StepStats, WorldConfig};
+use crate::snapshot::BackendSnapshot;
+use crate::{Backend, BodyHandle, ContactEvent, Error, StepStats, TouchingPair, WorldConfig};
 
 /// The world's host copy of its bodies and of the last step's results, in dense order.
 #[derive(Clone, Debug, Default)]
@@ -48,6 +49,9 @@ pub(crate) struct Host {
 
 /// Last step's manifolds and the handles of their bodies.
 pub(crate) type ContactsView<'a> = (&'a [Contact], &'a [(BodyHandle, BodyHandle)]);
+
+/// Last step's touching pairs, and the events when a backend compared the steps itself.
+pub(crate) type TouchingAndEvents = (Vec<TouchingPair>, Option<Vec<ContactEvent>>);
 
 /// What a step runs with besides the host copy: the world's handles, settings and effects.
 #[derive(Clone, Copy)]
@@ -81,6 +85,21 @@ pub(crate) trait StepBackend: fmt::Debug + Send + Sync {
     /// its error from the next step.
     fn contacts<'a>(&'a self, host: &'a Host) -> ContactsView<'a> {
         (&host.contacts, &host.contact_handles)
+    }
+
+    /// Turns the backend's own contact events on or off (see `crate::events`).
+    fn set_contact_events(&mut self, on: bool) -> Result<(), Error> {
+        let _ = on;
+        Ok(())
+    }
+
+    /// Last step's touching pairs, sorted by pair, and the begin and end events when the
+    /// backend compared the step with the one before itself (`None`: the caller compares the
+    /// touching pairs with its own list). The default reads the pairs from
+    /// [`StepBackend::contacts`] and compares nothing.
+    fn touching_and_events(&self, host: &Host) -> Result<TouchingAndEvents, Error> {
+        let (contacts, handles) = self.contacts(host);
+        Ok((crate::events::touching_pairs(contacts, handles), None))
     }
 
     /// Last step's statistics.
@@ -125,6 +144,21 @@ pub(crate) trait StepBackend: fmt::Debug + Send + Sync {
     fn forget_body(&mut self, id: u64) {
         let _ = id;
     }
+
+    /// What the backend keeps between steps besides the host arrays, for a snapshot. Errs
+    /// on backends whose state snapshots do not hold.
+    fn save(&self) -> Result<BackendSnapshot, Error> {
+        Err(no_snapshot(self.kind()))
+    }
+
+    /// Takes the state `save` gave (on a backend just made for the snapshot's config).
+    fn load(&mut self, saved: &BackendSnapshot) -> Result<(), Error> {
+        let _ = saved;
+        Err(no_snapshot(self.kind()))
+    }
+
+    /// Which backend this is.
+    fn kind(&self) -> Backend;
 
     /// Bytes of results copied from the GPU to the host so far (0 when results live on the
     /// host).
@@ -222,6 +256,15 @@ mod device {
     pub(super) fn hybrid(config: &WorldConfig) -> Result<Box<dyn StepBackend>, Error> {
         let _ = config;
         Err(unavailable(Backend::Hybrid, WITHOUT_GPU))
+    }
+}
+
+/// The error of a snapshot of `backend`, which snapshots do not support.
+fn no_snapshot(backend: Backend) -> Error {
+    Error::InvalidValue {
+        field: "backend",
+        value: format!("{backend:?}"),
+        expected: "Backend::Cpu (snapshots do not hold the GPU backends' device state yet)",
     }
 }
 

@@ -121,6 +121,9 @@ impl GpuWorld {
         self.solver
             .record(&mut encoder, &mut self.timer, &inputs, &params.params, path)?;
         self.source = ContactSource::Host;
+        if let Some(events) = &mut self.events {
+            events.forget();
+        }
         self.host_count = count;
         self.finish_step(encoder, path)
     }

@@ -1,0 +1,72 @@
+//! Contact events on the GPU: after the solver, `contact_begins` (one thread per pair of this
+//! step) lists the pairs that touch and the begins, and marks last step's slots still touching;
+//! `contact_ends` (one thread per pair of last step) lists the ends. Both read the two pair
+//! sets the collision stages keep (this step's parity and the last one's, whose manifolds and
+//! impulses are intact until the next step) and append with atomic counters; the host sorts
+//! the short lists by body pair, so their order is deterministic.
+
+use crate::kernel::kernel;
+use crate::layout::GpuContactEvent;
+
+/// [`GpuContactEvent::kind`] of a begin.
+pub const EVENT_BEGIN: u32 = 0;
+/// [`GpuContactEvent::kind`] of an end.
+pub const EVENT_END: u32 = 1;
+/// [`GpuContactEvent::kind`] of a touching pair.
+pub const EVENT_TOUCHING: u32 = 2;
+
+kernel! {
+    /// Buffers of [`CONTACT_BEGINS`].
+    pub struct ContactBeginsArgs {
+        /// This step's pair `WorkList`.
+        work,
+        /// This step's manifolds, one per pair.
+        manifolds,
+        /// This step's points, `MAX_MANIFOLD_POINTS` per pair.
+        contacts,
+        /// Last step's manifolds.
+        previous_manifolds,
+        /// Last step's points.
+        previous_contacts,
+        /// Output: 1 for each of last step's slots that still touches (cleared before).
+        kept,
+        /// The append counters `EventCounts` (cleared before).
+        counts,
+        /// Output `array<GpuContactEvent>`: begins (then ends, from `contact_ends`).
+        events,
+        /// Output `array<GpuContactEvent>`: the pairs touching.
+        touching,
+    }
+    /// Kernel: one thread per pair of this step.
+    pub static CONTACT_BEGINS = "contact_begins.wgsl";
+}
+
+kernel! {
+    /// Buffers of [`CONTACT_ENDS`].
+    pub struct ContactEndsArgs {
+        /// Last step's pair `WorkList`.
+        previous_work,
+        /// Last step's manifolds.
+        previous_manifolds,
+        /// Last step's points.
+        previous_contacts,
+        /// `contact_begins`' marks.
+        kept,
+        /// The append counters.
+        counts,
+        /// Output: the ends, after the begins.
+        events,
+    }
+    /// Kernel: one thread per pair of last step.
+    pub static CONTACT_ENDS = "contact_ends.wgsl";
+}
+
+/// What a step's event kernels found, read back: events and touching pairs in the order the
+/// threads appended them (sort them by pair).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ContactEventList {
+    /// Begins and ends.
+    pub events: Vec<GpuContactEvent>,
+    /// The pairs touching.
+    pub touching: Vec<GpuContactEvent>,
+}

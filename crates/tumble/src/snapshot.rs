@@ -1,0 +1,255 @@
+//! Saving a world and restoring it: [`WorldSnapshot`] holds everything that decides the next
+//! steps (settings, step count, handles and their slots, bodies, velocities, last step's
+//! manifolds with their impulses, the warm-start cache, sleep timers and islands, contact
+//! events), so that a world restored from it continues bit for bit as the one it was taken
+//! from, on the same backend.
+//!
+//! Snapshots are taken on `Backend::Cpu`; `Backend::Gpu` and `Backend::Hybrid` keep their
+//! warm-start impulses in GPU pair buffers, which are not saved yet, and answer
+//! [`World::snapshot`] with an error. With the crate's `serde` feature a snapshot is
+//! `Serialize` and `Deserialize` (floats round-trip exactly through JSON's shortest
+//! representation).
+
+use tumble_solver::{Body, BodyState, CachedManifold, Contact, PairKey, SleepState, bounds};
+
+use crate::backend::{Host, new_backend};
+use crate::events::EventState;
+use crate::handle::HandleMap;
+use crate::{Backend, BodyHandle, Error, StepStats, World, WorldConfig};
+
+/// The layout of [`WorldSnapshot`]: a snapshot of another layout is refused.
+const FORMAT: u32 = 1;
+
+/// What a snapshot expects of its contents.
+const EXPECTED: &str = "a snapshot as World::snapshot took it";
+
+/// A world's whole state at the end of a step (see the module documentation).
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct WorldSnapshot {
+    format: u32,
+    config: WorldConfig,
+    steps: u64,
+    handles: HandleMap,
+    bodies: Vec<Body>,
+    states: Vec<BodyState>,
+    contacts: Vec<Contact>,
+    contact_handles: Vec<(BodyHandle, BodyHandle)>,
+    sleep: SleepState,
+    events: EventState,
+    backend: BackendSnapshot,
+}
+
+/// What a backend keeps between steps besides the host arrays.
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub(crate) enum BackendSnapshot {
+    /// `Backend::Cpu`: the contact cache, sorted by pair key.
+    Cpu {
+        /// Last step's impulses by body pair.
+        cache: Vec<(PairKey, CachedManifold)>,
+    },
+}
+
+impl BackendSnapshot {
+    /// The backend the state belongs to.
+    fn backend(&self) -> Backend {
+        match self {
+            Self::Cpu { .. } => Backend::Cpu,
+        }
+    }
+}
+
+impl WorldSnapshot {
+    /// The settings of the saved world (its backend included).
+    pub fn config(&self) -> &WorldConfig {
+        &self.config
+    }
+
+    /// Steps the saved world had taken.
+    pub fn step_count(&self) -> u64 {
+        self.steps
+    }
+
+    /// Bodies of the saved world.
+    pub fn body_count(&self) -> usize {
+        self.bodies.len()
+    }
+
+    /// Checks every part against the others and against the engine's bounds, so that a
+    /// snapshot altered after it was taken (by hand, or corrupted on disk) is refused rather
+    /// than stepped.
+    fn check(&self) -> Result<(), Error> {
+        if self.format != FORMAT {
+            return Err(corrupt("snapshot.format", self.format));
+        }
+        self.config.validate()?;
+        if self.backend.backend() != self.config.backend {
+            return Err(corrupt(
+                "snapshot.backend",
+                format!(
+                    "{:?} state for config.backend {:?}",
+                    self.backend.backend(),
+                    self.config.backend
+                ),
+            ));
+        }
+        let n = self.bodies.len();
+        if self.states.len() != n {
+            return Err(corrupt(
+                "snapshot.states",
+                format!("{} states for {n} bodies", self.states.len()),
+            ));
+        }
+        self.handles
+            .check(n)
+            .map_err(|e| corrupt("snapshot.handles", e))?;
+        self.sleep
+            .check(n)
+            .map_err(|e| corrupt("snapshot.sleep", e))?;
+        for (d, (b, s)) in self.bodies.iter().zip(&self.states).enumerate() {
+            check_body(b, s).map_err(|e| corrupt("snapshot.bodies", format!("body {d}: {e}")))?;
+        }
+        if self.contact_handles.len() != self.contacts.len() {
+            return Err(corrupt(
+                "snapshot.contacts",
+                format!(
+                    "{} manifolds, {} handle pairs",
+                    self.contacts.len(),
+                    self.contact_handles.len()
+                ),
+            ));
+        }
+        let max_points = tumble_geometry::MAX_MANIFOLD_POINTS;
+        for (k, c) in self.contacts.iter().enumerate() {
+            let len = c.manifold.len as usize;
+            if c.body_a as usize >= n || c.body_b as usize >= n || len == 0 || len > max_points {
+                return Err(corrupt(
+                    "snapshot.contacts",
+                    format!(
+                        "manifold {k}: bodies {} and {} of {n}, {len} points",
+                        c.body_a, c.body_b
+                    ),
+                ));
+            }
+        }
+        let BackendSnapshot::Cpu { cache } = &self.backend;
+        if let Some((key, m)) = cache.iter().find(|(_, m)| m.len as usize > max_points) {
+            return Err(corrupt(
+                "snapshot.cache",
+                format!("pair {key:?}: {} points", m.len),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The error for a snapshot whose `field` holds `value`, which no snapshot taken holds.
+fn corrupt(field: &'static str, value: impl std::fmt::Display) -> Error {
+    Error::InvalidValue {
+        field,
+        value: value.to_string(),
+        expected: EXPECTED,
+    }
+}
+
+/// Why body `b` with state `s` cannot be stepped, if it cannot.
+fn check_body(b: &Body, s: &BodyState) -> Result<(), String> {
+    if let Some(v) = bounds::check_motion(&b.pose, &s.linear_velocity, &s.angular_velocity) {
+        return Err(format!("{} = {} ({})", v.quantity, v.value, v.expected));
+    }
+    bounds::require_half_extents(&b.shape.half_extents).map_err(|e| e.to_string())?;
+    let finite_non_negative = |x: f32| x.is_finite() && x >= 0.0;
+    let inertia = &b.inverse_inertia_local;
+    if !finite_non_negative(b.inverse_mass) || !inertia.iter().all(|&x| finite_non_negative(x)) {
+        return Err(format!(
+            "inverse mass {} and inverse inertia {inertia:?}",
+            b.inverse_mass
+        ));
+    }
+    if !finite_non_negative(b.linear_damping) || !finite_non_negative(b.angular_damping) {
+        return Err(format!(
+            "damping {} and {}",
+            b.linear_damping, b.angular_damping
+        ));
+    }
+    let mut deltas = s
+        .delta_position
+        .iter()
+        .chain(s.delta_rotation.coords.iter());
+    if !deltas.all(|x| x.is_finite()) {
+        return Err("non-finite in-step delta".to_string());
+    }
+    Ok(())
+}
+
+impl World {
+    /// Everything that decides the world's next steps, as a value: restored with
+    /// [`World::restore`] or [`World::from_snapshot`], the world continues bit for bit as this
+    /// one would. Errs on `Backend::Gpu` and `Backend::Hybrid`, whose warm-start state lives
+    /// in GPU buffers that snapshots do not hold yet.
+    pub fn snapshot(&self) -> Result<WorldSnapshot, Error> {
+        let backend = self.backend.save()?;
+        let host = &self.host;
+        Ok(WorldSnapshot {
+            format: FORMAT,
+            config: self.config,
+            steps: self.steps,
+            handles: self.handles.clone(),
+            bodies: host.bodies.clone(),
+            states: host.states.clone(),
+            contacts: host.contacts.clone(),
+            contact_handles: host.contact_handles.clone(),
+            sleep: host.sleep.clone(),
+            events: self.events.clone(),
+            backend,
+        })
+    }
+
+    /// Puts the world in the state `snapshot` holds: its settings, bodies and handles (a
+    /// handle of the saved world names the same body here), step count, contacts and events.
+    /// Last step's statistics are not saved and read as empty until the next step.
+    ///
+    /// Errs, leaving the world unchanged, when the snapshot was taken on another backend
+    /// (field `backend`) or fails its checks (a field `snapshot.*` naming the part).
+    pub fn restore(&mut self, snapshot: &WorldSnapshot) -> Result<(), Error> {
+        if snapshot.config.backend != self.config.backend {
+            return Err(Error::InvalidValue {
+                field: "backend",
+                value: format!(
+                    "{:?} (snapshot) into {:?} (world)",
+                    snapshot.config.backend, self.config.backend
+                ),
+                expected: "a snapshot taken on the world's backend",
+            });
+        }
+        snapshot.check()?;
+        let mut backend = new_backend(&snapshot.config)?;
+        backend.load(&snapshot.backend)?;
+        self.config = snapshot.config;
+        self.steps = snapshot.steps;
+        self.handles = snapshot.handles.clone();
+        self.host = Host {
+            bodies: snapshot.bodies.clone(),
+            states: snapshot.states.clone(),
+            contacts: snapshot.contacts.clone(),
+            contact_handles: snapshot.contact_handles.clone(),
+            sleep: snapshot.sleep.clone(),
+            stats: StepStats {
+                bodies: snapshot.bodies.len(),
+                ..Default::default()
+            },
+        };
+        self.events = snapshot.events.clone();
+        self.backend = backend;
+        self.query.invalidate();
+        Ok(())
+    }
+
+    /// A new world in the state `snapshot` holds (see [`World::restore`]).
+    pub fn from_snapshot(snapshot: &WorldSnapshot) -> Result<Self, Error> {
+        let mut world = World::new(snapshot.config)?;
+        world.restore(snapshot)?;
+        Ok(world)
+    }
+}

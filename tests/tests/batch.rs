@@ -27,7 +27,10 @@ use tumble::{
 /// kinematic paddle sweeping through them (the target of the kinematic actions).
 fn mixed(seed: u64, n: usize) -> Scene {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut scene = Scene::new(format!("mixed_{seed}"), "Boxes of mixed sizes and a paddle.");
+    let mut scene = Scene::new(
+        format!("mixed_{seed}"),
+        "Boxes of mixed sizes and a paddle.",
+    );
     scene.bodies.push(floor());
     let mut paddle = BodySpec::dynamic([1.0, 0.2, 0.2], [-3.0, 0.4, 0.0]);
     paddle.kind = SceneKind::Kinematic;
@@ -140,7 +143,9 @@ fn world_bits(world: &World) -> Vec<u32> {
         let (t, q) = (p.translation.vector, p.rotation.coords);
         let v = world.linear_velocity(h).unwrap();
         let w = world.angular_velocity(h).unwrap();
-        for x in [t.x, t.y, t.z, q.x, q.y, q.z, q.w, v.x, v.y, v.z, w.x, w.y, w.z] {
+        for x in [
+            t.x, t.y, t.z, q.x, q.y, q.z, q.w, v.x, v.y, v.z, w.x, w.y, w.z,
+        ] {
             out.push(x.to_bits());
         }
     }
@@ -276,7 +281,10 @@ fn batch_matches_worlds_alone(backend: Backend, scenes: &[Scene], steps: usize, 
         }
     }
     // The script did act: a run where no action landed would compare idle worlds.
-    assert!(moved_by_actions > scenes.len(), "{moved_by_actions} actions");
+    assert!(
+        moved_by_actions > scenes.len(),
+        "{moved_by_actions} actions"
+    );
 
     // The lone worlds step on one thread, the batch on all: equal bits also show the step
     // does not depend on the thread count.
@@ -326,7 +334,13 @@ fn knocked_batch() -> WorldBatch {
         .into_iter()
         .map(|id| {
             let top = *batch.handles(id).unwrap().last().unwrap();
-            let p = batch.world(id).unwrap().pose(top).unwrap().translation.vector;
+            let p = batch
+                .world(id)
+                .unwrap()
+                .pose(top)
+                .unwrap()
+                .translation
+                .vector;
             Action::impulse(id, top, Vec3::new(3.0, 0.0, 1.0), Point3::from(p))
         })
         .collect();
@@ -335,7 +349,11 @@ fn knocked_batch() -> WorldBatch {
 }
 
 fn all_bits(batch: &WorldBatch) -> Vec<Vec<u32>> {
-    batch.ids().into_iter().map(|id| batch_bits(batch, id)).collect()
+    batch
+        .ids()
+        .into_iter()
+        .map(|id| batch_bits(batch, id))
+        .collect()
 }
 
 #[test]
@@ -413,30 +431,82 @@ fn bad_actions_are_rejected_whole_and_change_nothing() {
     twin.remove_body(b, removed).unwrap();
     twin.remove_world(other_twin).unwrap();
 
-    let at_cube = Point3::from(batch.world(a).unwrap().pose(cube_a).unwrap().translation.vector);
+    let at_cube = Point3::from(
+        batch
+            .world(a)
+            .unwrap()
+            .pose(cube_a)
+            .unwrap()
+            .translation
+            .vector,
+    );
     let never_issued = handle_beyond(&batch, b);
     // A good entry, put first in every bad array: it must not be applied either.
     let good = Action::set_velocity(a, cube_a, Vec3::new(1.0, 0.0, 0.0), Vec3::zeros());
     let fast = Vec3::new(0.0, 0.0, 300.0);
     let cases: Vec<(Action, usize, &str)> = vec![
         // The removed world's id.
-        (Action::set_velocity(other, cube_a, Vec3::zeros(), Vec3::zeros()), 1, "world"),
+        (
+            Action::set_velocity(other, cube_a, Vec3::zeros(), Vec3::zeros()),
+            1,
+            "world",
+        ),
         // A removed body.
-        (Action::set_velocity(b, removed, Vec3::zeros(), Vec3::zeros()), 1, "body"),
+        (
+            Action::set_velocity(b, removed, Vec3::zeros(), Vec3::zeros()),
+            1,
+            "body",
+        ),
         // A handle world b never issued.
-        (Action::set_velocity(b, never_issued, Vec3::zeros(), Vec3::zeros()), 1, "body"),
-        (Action::impulse(a, cube_a, Vec3::new(Real::NAN, 0.0, 0.0), at_cube), 1, "impulse"),
-        (Action::impulse(a, cube_a, Vec3::x(), Point3::new(1e6, 0.0, 0.0)), 1, "point"),
-        (Action::set_velocity(a, cube_a, Vec3::new(500.0, 0.0, 0.0), Vec3::zeros()), 1, "linear_velocity"),
-        (Action::set_velocity(a, cube_a, Vec3::zeros(), Vec3::new(0.0, Real::INFINITY, 0.0)), 1, "angular_velocity"),
-        (Action::set_velocity(a, floor_a, Vec3::x(), Vec3::zeros()), 1, "linear_velocity"),
-        (Action::kinematic_target(a, cube_a, Pose::identity()), 1, "kind"),
+        (
+            Action::set_velocity(b, never_issued, Vec3::zeros(), Vec3::zeros()),
+            1,
+            "body",
+        ),
+        (
+            Action::impulse(a, cube_a, Vec3::new(Real::NAN, 0.0, 0.0), at_cube),
+            1,
+            "impulse",
+        ),
+        (
+            Action::impulse(a, cube_a, Vec3::x(), Point3::new(1e6, 0.0, 0.0)),
+            1,
+            "point",
+        ),
+        (
+            Action::set_velocity(a, cube_a, Vec3::new(500.0, 0.0, 0.0), Vec3::zeros()),
+            1,
+            "linear_velocity",
+        ),
+        (
+            Action::set_velocity(
+                a,
+                cube_a,
+                Vec3::zeros(),
+                Vec3::new(0.0, Real::INFINITY, 0.0),
+            ),
+            1,
+            "angular_velocity",
+        ),
+        (
+            Action::set_velocity(a, floor_a, Vec3::x(), Vec3::zeros()),
+            1,
+            "linear_velocity",
+        ),
+        (
+            Action::kinematic_target(a, cube_a, Pose::identity()),
+            1,
+            "kind",
+        ),
     ];
     for (bad, index, field) in cases {
         let before = all_bits(&batch);
         let e = batch.apply_actions(&[good, bad]).unwrap_err();
         assert_eq!(action_error(e.clone()), (index, field), "{e}");
-        assert!(e.to_string().contains(&format!("actions[{index}].{field}")), "{e}");
+        assert!(
+            e.to_string().contains(&format!("actions[{index}].{field}")),
+            "{e}"
+        );
         assert_eq!(all_bits(&batch), before, "{e}: the batch changed");
     }
     // Each impulse alone is within bounds (the cube is 1 kg: 300 m/s), the two together
@@ -539,7 +609,9 @@ fn bad_reads_return_errors_and_write_nothing() {
     }
     let vstride = batch.max_body_count() * VELOCITY_FLOATS;
     let mut vbuf = vec![SENTINEL; ids.len() * vstride];
-    batch.read_all_velocities_strided(&mut vbuf, vstride).unwrap();
+    batch
+        .read_all_velocities_strided(&mut vbuf, vstride)
+        .unwrap();
     let mut packed = vec![SENTINEL; batch.all_velocities_len()];
     batch.read_all_velocities(&mut packed).unwrap();
     assert!(packed.iter().all(|&x| x != SENTINEL));
@@ -554,7 +626,8 @@ fn bad_reads_return_errors_and_write_nothing() {
     );
     let mut big = WorldBatch::new(Backend::Cpu);
     for _ in 0..20 {
-        big.add_world(WorldSpec::new(WorldConfig::default())).unwrap();
+        big.add_world(WorldSpec::new(WorldConfig::default()))
+            .unwrap();
     }
     let foreign = big.ids()[15];
     assert_eq!(
@@ -590,10 +663,17 @@ fn bad_worlds_are_rejected_with_their_index() {
         dt: 0.0,
         ..WorldConfig::default()
     });
-    let e = WorldBatch::from_specs(Backend::Cpu, vec![good.clone(), good.clone(), bad_dt])
-        .unwrap_err();
+    let e =
+        WorldBatch::from_specs(Backend::Cpu, vec![good.clone(), good.clone(), bad_dt]).unwrap_err();
     assert!(
-        matches!(&e, Error::Batch(BatchError::Build { world: 2, body: None, .. })),
+        matches!(
+            &e,
+            Error::Batch(BatchError::Build {
+                world: 2,
+                body: None,
+                ..
+            })
+        ),
         "{e}"
     );
     let gpu = WorldSpec::new(WorldConfig {

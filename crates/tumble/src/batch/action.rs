@@ -143,8 +143,7 @@ pub(crate) fn plan<'w>(
                 bounds::require_angular_speed("angular_velocity", &angular, dt, substeps)
                     .map_err(fail)?;
                 if body.kind == BodyKind::Fixed {
-                    for (field, v) in [("linear_velocity", linear), ("angular_velocity", angular)]
-                    {
+                    for (field, v) in [("linear_velocity", linear), ("angular_velocity", angular)] {
                         if v != Vec3::zeros() {
                             return Err(fail(InvalidParameter::new(
                                 field,
@@ -223,8 +222,11 @@ pub(crate) fn plan<'w>(
                 let w = state.angular_velocity + moved.inverse_inertia_world() * r.cross(&impulse);
                 let result = bounds::EXPECTED_IMPULSE_RESULT;
                 let max_w = bounds::max_angular_speed(dt, substeps);
-                let too_fast = bounds::require_length_at_most("impulse", &v, bounds::MAX_SPEED, result)
-                    .and_then(|()| bounds::require_length_at_most("impulse", &w, max_w, result));
+                let too_fast =
+                    bounds::require_length_at_most("impulse", &v, bounds::MAX_SPEED, result)
+                        .and_then(|()| {
+                            bounds::require_length_at_most("impulse", &w, max_w, result)
+                        });
                 if too_fast.is_err() {
                     return Err(fail(InvalidParameter::new(
                         "impulse",

@@ -139,9 +139,7 @@ impl WorldBatch {
         let specs = scenes
             .iter()
             .enumerate()
-            .map(|(i, s)| {
-                WorldSpec::from_scene(s, config).map_err(|e| build_error(i, None, e))
-            })
+            .map(|(i, s)| WorldSpec::from_scene(s, config).map_err(|e| build_error(i, None, e)))
             .collect::<Result<Vec<_>, _>>()?;
         Self::from_specs(config.backend, specs)
     }
@@ -209,10 +207,7 @@ impl WorldBatch {
     /// Adds a body to a world. Errs, leaving the batch unchanged, on a bad field of `desc`.
     pub fn add_body(&mut self, id: WorldId, desc: BodyDesc) -> Result<BodyHandle, Error> {
         let entry = self.entry_mut(id)?;
-        let h = entry
-            .world
-            .add_body(desc)
-            .map_err(|e| world_error(id, e))?;
+        let h = entry.world.add_body(desc).map_err(|e| world_error(id, e))?;
         entry.history.add(desc);
         Ok(h)
     }
@@ -269,21 +264,20 @@ impl WorldBatch {
     /// no entry is applied.
     pub fn apply_actions(&mut self, actions: &[Action]) -> Result<(), Error> {
         action::plan(actions, |id| {
-            self.entry(id)
-                .map(|e| &e.world)
-                .map_err(|e| match e {
-                    Error::Batch(b) => b,
-                    other => BatchError::World {
-                        world: id,
-                        error: Box::new(other),
-                    },
-                })
+            self.entry(id).map(|e| &e.world).map_err(|e| match e {
+                Error::Batch(b) => b,
+                other => BatchError::World {
+                    world: id,
+                    error: Box::new(other),
+                },
+            })
         })?;
         for a in actions {
             let entry = self.entry_mut(a.world)?;
             // Checked above with the same bounds: an error here is a device failure (the GPU
             // backends read the state back first), reported as the world's.
-            action::apply(&mut entry.world, a.body, &a.kind).map_err(|e| world_error(a.world, e))?;
+            action::apply(&mut entry.world, a.body, &a.kind)
+                .map_err(|e| world_error(a.world, e))?;
             entry.history.action(a.body, a.kind);
         }
         Ok(())
@@ -315,7 +309,10 @@ impl WorldBatch {
         todo.dedup();
         let replay = |&i: &u32| -> Result<World, Error> {
             let id = self.id_at(i);
-            let entry = self.slots[i as usize].entry.as_ref().expect("checked above");
+            let entry = self.slots[i as usize]
+                .entry
+                .as_ref()
+                .expect("checked above");
             entry.history.replay().map_err(|e| world_error(id, e))
         };
         let rebuilt: Vec<Result<World, Error>> = if self.backend == Backend::Cpu {
@@ -326,7 +323,10 @@ impl WorldBatch {
         // The first failure by slot, so the error does not depend on scheduling.
         let rebuilt: Vec<World> = rebuilt.into_iter().collect::<Result<_, _>>()?;
         for (i, world) in todo.into_iter().zip(rebuilt) {
-            let entry = self.slots[i as usize].entry.as_mut().expect("checked above");
+            let entry = self.slots[i as usize]
+                .entry
+                .as_mut()
+                .expect("checked above");
             entry.world = world;
             entry.history.rewind();
         }

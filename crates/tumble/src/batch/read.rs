@@ -5,8 +5,8 @@
 //! body moves the last one into its place). Whole-batch reads take the worlds by slot
 //! ([`crate::WorldBatch::ids`]).
 
-use super::error::{BatchError, WorldId};
 use super::WorldBatch;
+use super::error::{BatchError, WorldId};
 use crate::{Error, World};
 
 /// Floats per body of a pose read: the centre `x, y, z`, then the rotation quaternion
@@ -135,11 +135,7 @@ impl WorldBatch {
 
     /// Writes the `k`-th world's velocities at `out[k * stride..]`, as
     /// [`WorldBatch::read_all_poses_strided`].
-    pub fn read_all_velocities_strided(
-        &self,
-        out: &mut [f32],
-        stride: usize,
-    ) -> Result<(), Error> {
+    pub fn read_all_velocities_strided(&self, out: &mut [f32], stride: usize) -> Result<(), Error> {
         self.read_strided(&STRIDED_VELOCITIES, out, stride)
     }
 

@@ -65,11 +65,11 @@ impl History {
 
     /// Logs a step, merged into the last run of steps unless that run ends the saved state.
     pub(crate) fn step(&mut self) {
-        if self.ops.len() > self.saved {
-            if let Some(Op::Steps(n)) = self.ops.last_mut() {
-                *n += 1;
-                return;
-            }
+        if self.ops.len() > self.saved
+            && let Some(Op::Steps(n)) = self.ops.last_mut()
+        {
+            *n += 1;
+            return;
         }
         self.ops.push(Op::Steps(1));
     }

@@ -2,7 +2,7 @@
 
 use tumble_solver::InvalidParameter;
 
-use crate::{Backend, BodyHandle};
+use crate::{Backend, BatchError, BodyHandle};
 
 /// Why a call on the world failed. The world is unchanged whenever a call returns `Err`,
 /// with one exception: [`Error::InvalidGpuState`] reports a `Backend::Gpu` step that already
@@ -72,6 +72,10 @@ pub enum Error {
         /// What the quantity must satisfy.
         expected: &'static str,
     },
+    /// A call on a [`crate::WorldBatch`] failed: a bad world id, action entry or buffer, or
+    /// one world's own error (named by its id).
+    #[error("batch: {0}")]
+    Batch(#[from] BatchError),
 }
 
 impl From<InvalidParameter> for Error {

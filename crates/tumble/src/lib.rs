@@ -17,6 +17,7 @@
 #![warn(missing_docs)]
 
 mod backend;
+mod batch;
 mod body_desc;
 mod config;
 mod contact_report;
@@ -37,6 +38,9 @@ mod stats;
 mod world;
 mod world_bodies;
 
+pub use batch::{
+    Action, ActionKind, BatchError, POSE_FLOATS, VELOCITY_FLOATS, WorldBatch, WorldId, WorldSpec,
+};
 pub use body_desc::{BodyDesc, DEFAULT_HALF_EXTENTS};
 pub use config::{Backend, DEFAULT_MARGIN, STANDARD_GRAVITY, WorldConfig};
 pub use contact_report::{ContactPointReport, ContactReport};

@@ -1,0 +1,463 @@
+//! [`WorldBatch`]: many independent worlds stepped together, with per-world actions given as
+//! one array, reads into the caller's buffers and resets of any subset of worlds.
+//!
+//! Each world is a whole [`World`] of its own (its own bodies, config, contact cache and
+//! sleep state); the batch adds the loop over them and the bookkeeping a reset needs
+//! ([`history`]). On `Backend::Cpu` the worlds step in parallel on the rayon pool, one task
+//! per world; on `Backend::Gpu` and `Backend::Hybrid` they step one after another, each with
+//! its own dispatches (one dispatch set for all worlds is not built yet).
+
+mod action;
+mod error;
+mod history;
+mod read;
+
+use rayon::prelude::*;
+use tumble_geometry::Vec3;
+use tumble_scenes::Scene;
+
+pub use action::{Action, ActionKind};
+pub use error::{BatchError, WorldId};
+pub use read::{POSE_FLOATS, VELOCITY_FLOATS};
+
+use crate::{Backend, BodyDesc, BodyHandle, Error, World, WorldConfig, body_desc};
+use history::History;
+
+/// A world to add to a batch: its config and its bodies, added in order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WorldSpec {
+    /// The world's settings; `config.backend` must be the batch's.
+    pub config: WorldConfig,
+    /// The bodies, in the order they are added (their handles come back in this order).
+    pub bodies: Vec<BodyDesc>,
+}
+
+impl WorldSpec {
+    /// A world of `config` with no bodies yet.
+    pub fn new(config: WorldConfig) -> Self {
+        Self {
+            config,
+            bodies: Vec::new(),
+        }
+    }
+
+    /// Adds a body.
+    pub fn body(mut self, desc: BodyDesc) -> Self {
+        self.bodies.push(desc);
+        self
+    }
+
+    /// The world [`World::from_scene`] builds: `scene`'s bodies, its gravity and time step,
+    /// and the rest of `config`. Errs when the scene fails its own validation.
+    pub fn from_scene(scene: &Scene, config: WorldConfig) -> Result<Self, Error> {
+        scene
+            .validate()
+            .map_err(|e| Error::InvalidScene(e.to_string()))?;
+        Ok(Self {
+            config: WorldConfig {
+                gravity: Vec3::from(scene.gravity),
+                dt: scene.dt,
+                ..config
+            },
+            bodies: scene.bodies.iter().map(body_desc).collect(),
+        })
+    }
+}
+
+/// One world of the batch and its log.
+#[derive(Debug)]
+struct Entry {
+    world: World,
+    history: History,
+}
+
+/// A slot of the batch: its generation and, while a world lives there, the world.
+#[derive(Debug)]
+struct Slot {
+    generation: u32,
+    entry: Option<Entry>,
+}
+
+/// Independent worlds stepped together; every world runs on the batch's backend.
+///
+/// ```
+/// use tumble::prelude::*;
+/// use tumble::{Action, WorldBatch, WorldSpec};
+///
+/// let floor = BodyDesc::fixed().cuboid(Vec3::new(5.0, 0.5, 5.0)).translation(0.0, -0.5, 0.0);
+/// let specs: Vec<WorldSpec> = (0..4)
+///     .map(|i| {
+///         WorldSpec::new(WorldConfig::default())
+///             .body(floor)
+///             .body(BodyDesc::dynamic().translation(0.0, 1.0 + i as f32, 0.0))
+///     })
+///     .collect();
+/// let mut batch = WorldBatch::from_specs(Backend::Cpu, specs)?;
+/// let ids = batch.ids();
+/// let cube = batch.handles(ids[2])?[1];
+/// batch.apply_actions(&[Action::set_velocity(ids[2], cube, Vec3::x(), Vec3::zeros())])?;
+/// for _ in 0..60 {
+///     batch.step()?;
+/// }
+/// let mut poses = vec![0.0; batch.all_poses_len()];
+/// batch.read_all_poses(&mut poses)?;
+/// batch.reset(&[ids[2]])?; // back to its state when it was added
+/// assert_eq!(batch.step_count(ids[2])?, 0);
+/// # Ok::<(), tumble::Error>(())
+/// ```
+#[derive(Debug)]
+pub struct WorldBatch {
+    backend: Backend,
+    slots: Vec<Slot>,
+    free: Vec<u32>,
+}
+
+impl WorldBatch {
+    /// An empty batch whose worlds will run on `backend`.
+    pub fn new(backend: Backend) -> Self {
+        Self {
+            backend,
+            slots: Vec::new(),
+            free: Vec::new(),
+        }
+    }
+
+    /// A batch of the worlds `specs`, numbered in order (the ids of [`WorldBatch::ids`]).
+    /// Errs, naming the world and body, on any bad config or body.
+    pub fn from_specs(backend: Backend, specs: Vec<WorldSpec>) -> Result<Self, Error> {
+        let mut batch = Self::new(backend);
+        let built = build_all(backend, specs)?;
+        for entry in built {
+            batch.insert(entry);
+        }
+        Ok(batch)
+    }
+
+    /// A batch of one world per scene, each built as [`World::from_scene`] builds it with
+    /// `config` (whose backend is the batch's).
+    pub fn from_scenes(scenes: &[Scene], config: WorldConfig) -> Result<Self, Error> {
+        let specs = scenes
+            .iter()
+            .enumerate()
+            .map(|(i, s)| WorldSpec::from_scene(s, config).map_err(|e| build_error(i, None, e)))
+            .collect::<Result<Vec<_>, _>>()?;
+        Self::from_specs(config.backend, specs)
+    }
+
+    /// Adds a world; its id and the handles of its bodies, in the spec's order.
+    pub fn add_world(&mut self, spec: WorldSpec) -> Result<(WorldId, Vec<BodyHandle>), Error> {
+        let entry = build(self.backend, 0, spec)?;
+        let handles = entry.world.handles().to_vec();
+        Ok((self.insert(entry), handles))
+    }
+
+    /// Removes a world; its id is never valid again.
+    pub fn remove_world(&mut self, id: WorldId) -> Result<(), Error> {
+        self.entry(id)?;
+        let slot = &mut self.slots[id.index as usize];
+        slot.entry = None;
+        // A slot whose generation would wrap is retired, so an id never repeats.
+        if let Some(next) = slot.generation.checked_add(1) {
+            slot.generation = next;
+            self.free.push(id.index);
+        }
+        Ok(())
+    }
+
+    /// The backend every world runs on.
+    pub fn backend(&self) -> Backend {
+        self.backend
+    }
+
+    /// Number of worlds.
+    pub fn len(&self) -> usize {
+        self.slots.iter().filter(|s| s.entry.is_some()).count()
+    }
+
+    /// True when the batch holds no world.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The ids of the worlds, by slot: the order of every whole-batch read.
+    pub fn ids(&self) -> Vec<WorldId> {
+        self.live().map(|(id, _)| id).collect()
+    }
+
+    /// A world, for any read `World` offers (poses by handle, contacts, statistics).
+    pub fn world(&self, id: WorldId) -> Result<&World, Error> {
+        Ok(&self.entry(id)?.world)
+    }
+
+    /// The handles of a world's bodies, in its internal order: the order of the reads.
+    pub fn handles(&self, id: WorldId) -> Result<&[BodyHandle], Error> {
+        Ok(self.entry(id)?.world.handles())
+    }
+
+    /// A world's body count.
+    pub fn body_count(&self, id: WorldId) -> Result<usize, Error> {
+        Ok(self.entry(id)?.world.body_count())
+    }
+
+    /// Steps a world has taken since it was added (or since the state it was last reset to).
+    pub fn step_count(&self, id: WorldId) -> Result<u64, Error> {
+        Ok(self.entry(id)?.world.step_count())
+    }
+
+    /// Adds a body to a world. Errs, leaving the batch unchanged, on a bad field of `desc`.
+    pub fn add_body(&mut self, id: WorldId, desc: BodyDesc) -> Result<BodyHandle, Error> {
+        let entry = self.entry_mut(id)?;
+        let h = entry.world.add_body(desc).map_err(|e| world_error(id, e))?;
+        entry.history.add(desc);
+        Ok(h)
+    }
+
+    /// Removes a body from a world (as [`World::remove_body`]).
+    pub fn remove_body(&mut self, id: WorldId, h: BodyHandle) -> Result<(), Error> {
+        let entry = self.entry_mut(id)?;
+        entry.world.remove_body(h).map_err(|e| world_error(id, e))?;
+        entry.history.remove(h);
+        Ok(())
+    }
+
+    /// Steps every world by its own `dt`: on `Backend::Cpu` in parallel, one rayon task per
+    /// world, so each world computes the same bits as when stepped alone; on the GPU backends
+    /// one world after another.
+    ///
+    /// A world whose step fails is left as before it (as a `World` whose step errs); the
+    /// others take their step. The error names the first failed world by slot.
+    pub fn step(&mut self) -> Result<(), Error> {
+        let step = |(i, slot): (usize, &mut Slot)| -> Option<(usize, Error)> {
+            let entry = slot.entry.as_mut()?;
+            match entry.world.step() {
+                Ok(()) => {
+                    entry.history.step();
+                    None
+                }
+                Err(e) => Some((i, e)),
+            }
+        };
+        let failed = if self.backend == Backend::Cpu {
+            self.slots
+                .par_iter_mut()
+                .enumerate()
+                .filter_map(step)
+                .min_by_key(|(i, _)| *i)
+        } else {
+            self.slots.iter_mut().enumerate().filter_map(step).next()
+        };
+        match failed {
+            None => Ok(()),
+            Some((i, e)) => {
+                let id = WorldId {
+                    index: i as u32,
+                    generation: self.slots[i].generation,
+                };
+                Err(world_error(id, e))
+            }
+        }
+    }
+
+    /// Applies `actions` in order. Every entry is checked first (its world and body, and
+    /// each value against the bounds of the `World` method it stands for, from the state the
+    /// earlier entries leave); when one is bad the error names its index, field and value and
+    /// no entry is applied.
+    pub fn apply_actions(&mut self, actions: &[Action]) -> Result<(), Error> {
+        action::plan(actions, |id| {
+            self.entry(id).map(|e| &e.world).map_err(|e| match e {
+                Error::Batch(b) => b,
+                other => BatchError::World {
+                    world: id,
+                    error: Box::new(other),
+                },
+            })
+        })?;
+        for a in actions {
+            let entry = self.entry_mut(a.world)?;
+            // Checked above with the same bounds: an error here is a device failure (the GPU
+            // backends read the state back first), reported as the world's.
+            action::apply(&mut entry.world, a.body, &a.kind)
+                .map_err(|e| world_error(a.world, e))?;
+            entry.history.action(a.body, a.kind);
+        }
+        Ok(())
+    }
+
+    /// Makes a world's present state the one [`WorldBatch::reset`] returns it to. Until
+    /// this is called, a world's saved state is the one it was added in.
+    pub fn save_state(&mut self, id: WorldId) -> Result<(), Error> {
+        self.entry_mut(id)?.history.save();
+        Ok(())
+    }
+
+    /// Steps a reset of the world replays: those between its creation and its saved state.
+    pub fn reset_cost_steps(&self, id: WorldId) -> Result<u64, Error> {
+        Ok(self.entry(id)?.history.saved_steps())
+    }
+
+    /// Returns each world of `ids` to its saved state; the other worlds are untouched. The
+    /// reset world then steps exactly as it did from that state: it is rebuilt from its
+    /// config and its log replayed up to the saved state (see the `history` module for the
+    /// cost). On `Backend::Cpu` the worlds are rebuilt in parallel. When any id is bad or
+    /// any rebuild fails, no world is reset.
+    pub fn reset(&mut self, ids: &[WorldId]) -> Result<(), Error> {
+        for &id in ids {
+            self.entry(id)?;
+        }
+        let mut todo: Vec<u32> = ids.iter().map(|id| id.index).collect();
+        todo.sort_unstable();
+        todo.dedup();
+        let replay = |&i: &u32| -> Result<World, Error> {
+            let id = self.id_at(i);
+            let entry = self.slots[i as usize]
+                .entry
+                .as_ref()
+                .expect("checked above");
+            entry.history.replay().map_err(|e| world_error(id, e))
+        };
+        let rebuilt: Vec<Result<World, Error>> = if self.backend == Backend::Cpu {
+            todo.par_iter().map(replay).collect()
+        } else {
+            todo.iter().map(replay).collect()
+        };
+        // The first failure by slot, so the error does not depend on scheduling.
+        let rebuilt: Vec<World> = rebuilt.into_iter().collect::<Result<_, _>>()?;
+        for (i, world) in todo.into_iter().zip(rebuilt) {
+            let entry = self.slots[i as usize]
+                .entry
+                .as_mut()
+                .expect("checked above");
+            entry.world = world;
+            entry.history.rewind();
+        }
+        Ok(())
+    }
+
+    /// The live worlds by slot, with their ids.
+    fn live(&self) -> impl Iterator<Item = (WorldId, &World)> {
+        self.slots.iter().enumerate().filter_map(|(i, s)| {
+            s.entry.as_ref().map(|e| {
+                (
+                    WorldId {
+                        index: i as u32,
+                        generation: s.generation,
+                    },
+                    &e.world,
+                )
+            })
+        })
+    }
+
+    /// The id of the world in slot `i`.
+    fn id_at(&self, i: u32) -> WorldId {
+        WorldId {
+            index: i,
+            generation: self.slots[i as usize].generation,
+        }
+    }
+
+    fn insert(&mut self, entry: Entry) -> WorldId {
+        match self.free.pop() {
+            Some(i) => {
+                self.slots[i as usize].entry = Some(entry);
+                self.id_at(i)
+            }
+            None => {
+                self.slots.push(Slot {
+                    generation: 0,
+                    entry: Some(entry),
+                });
+                self.id_at(self.slots.len() as u32 - 1)
+            }
+        }
+    }
+
+    fn check(&self, id: WorldId) -> Result<(), BatchError> {
+        let Some(slot) = self.slots.get(id.index as usize) else {
+            return Err(BatchError::UnknownWorld(id));
+        };
+        if id.generation > slot.generation {
+            return Err(BatchError::UnknownWorld(id));
+        }
+        if id.generation < slot.generation || slot.entry.is_none() {
+            return Err(BatchError::RemovedWorld(id));
+        }
+        Ok(())
+    }
+
+    fn entry(&self, id: WorldId) -> Result<&Entry, Error> {
+        self.check(id)?;
+        Ok(self.slots[id.index as usize]
+            .entry
+            .as_ref()
+            .expect("checked"))
+    }
+
+    fn entry_mut(&mut self, id: WorldId) -> Result<&mut Entry, Error> {
+        self.check(id)?;
+        Ok(self.slots[id.index as usize]
+            .entry
+            .as_mut()
+            .expect("checked"))
+    }
+}
+
+/// A world's error, as the batch's.
+fn world_error(world: WorldId, e: Error) -> Error {
+    BatchError::World {
+        world,
+        error: Box::new(e),
+    }
+    .into()
+}
+
+/// A build error of world `world` (its position in the list given).
+fn build_error(world: usize, body: Option<usize>, e: Error) -> Error {
+    BatchError::Build {
+        world,
+        body,
+        error: Box::new(e),
+    }
+    .into()
+}
+
+/// Builds one world (`index` names it in errors).
+fn build(backend: Backend, index: usize, spec: WorldSpec) -> Result<Entry, Error> {
+    if spec.config.backend != backend {
+        return Err(BatchError::BackendMismatch {
+            world: index,
+            given: spec.config.backend,
+            batch: backend,
+        }
+        .into());
+    }
+    let mut world = World::new(spec.config).map_err(|e| build_error(index, None, e))?;
+    let mut history = History::new(spec.config);
+    for (b, desc) in spec.bodies.into_iter().enumerate() {
+        world
+            .add_body(desc)
+            .map_err(|e| build_error(index, Some(b), e))?;
+        history.add(desc);
+    }
+    history.save();
+    Ok(Entry { world, history })
+}
+
+/// Builds every world of `specs`, in parallel on the CPU backend.
+fn build_all(backend: Backend, specs: Vec<WorldSpec>) -> Result<Vec<Entry>, Error> {
+    let built: Vec<Result<Entry, Error>> = if backend == Backend::Cpu {
+        specs
+            .into_par_iter()
+            .enumerate()
+            .map(|(i, s)| build(backend, i, s))
+            .collect()
+    } else {
+        specs
+            .into_iter()
+            .enumerate()
+            .map(|(i, s)| build(backend, i, s))
+            .collect()
+    };
+    // The first failure by position, so the error does not depend on scheduling.
+    built.into_iter().collect()
+}

@@ -2,8 +2,8 @@
 // sweep_pairs: each body, in sorted order, scans forward while the next box's lower bound
 // on the sweep axis is not past its upper bound, tests the other two axes (closed
 // intervals: touching boxes pair, as on the CPU), and appends each overlapping pair as
-// (smaller index, larger index) through an atomic counter. Static-static pairs are skipped,
-// and so are long boxes, which long_pairs pairs (common/sweep.wgsl).
+// (smaller index, larger index) through an atomic counter. Static-static pairs and pairs whose
+// collision groups do not interact are skipped, and so are long boxes, which long_pairs pairs (common/sweep.wgsl).
 // The counter keeps counting past the capacity, so an overflow is reported, never hidden.
 // On the sweep axis the test is implied: sorted lower bounds make lo_p <= lo_q <= hi_q.
 //
@@ -20,7 +20,7 @@ var<workgroup> continue_flag: u32;
 
 // Tests one candidate against `me` and appends the pair when it overlaps.
 fn test_pair(me: GpuSweepBox, other: GpuSweepBox) {
-    if !overlap_12(me, other) || both_static(me, other) {
+    if !overlap_12(me, other) || both_static(me, other) || !groups_interact(me.body, other.body) {
         return;
     }
     append_pair(me, other);

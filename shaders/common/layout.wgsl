@@ -176,6 +176,15 @@ struct GpuSweepBox {
     flags: u32,
 }
 
+// A body's collision groups (GpuCollisionGroups in layout.rs): two bodies pair only when each
+// one's memberships meet the other's filter. 8 bytes.
+struct GpuCollisionGroups {
+    // The groups the body belongs to, one bit each.
+    memberships: u32,
+    // The groups the body collides with, one bit each (`filter` is a keyword).
+    filter_bits: u32,
+}
+
 // Where a manifold in contact sits: its pair slot and its first point in the dense list.
 // 8 bytes.
 struct GpuTouching {

@@ -1,6 +1,6 @@
 // requires: common/layout.wgsl common/sweep.wgsl
-// What the two pair-finding kernels, sweep_pairs and long_pairs, share: their bindings and
-// how they append a pair.
+// What the two pair-finding kernels, sweep_pairs and long_pairs, share: their bindings, the
+// collision-groups test, and how they append a pair.
 
 @group(0) @binding(0) var<uniform> params: SweepParams;
 @group(0) @binding(1) var<storage, read> sweep_boxes: array<GpuSweepBox>;
@@ -8,6 +8,15 @@
 @group(0) @binding(3) var<storage, read_write> pair_a: array<u32>;
 @group(0) @binding(4) var<storage, read_write> pair_b: array<u32>;
 @group(0) @binding(5) var<storage, read> long_boxes: array<u32>;
+@group(0) @binding(6) var<storage, read> groups: array<GpuCollisionGroups>;
+
+// Whether the collision groups of bodies `a` and `b` let them pair (CollisionGroups::
+// interacts_with): each one's memberships meet the other's filter.
+fn groups_interact(a: u32, b: u32) -> bool {
+    let ga = groups[a];
+    let gb = groups[b];
+    return (ga.memberships & gb.filter_bits) != 0u && (gb.memberships & ga.filter_bits) != 0u;
+}
 
 // Appends the pair of `a` and `b` as (smaller index, larger index) through the counter,
 // which keeps counting past the capacity.

@@ -4,7 +4,8 @@
 // in tests/tests/gpu_solver.rs. As in layout.wgsl: no vec3, padding spelled out. The solver
 // reads the collision stages' GpuManifold and GpuContact (layout.wgsl) as they are.
 
-// A body's constant solver data, uploaded with the body. 64 bytes.
+// A body's constant solver data, uploaded with the body (and again when its force, torque or
+// gravity scale changes). 96 bytes.
 struct GpuBody {
     // Local principal inverse moments (1/(kg m^2)), zero for fixed and kinematic bodies;
     // w: inverse mass (1/kg).
@@ -24,6 +25,11 @@ struct GpuBody {
     angular_damping: f32,
     _pad0: u32,
     _pad1: u32,
+    // Persistent force at the centre of mass (N, world), applied in every substep; w: the
+    // multiple of gravity acting on the body.
+    force: vec4<f32>,
+    // Persistent torque (N m, world), applied in every substep; w unused.
+    torque: vec4<f32>,
 }
 
 // A body's per-step solver state. 96 bytes.

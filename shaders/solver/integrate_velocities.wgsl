@@ -17,7 +17,7 @@ fn main(thread: Thread) {
     velocities[i] = integrate_velocity(
         bodies[i],
         poses[i].rotation,
-        solver_bodies[i].delta_rotation,
+        solver_bodies[i],
         velocities[i],
         params.gravity.xyz,
         params.h,

@@ -102,3 +102,53 @@ fn long_boxes_pair_exactly_as_the_cpu_sweep_listed_or_not() {
     pairs_equal_cpu(&ctx, 3000, 6, 1);
     pairs_equal_cpu(&ctx, 3000, MAX_LONG_BOXES as usize, 2);
 }
+
+/// Collision groups in the GPU's pair kernels: the scattered cubes and planks with seeded
+/// groups (one of three memberships, a random filter of them), so that about half of the
+/// overlapping pairs are refused, among them pairs with the floor and planks (long boxes,
+/// paired by `long_pairs`) and between cubes (paired by `sweep_pairs`). The GPU's pair list
+/// must be exactly the CPU grid's grouped list on the GPU's own AABBs: a kernel that ignored
+/// the groups, or tested them from one side only, keeps pairs the CPU refuses.
+#[test]
+fn collision_groups_leave_out_exactly_the_refused_pairs() {
+    use tumble_gpu::layout::GpuCollisionGroups;
+    use tumble_solver::CollisionGroups;
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let (poses, velocities, shapes) = scene(3000, 6, 3);
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let groups: Vec<CollisionGroups> = (0..shapes.len())
+        .map(|_| CollisionGroups::new(1 << rng.random_range(0..3), rng.random_range(0..8)))
+        .collect();
+    let mut gpu = GpuCollision::new(&ctx, CollisionConfig::default()).unwrap();
+    gpu.set_bodies(&poses, &velocities, &shapes).unwrap();
+    let uploaded: Vec<GpuCollisionGroups> =
+        groups.iter().map(|&g| GpuCollisionGroups::of(g)).collect();
+    gpu.set_groups(0, &uploaded).unwrap();
+    let (snap, aabbs) = step_pairs_and_aabbs(&mut gpu);
+    let statics: Vec<bool> = shapes.iter().map(GpuShape::is_static).collect();
+    let all = tumble_broad::broad_phase_pairs_filtered(&aabbs, &statics).unwrap();
+    let cpu = tumble_broad::broad_phase_pairs_grouped(&aabbs, &statics, &groups).unwrap();
+    let long_pairs = |pairs: &[(u32, u32)]| pairs.iter().filter(|p| p.0 == 0 || p.1 > 3000).count();
+    assert!(
+        cpu.len() < all.len() * 3 / 4
+            && long_pairs(&cpu) > 0
+            && long_pairs(&cpu) < long_pairs(&all),
+        "the groups must refuse pairs of both kinds: {} of {} kept, {} of {} with long boxes",
+        cpu.len(),
+        all.len(),
+        long_pairs(&cpu),
+        long_pairs(&all)
+    );
+    assert_eq!(snap.pairs.len(), cpu.len(), "pair counts differ");
+    assert!(snap.pairs == cpu, "pair lists differ");
+    // Back to every group: the full list again.
+    gpu.set_groups(0, &vec![GpuCollisionGroups::ALL; shapes.len()])
+        .unwrap();
+    let (snap, _) = step_pairs_and_aabbs(&mut gpu);
+    assert!(
+        snap.pairs == all,
+        "with every group, the static filter's list"
+    );
+}

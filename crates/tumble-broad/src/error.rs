@@ -11,4 +11,12 @@ pub enum BroadPhaseError {
         /// Number of flags given.
         flags: usize,
     },
+    /// The per-box collision-groups slice does not have one entry per box.
+    #[error("groups has {groups} entries but there are {boxes} boxes")]
+    GroupCountMismatch {
+        /// Number of boxes given.
+        boxes: usize,
+        /// Number of groups given.
+        groups: usize,
+    },
 }

@@ -30,7 +30,7 @@ use tumble_geometry::{Aabb, Real};
 
 use crate::BroadPhaseError;
 use crate::cell_size::{Corners, Kind, cell_size, classify};
-use crate::filter::{check_flags, wanted};
+use crate::filter::{CollisionGroups, Filter, check_flags, check_groups};
 
 /// Cell coordinates are clamped to `±CELL_LIMIT`, so that `lo - 1` cannot overflow; the
 /// clamp is monotone, which is all the search needs.
@@ -203,11 +203,34 @@ impl BroadPhase {
         out: &mut Vec<(u32, u32)>,
     ) -> Result<(), BroadPhaseError> {
         check_flags(aabbs, is_static)?;
-        self.run(aabbs, Some(is_static), out);
+        let filter = Filter {
+            is_static,
+            groups: None,
+        };
+        self.run(aabbs, Some(filter), out);
         Ok(())
     }
 
-    fn run(&mut self, aabbs: &[Aabb], is_static: Option<&[bool]>, out: &mut Vec<(u32, u32)>) {
+    /// As `find_pairs_filtered`, also leaving out the pairs whose [`CollisionGroups`] do not
+    /// interact (one entry per box).
+    pub fn find_pairs_grouped(
+        &mut self,
+        aabbs: &[Aabb],
+        is_static: &[bool],
+        groups: &[CollisionGroups],
+        out: &mut Vec<(u32, u32)>,
+    ) -> Result<(), BroadPhaseError> {
+        check_flags(aabbs, is_static)?;
+        check_groups(aabbs, groups)?;
+        let filter = Filter {
+            is_static,
+            groups: Some(groups),
+        };
+        self.run(aabbs, Some(filter), out);
+        Ok(())
+    }
+
+    fn run(&mut self, aabbs: &[Aabb], is_static: Option<Filter<'_>>, out: &mut Vec<(u32, u32)>) {
         out.clear();
         assert!(
             aabbs.len() < u32::MAX as usize,
@@ -273,7 +296,7 @@ impl BroadPhase {
 
     /// Every wanted pair with a side-list box in it, by testing that box against every other
     /// box; a pair of two side-list boxes is tested from the lower index only.
-    fn pair_side_boxes(&mut self, aabbs: &[Aabb], is_static: Option<&[bool]>) {
+    fn pair_side_boxes(&mut self, aabbs: &[Aabb], is_static: Option<Filter<'_>>) {
         self.side.clear();
         self.side.extend(
             self.kind
@@ -290,7 +313,7 @@ impl BroadPhase {
                 let skip = kind == Kind::Never || (kind == Kind::Side && j <= s);
                 if !skip && a.intersects(b) {
                     let pair = (s.min(j), s.max(j));
-                    if is_static.is_none_or(|f| wanted(f, pair.0, pair.1)) {
+                    if is_static.is_none_or(|f| f.wants(pair.0, pair.1)) {
                         self.side_pairs.push(pair);
                     }
                 }
@@ -302,7 +325,7 @@ impl BroadPhase {
 
     /// The wanted partners `j > i` of every grid box `i`, queried in bucket order (so that
     /// neighbouring queries read neighbouring memory), each box's run sorted.
-    fn query_grid(&mut self, n: usize, inv: Real, is_static: Option<&[bool]>) {
+    fn query_grid(&mut self, n: usize, inv: Real, is_static: Option<Filter<'_>>) {
         self.run.clear();
         self.run.resize(n, (0, 0));
         self.partners.clear();
@@ -314,11 +337,11 @@ impl BroadPhase {
             } else {
                 query_hashed(g, a, inv, &mut self.partners);
             }
-            if let Some(flags) = is_static.filter(|f| f[a.id as usize]) {
+            if let Some(filter) = is_static.filter(|f| f.may_drop(a.id)) {
                 let mut kept = first;
                 for k in first..self.partners.len() {
                     let j = self.partners[k];
-                    if wanted(flags, a.id, j) {
+                    if filter.wants(a.id, j) {
                         self.partners[kept] = j;
                         kept += 1;
                     }
@@ -467,5 +490,17 @@ pub fn broad_phase_pairs_filtered(
 ) -> Result<Vec<(u32, u32)>, BroadPhaseError> {
     let mut out = Vec::new();
     BroadPhase::new().find_pairs_filtered(aabbs, is_static, &mut out)?;
+    Ok(out)
+}
+
+/// As `broad_phase_pairs_filtered`, also leaving out the pairs whose [`CollisionGroups`] do
+/// not interact.
+pub fn broad_phase_pairs_grouped(
+    aabbs: &[Aabb],
+    is_static: &[bool],
+    groups: &[CollisionGroups],
+) -> Result<Vec<(u32, u32)>, BroadPhaseError> {
+    let mut out = Vec::new();
+    BroadPhase::new().find_pairs_grouped(aabbs, is_static, groups, &mut out)?;
     Ok(out)
 }

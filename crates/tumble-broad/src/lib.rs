@@ -45,8 +45,10 @@ mod tests;
 
 pub use brute_force::{brute_force_pairs, brute_force_pairs_filtered};
 pub use error::BroadPhaseError;
-pub use filter::wanted as is_wanted_pair;
-pub use grid::{BroadPhase, broad_phase_pairs, broad_phase_pairs_filtered};
+pub use filter::{CollisionGroups, wanted as is_wanted_pair};
+pub use grid::{
+    BroadPhase, broad_phase_pairs, broad_phase_pairs_filtered, broad_phase_pairs_grouped,
+};
 pub use motion::{motion_aabb, update_aabbs};
 pub use sweep_and_prune::{SweepAndPrune, sweep_and_prune, sweep_and_prune_filtered};
 pub use sweep_axis::sweep_axis;

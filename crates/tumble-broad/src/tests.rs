@@ -328,3 +328,50 @@ fn sweep_axis_uses_centres_and_their_variance_about_the_mean() {
     ];
     assert_eq!(sweep_axis(&boxes), 0);
 }
+
+#[test]
+fn the_grouped_grid_drops_exactly_the_pairs_whose_groups_refuse_each_other() {
+    use crate::{BroadPhase, CollisionGroups};
+    let boxes = random_boxes(400, 8.0, 11);
+    let is_static: Vec<bool> = (0..boxes.len()).map(|i| i % 7 == 0).collect();
+    // Three groups (bits 0..3), each body colliding with a seeded subset of them: about half
+    // of the pairs are refused, so a filter that ignored the groups, or that applied them to
+    // one side only, would keep pairs the reference drops.
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let groups: Vec<CollisionGroups> = (0..boxes.len())
+        .map(|_| CollisionGroups::new(1 << rng.random_range(0..3), rng.random_range(0..8)))
+        .collect();
+    let expected: Vec<(u32, u32)> = brute_force_pairs_filtered(&boxes, &is_static)
+        .unwrap()
+        .into_iter()
+        .filter(|&(i, j)| groups[i as usize].interacts_with(groups[j as usize]))
+        .collect();
+    let unfiltered = brute_force_pairs_filtered(&boxes, &is_static)
+        .unwrap()
+        .len();
+    assert!(
+        !expected.is_empty() && expected.len() < unfiltered,
+        "the scene must have pairs kept and pairs refused"
+    );
+    let mut out = Vec::new();
+    BroadPhase::new()
+        .find_pairs_grouped(&boxes, &is_static, &groups, &mut out)
+        .unwrap();
+    assert_eq!(out, expected);
+    // With every body in every group, the grouped query is the static filter's.
+    let all = vec![CollisionGroups::ALL; boxes.len()];
+    BroadPhase::new()
+        .find_pairs_grouped(&boxes, &is_static, &all, &mut out)
+        .unwrap();
+    assert_eq!(out.len(), unfiltered);
+    let e = BroadPhase::new()
+        .find_pairs_grouped(&boxes, &is_static, &all[1..], &mut out)
+        .unwrap_err();
+    assert_eq!(
+        e,
+        BroadPhaseError::GroupCountMismatch {
+            boxes: 400,
+            groups: 399
+        }
+    );
+}

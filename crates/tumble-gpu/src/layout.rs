@@ -261,6 +261,17 @@ host_structs! {
             pub flags: u32,
     }
 
+    /// A body's collision groups (`tumble_solver::CollisionGroups`): two bodies pair only when
+    /// each one's memberships meet the other's filter. 8 bytes.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Pod, Zeroable)]
+    pub struct GpuCollisionGroups {
+            /// The groups the body belongs to, one bit each.
+            pub memberships: u32,
+            /// The groups the body collides with, one bit each (`CollisionGroups::filter`; `filter`
+            /// is a WGSL keyword).
+            pub filter_bits: u32,
+    }
+
     /// Where a manifold in contact sits: its pair slot and its first point in the dense list.
     /// 8 bytes.
     #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
@@ -390,4 +401,26 @@ pub struct StructLayout {
     pub size: usize,
     /// Field names and byte offsets, in declaration order.
     pub fields: Vec<(&'static str, usize)>,
+}
+
+impl GpuCollisionGroups {
+    /// Every group, colliding with every group (the default: everything collides).
+    pub const ALL: Self = Self {
+        memberships: u32::MAX,
+        filter_bits: u32::MAX,
+    };
+
+    /// The GPU form of a body's collision groups.
+    pub fn of(groups: tumble_solver::CollisionGroups) -> Self {
+        Self {
+            memberships: groups.memberships,
+            filter_bits: groups.filter,
+        }
+    }
+}
+
+impl Default for GpuCollisionGroups {
+    fn default() -> Self {
+        Self::ALL
+    }
 }

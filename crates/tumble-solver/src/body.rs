@@ -1,6 +1,7 @@
 //! Bodies as the solver sees them: cold data (pose, mass, shape, material, locks) apart from
 //! the hot state the constraint loops read and write (velocities and the in-step deltas).
 
+use tumble_broad::CollisionGroups;
 use tumble_geometry::{Cuboid, Pose, Real, Rot, Vec3};
 
 use crate::{InvalidParameter, MassProperties, Mat3, Material, bounds};
@@ -71,6 +72,18 @@ pub struct Body {
     pub linear_damping: Real,
     /// Angular damping rate in 1/s.
     pub angular_damping: Real,
+    /// Which bodies this one may collide with (the broad phase's pair filter); every body by
+    /// default.
+    pub groups: CollisionGroups,
+    /// Force at the centre of mass, N (world axes), applied to a dynamic body in every
+    /// substep until changed; zero by default.
+    pub force: Vec3,
+    /// Torque, N m (world axes), applied to a dynamic body in every substep until changed;
+    /// zero by default.
+    pub torque: Vec3,
+    /// The multiple of the world's gravity that acts on the body (1 by default; 0 floats,
+    /// negative rises).
+    pub gravity_scale: Real,
 }
 
 /// The hot part of a body: what the solver's inner loops touch (52 bytes on the CPU).
@@ -158,7 +171,16 @@ impl Body {
             locks: Locks::default(),
             linear_damping: 0.0,
             angular_damping: 0.0,
+            groups: CollisionGroups::ALL,
+            force: Vec3::zeros(),
+            torque: Vec3::zeros(),
+            gravity_scale: 1.0,
         })
+    }
+
+    /// True when a force or a torque acts on the body.
+    pub fn has_load(&self) -> bool {
+        self.force != Vec3::zeros() || self.torque != Vec3::zeros()
     }
 
     /// True for dynamic bodies: the only ones contacts move.

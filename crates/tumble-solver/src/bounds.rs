@@ -38,6 +38,19 @@ pub const MAX_SPEED: Real = MAX_LINEAR_SPEED;
 /// impulse leaves are checked against [`MAX_SPEED`] and [`max_angular_speed`] as well, so an
 /// impulse too strong for a light box is refused too.
 pub const MAX_IMPULSE: Real = 1e18;
+/// Largest persistent force on a body, N: the heaviest box ([`MAX_HALF_EXTENT`],
+/// [`MAX_DENSITY`], 8e14 kg) accelerated at 1.25e5 m/s^2. `force * (inverse_mass * h)` stays
+/// far inside `f32`; the velocity a force adds in one step is checked against [`MAX_SPEED`]
+/// as well ([`require_force`]), so a force too strong for a light box is refused too.
+pub const MAX_FORCE: Real = 1e20;
+/// Largest persistent torque on a body, N m: the heaviest box's largest moment
+/// (`m h^2 / 3 < 3e20 kg m^2`) turned at 3e3 rad/s^2. As for the force, the spin a torque adds
+/// in one step is checked against [`max_angular_speed`] ([`require_torque`]).
+pub const MAX_TORQUE: Real = 1e24;
+/// Largest magnitude of a body's gravity scale: ten times the world's gravity, up or down.
+/// With [`MAX_GRAVITY`] a body then feels at most 1e4 m/s^2, 1e3 m/s per step of [`MAX_DT`],
+/// which the integrator's speed cap ([`MAX_SPEED`]) holds to 400 m/s.
+pub const MAX_GRAVITY_SCALE: Real = 10.0;
 /// Largest gravity magnitude, m/s^2 (about 100 g). At [`MAX_DT`] a step adds 100 m/s, a
 /// quarter of [`MAX_SPEED`].
 pub const MAX_GRAVITY: Real = 1e3;
@@ -200,6 +213,18 @@ pub const EXPECTED_HALF_EXTENT: &str =
 pub const EXPECTED_DENSITY: &str = "a number in [1e-3, 1e5] kg/m^3 (MIN_DENSITY..=MAX_DENSITY)";
 /// The range text of the impulse.
 pub const EXPECTED_IMPULSE: &str = "finite, magnitude at most 1e18 N s (MAX_IMPULSE)";
+/// The range text of the force.
+pub const EXPECTED_FORCE: &str = "finite, magnitude at most 1e20 N (MAX_FORCE)";
+/// The range text of the torque.
+pub const EXPECTED_TORQUE: &str = "finite, magnitude at most 1e24 N m (MAX_TORQUE)";
+/// The range text of the velocity change a force leaves in one step.
+pub const EXPECTED_FORCE_RESULT: &str = "a force adding at most 400 m/s (MAX_SPEED) to the \
+     body's velocity in one step: |force| / mass * dt <= 400";
+/// The range text of the spin a torque leaves in one step.
+pub const EXPECTED_TORQUE_RESULT: &str = "a torque adding at most pi/4 per substep of spin \
+     (MAX_ROTATION_PER_SUBSTEP) in one step: |torque| / (smallest moment) * dt";
+/// The range text of the gravity scale.
+pub const EXPECTED_GRAVITY_SCALE: &str = "a number in [-10, 10] (MAX_GRAVITY_SCALE)";
 /// The range text of gravity.
 pub const EXPECTED_GRAVITY: &str = "finite, magnitude at most 1e3 m/s^2 (MAX_GRAVITY)";
 /// The range text of the step.
@@ -347,6 +372,58 @@ pub fn require_damping(field: &'static str, rate: Real) -> Result<(), InvalidPar
     require_in_range(field, rate, 0.0, MAX_DAMPING, EXPECTED_DAMPING).map(|_| ())
 }
 
+/// Checks a persistent force for `body` in a world of step `dt`: finite, at most
+/// [`MAX_FORCE`], and adding at most [`MAX_SPEED`] to the body's velocity in one step (fixed
+/// and kinematic bodies, which a force does not move, take any force up to [`MAX_FORCE`]).
+pub fn require_force(body: &Body, force: &Vec3, dt: Real) -> Result<(), InvalidParameter> {
+    require_length_at_most("force", force, MAX_FORCE, EXPECTED_FORCE)?;
+    let change = length(force) * f64::from(body.inverse_mass) * f64::from(dt);
+    if change <= f64::from(MAX_SPEED) {
+        Ok(())
+    } else {
+        Err(InvalidParameter::new(
+            "force",
+            [force.x, force.y, force.z],
+            EXPECTED_FORCE_RESULT,
+        ))
+    }
+}
+
+/// Checks a persistent torque for `body` in a world of step `dt` with `substeps`: finite, at
+/// most [`MAX_TORQUE`], and adding at most [`max_angular_speed`] of spin in one step, bounded
+/// through the body's largest inverse moment (whatever its rotation).
+pub fn require_torque(
+    body: &Body,
+    torque: &Vec3,
+    dt: Real,
+    substeps: u32,
+) -> Result<(), InvalidParameter> {
+    require_length_at_most("torque", torque, MAX_TORQUE, EXPECTED_TORQUE)?;
+    let inverse = body.inverse_inertia_local.max();
+    let change = length(torque) * f64::from(inverse) * f64::from(dt);
+    if change <= f64::from(max_angular_speed(dt, substeps)) {
+        Ok(())
+    } else {
+        Err(InvalidParameter::new(
+            "torque",
+            [torque.x, torque.y, torque.z],
+            EXPECTED_TORQUE_RESULT,
+        ))
+    }
+}
+
+/// Checks a gravity scale against [`MAX_GRAVITY_SCALE`] (zero and negative scales are valid).
+pub fn require_gravity_scale(scale: Real) -> Result<(), InvalidParameter> {
+    require_in_range(
+        "gravity_scale",
+        scale,
+        -MAX_GRAVITY_SCALE,
+        MAX_GRAVITY_SCALE,
+        EXPECTED_GRAVITY_SCALE,
+    )
+    .map(|_| ())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -390,6 +467,10 @@ mod tests {
             (EXPECTED_PUSH_OUT, vec![format!("{MAX_SPEED}")]),
             (EXPECTED_RESTITUTION_THRESHOLD, vec![format!("{MAX_SPEED}")]),
             (EXPECTED_SLOP, vec![format!("{MAX_SLOP}")]),
+            (EXPECTED_FORCE, vec![format!("{MAX_FORCE:e}")]),
+            (EXPECTED_TORQUE, vec![format!("{MAX_TORQUE:e}")]),
+            (EXPECTED_FORCE_RESULT, vec![format!("{MAX_SPEED}")]),
+            (EXPECTED_GRAVITY_SCALE, vec![format!("{MAX_GRAVITY_SCALE}")]),
         ] {
             for v in values {
                 assert!(text.contains(&v), "{text:?} does not quote {v}");
@@ -443,6 +524,46 @@ mod tests {
         ));
         assert!(require_rotation("rotation", &zero).is_err());
         require_rotation("rotation", &Rot::identity()).unwrap();
+    }
+
+    #[test]
+    fn forces_torques_and_gravity_scales_are_bounded_absolutely_and_by_the_body() {
+        let cube = |kind| {
+            Body::new(
+                kind,
+                tumble_geometry::Cuboid::new(Vec3::repeat(0.5)),
+                Pose::identity(),
+                1.0,
+                crate::Material::default(),
+            )
+            .unwrap()
+        };
+        let (dynamic, fixed) = (cube(BodyKind::Dynamic), cube(BodyKind::Fixed));
+        let dt = 1.0 / 60.0;
+        // The 1 kg cube: 24 kN adds 400 m/s in 1/60 s, the most allowed.
+        require_force(&dynamic, &Vec3::new(0.0, 23_999.0, 0.0), dt).unwrap();
+        let e = require_force(&dynamic, &Vec3::new(0.0, 24_001.0, 0.0), dt).unwrap_err();
+        assert_eq!((e.field, e.expected), ("force", EXPECTED_FORCE_RESULT));
+        // A fixed body does not move: only the absolute bound applies.
+        require_force(&fixed, &Vec3::new(0.0, 1e19, 0.0), dt).unwrap();
+        let e = require_force(&fixed, &Vec3::new(0.0, 2e20, 0.0), dt).unwrap_err();
+        assert_eq!(e.expected, EXPECTED_FORCE);
+        assert!(require_force(&dynamic, &Vec3::new(Real::NAN, 0.0, 0.0), dt).is_err());
+        // Moments 1/6 kg m^2: 282.7 rad/s (pi/4 per substep, 6 substeps) in 1/60 s needs
+        // 2827 N m.
+        require_torque(&dynamic, &Vec3::new(2820.0, 0.0, 0.0), dt, 6).unwrap();
+        let e = require_torque(&dynamic, &Vec3::new(2835.0, 0.0, 0.0), dt, 6).unwrap_err();
+        assert_eq!((e.field, e.expected), ("torque", EXPECTED_TORQUE_RESULT));
+        assert!(require_torque(&fixed, &Vec3::new(0.0, Real::INFINITY, 0.0), dt, 6).is_err());
+        for ok in [0.0, -1.0, 2.0, MAX_GRAVITY_SCALE, -MAX_GRAVITY_SCALE] {
+            require_gravity_scale(ok).unwrap();
+        }
+        for bad in [10.5, -11.0, Real::NAN, Real::INFINITY] {
+            assert_eq!(
+                require_gravity_scale(bad).unwrap_err().field,
+                "gravity_scale"
+            );
+        }
     }
 
     #[test]

@@ -21,8 +21,9 @@ pub fn begin_step(states: &mut [BodyState]) {
     }
 }
 
-/// Advances dynamic bodies' velocities by one substep `h`: gravity, the first half of the
-/// implicit gyroscopic term, damping, locks. Fixed and kinematic bodies keep their velocities.
+/// Advances dynamic bodies' velocities by one substep `h`: gravity (times the body's gravity
+/// scale), the body's force and torque, the first half of the implicit gyroscopic term,
+/// damping, locks. Fixed and kinematic bodies keep their velocities.
 pub fn integrate_velocities(bodies: &[Body], states: &mut [BodyState], gravity: &Vec3, h: Real) {
     integrate_velocities_with(bodies, states, Some(gravity), true, h);
 }
@@ -43,16 +44,26 @@ pub fn integrate_velocities_with(
             continue;
         }
         let linear_damping = 1.0 / (1.0 + h * body.linear_damping);
-        let v = match gravity {
-            Some(g) => (state.linear_velocity + g * h) * linear_damping,
-            None => state.linear_velocity * linear_damping,
+        // `g * 1.0` is `g` exactly: the default scale leaves the bits of the unscaled step.
+        let mut v = match gravity {
+            Some(g) => state.linear_velocity + (g * body.gravity_scale) * h,
+            None => state.linear_velocity,
         };
+        // Skipped, not added as zero, without a force: `-0 + 0` is `+0`.
+        if body.force != Vec3::zeros() {
+            v += body.force * (body.inverse_mass * h);
+        }
+        v *= linear_damping;
         state.linear_velocity = v.component_mul(&body.locks.translation_mask());
         if !rotation {
             continue;
         }
 
         let angular_damping = 1.0 / (1.0 + h * body.angular_damping);
+        if body.torque != Vec3::zeros() {
+            // The world inverse inertia at the start of the step, as the contacts use it.
+            state.angular_velocity += body.inverse_inertia_world() * (body.torque * h);
+        }
         gyroscopic_half_step(body, state, h);
         let w = state.angular_velocity * angular_damping;
         state.angular_velocity = w.component_mul(&body.locks.rotation_mask());

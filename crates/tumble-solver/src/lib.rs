@@ -120,6 +120,7 @@ pub use solve::{SolveStats, solve, solve_with_effects};
 pub use stage::Stage;
 pub use sweep::{Batch, sweep};
 pub use tangent_basis::tangent_basis;
+pub use tumble_broad::CollisionGroups;
 
 /// A 3x3 matrix (world inverse inertia).
 pub type Mat3 = tumble_geometry::nalgebra::Matrix3<tumble_geometry::Real>;

@@ -9,7 +9,7 @@
 //! [`BodyState`] and add what needs this layer: the contact cache and the coloring.
 
 use rayon::prelude::*;
-use tumble_broad::BroadPhase;
+use tumble_broad::{BroadPhase, CollisionGroups};
 use tumble_geometry::{Aabb, Real, Vec3};
 use tumble_narrow::{BoxMotion, collide_cuboids_cached};
 
@@ -48,7 +48,8 @@ pub fn immovable(bodies: &[Body]) -> Vec<bool> {
 }
 
 /// Stage 2: overlapping AABB pairs `(i, j)`, `i < j`, sorted, leaving out pairs of two
-/// bodies that contacts cannot move (static-static is never formed). `aabbs[i]` belongs to
+/// bodies that contacts cannot move (static-static is never formed) and pairs whose
+/// [`CollisionGroups`] do not interact. `aabbs[i]` belongs to
 /// `bodies[i]`; an AABB without a body counts as immovable. `grid` keeps its buffers between
 /// steps.
 pub fn broad_phase(grid: &mut BroadPhase, aabbs: &[Aabb], bodies: &[Body]) -> Vec<(u32, u32)> {
@@ -56,8 +57,17 @@ pub fn broad_phase(grid: &mut BroadPhase, aabbs: &[Aabb], bodies: &[Body]) -> Ve
         .map(|i| bodies.get(i).is_none_or(|b| !b.is_dynamic()))
         .collect();
     let mut pairs = Vec::new();
-    // One flag per box by construction: the length check cannot fail.
-    if grid.find_pairs_filtered(aabbs, &flags, &mut pairs).is_err() {
+    // One flag (and one groups entry) per box by construction: the length checks cannot fail.
+    let grouped = bodies.iter().any(|b| b.groups != CollisionGroups::ALL);
+    let found = if grouped {
+        let groups: Vec<CollisionGroups> = (0..aabbs.len())
+            .map(|i| bodies.get(i).map_or(CollisionGroups::ALL, |b| b.groups))
+            .collect();
+        grid.find_pairs_grouped(aabbs, &flags, &groups, &mut pairs)
+    } else {
+        grid.find_pairs_filtered(aabbs, &flags, &mut pairs)
+    };
+    if found.is_err() {
         pairs.clear();
     }
     pairs

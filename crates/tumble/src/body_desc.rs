@@ -1,7 +1,7 @@
 //! The builder users describe a body with before adding it to a world.
 
 use tumble_geometry::{Cuboid, Pose, Real, Vec3};
-use tumble_solver::{Body, BodyKind, BodyState, Locks, Material, bounds};
+use tumble_solver::{Body, BodyKind, BodyState, CollisionGroups, Locks, Material, bounds};
 
 use crate::{Error, WorldConfig};
 
@@ -32,6 +32,12 @@ pub struct BodyDesc {
     pub linear_damping: Real,
     /// Angular damping rate, 1/s.
     pub angular_damping: Real,
+    /// Which bodies this one may collide with ([`CollisionGroups::ALL`] by default).
+    pub collision_groups: CollisionGroups,
+    /// The multiple of the world's gravity acting on the body (1 by default).
+    pub gravity_scale: Real,
+    /// A value kept for the caller (an entity id, an index), never read by the physics.
+    pub user_data: u128,
 }
 
 impl BodyDesc {
@@ -47,6 +53,9 @@ impl BodyDesc {
             locks: Locks::default(),
             linear_damping: 0.0,
             angular_damping: 0.0,
+            collision_groups: CollisionGroups::ALL,
+            gravity_scale: 1.0,
+            user_data: 0,
         }
     }
 
@@ -143,6 +152,27 @@ impl BodyDesc {
         self
     }
 
+    /// Which bodies this one may collide with: see [`CollisionGroups`] (two bodies collide
+    /// only when each one's memberships meet the other's filter).
+    pub fn collision_groups(mut self, groups: CollisionGroups) -> Self {
+        self.collision_groups = groups;
+        self
+    }
+
+    /// The multiple of the world's gravity acting on the body: 0 floats, 2 falls twice as
+    /// fast, -1 rises; within `[-10, 10]` (`bounds::MAX_GRAVITY_SCALE`).
+    pub fn gravity_scale(mut self, scale: Real) -> Self {
+        self.gravity_scale = scale;
+        self
+    }
+
+    /// A value kept with the body for the caller, never read by the physics
+    /// ([`crate::World::user_data`]).
+    pub fn user_data(mut self, data: u128) -> Self {
+        self.user_data = data;
+        self
+    }
+
     /// Validates every field against its range (`tumble_solver::bounds`; the angular speed
     /// against the fastest spin `config`'s substeps carry) and builds the solver's body and
     /// its initial state.
@@ -163,7 +193,10 @@ impl BodyDesc {
         )?;
         bounds::require_damping("linear_damping", self.linear_damping)?;
         bounds::require_damping("angular_damping", self.angular_damping)?;
+        bounds::require_gravity_scale(self.gravity_scale)?;
         body.locks = self.locks;
+        body.groups = self.collision_groups;
+        body.gravity_scale = self.gravity_scale;
         body.linear_damping = self.linear_damping;
         body.angular_damping = self.angular_damping;
         let state = match self.kind {

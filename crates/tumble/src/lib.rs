@@ -37,6 +37,7 @@ pub mod stages;
 mod stats;
 mod world;
 mod world_bodies;
+mod world_body_properties;
 
 pub use batch::{
     Action, ActionKind, BatchError, POSE_FLOATS, VELOCITY_FLOATS, WorldBatch, WorldId, WorldSpec,
@@ -63,7 +64,9 @@ pub use tumble_geometry::{Aabb, Cuboid, Point3, Pose, Real, Rot, Vec3, nalgebra}
 pub use tumble_gpu as gpu;
 pub use tumble_scenes as scenes;
 pub use tumble_solver as solver;
-pub use tumble_solver::{BodyKind, Effects, Locks, Material, SolveOrder, SolverConfig, SolverKind};
+pub use tumble_solver::{
+    BodyKind, CollisionGroups, Effects, Locks, Material, SolveOrder, SolverConfig, SolverKind,
+};
 
 /// The names most programs need, in one import.
 pub mod prelude {

@@ -17,8 +17,9 @@ use crate::events::EventState;
 use crate::handle::HandleMap;
 use crate::{Backend, BodyHandle, Error, StepStats, World, WorldConfig};
 
-/// The layout of [`WorldSnapshot`]: a snapshot of another layout is refused.
-const FORMAT: u32 = 1;
+/// The layout of [`WorldSnapshot`]: a snapshot of another layout is refused. Format 2 added
+/// each body's collision groups, force, torque, gravity scale and user data.
+const FORMAT: u32 = 2;
 
 /// What a snapshot expects of its contents.
 const EXPECTED: &str = "a snapshot as World::snapshot took it";
@@ -33,6 +34,7 @@ pub struct WorldSnapshot {
     handles: HandleMap,
     bodies: Vec<Body>,
     states: Vec<BodyState>,
+    user_data: Vec<u128>,
     contacts: Vec<Contact>,
     contact_handles: Vec<(BodyHandle, BodyHandle)>,
     sleep: SleepState,
@@ -101,14 +103,22 @@ impl WorldSnapshot {
                 format!("{} states for {n} bodies", self.states.len()),
             ));
         }
+        if self.user_data.len() != n {
+            return Err(corrupt(
+                "snapshot.user_data",
+                format!("{} values for {n} bodies", self.user_data.len()),
+            ));
+        }
         self.handles
             .check(n)
             .map_err(|e| corrupt("snapshot.handles", e))?;
         self.sleep
             .check(n)
             .map_err(|e| corrupt("snapshot.sleep", e))?;
+        let (dt, substeps) = (self.config.dt, self.config.solver.substeps);
         for (d, (b, s)) in self.bodies.iter().zip(&self.states).enumerate() {
-            check_body(b, s).map_err(|e| corrupt("snapshot.bodies", format!("body {d}: {e}")))?;
+            check_body(b, s, dt, substeps)
+                .map_err(|e| corrupt("snapshot.bodies", format!("body {d}: {e}")))?;
         }
         if self.contact_handles.len() != self.contacts.len() {
             return Err(corrupt(
@@ -153,8 +163,9 @@ fn corrupt(field: &'static str, value: impl std::fmt::Display) -> Error {
     }
 }
 
-/// Why body `b` with state `s` cannot be stepped, if it cannot.
-fn check_body(b: &Body, s: &BodyState) -> Result<(), String> {
+/// Why body `b` with state `s` cannot be stepped with steps of `dt` in `substeps`, if it
+/// cannot.
+fn check_body(b: &Body, s: &BodyState, dt: f32, substeps: u32) -> Result<(), String> {
     if let Some(v) = bounds::check_motion(&b.pose, &s.linear_velocity, &s.angular_velocity) {
         return Err(format!("{} = {} ({})", v.quantity, v.value, v.expected));
     }
@@ -180,6 +191,9 @@ fn check_body(b: &Body, s: &BodyState) -> Result<(), String> {
     if !deltas.all(|x| x.is_finite()) {
         return Err("non-finite in-step delta".to_string());
     }
+    bounds::require_force(b, &b.force, dt).map_err(|e| e.to_string())?;
+    bounds::require_torque(b, &b.torque, dt, substeps).map_err(|e| e.to_string())?;
+    bounds::require_gravity_scale(b.gravity_scale).map_err(|e| e.to_string())?;
     Ok(())
 }
 
@@ -198,6 +212,7 @@ impl World {
             handles: self.handles.clone(),
             bodies: host.bodies.clone(),
             states: host.states.clone(),
+            user_data: host.user_data.clone(),
             contacts: host.contacts.clone(),
             contact_handles: host.contact_handles.clone(),
             sleep: host.sleep.clone(),
@@ -232,6 +247,7 @@ impl World {
         self.host = Host {
             bodies: snapshot.bodies.clone(),
             states: snapshot.states.clone(),
+            user_data: snapshot.user_data.clone(),
             contacts: snapshot.contacts.clone(),
             contact_handles: snapshot.contact_handles.clone(),
             sleep: snapshot.sleep.clone(),

@@ -13,6 +13,7 @@ impl World {
         self.query.invalidate();
         self.host.bodies.push(body);
         self.host.states.push(state);
+        self.host.user_data.push(desc.user_data);
         self.host.sleep.push();
         Ok(self.handles.insert())
     }
@@ -49,6 +50,7 @@ impl World {
         self.query.invalidate();
         self.host.bodies.swap_remove(d);
         self.host.states.swap_remove(d);
+        self.host.user_data.swap_remove(d);
         self.host.sleep.swap_remove(d);
         self.handles.remove(h, d);
         self.forget_contacts_of(h);

@@ -115,12 +115,14 @@ fn gyroscopic_half_step(body: GpuBody, rotation: vec4<f32>, w: vec3<f32>, h: f32
     return quat_rotate(rotation, gyroscopic_midpoint(inertia, local, 0.5 * h));
 }
 
-// integrate_velocities for one body: gravity, the first half of the gyroscopic update,
-// damping, locks. Fixed and kinematic bodies keep their velocity.
+// integrate_velocities for one body: gravity times the body's gravity scale, its force and
+// torque, the first half of the gyroscopic update, damping, locks (integrate.rs, in the same
+// order). Fixed and kinematic bodies keep their velocity. `state` is the body's solver state:
+// its rotation delta, and its world inverse inertia at the start of the step.
 fn integrate_velocity(
     body: GpuBody,
     rotation: vec4<f32>,
-    delta_rotation: vec4<f32>,
+    state: GpuSolverBody,
     velocity: GpuVelocity,
     gravity: vec3<f32>,
     h: f32,
@@ -132,10 +134,26 @@ fn integrate_velocity(
     let angular_damping = 1.0 / (1.0 + h * body.angular_damping);
     var v = velocity.linear.xyz;
     if ENABLE_GRAVITY {
-        v = v + gravity * h;
+        // g * 1.0 is g exactly: the default scale keeps the unscaled step's bits.
+        v = v + (gravity * body.force.w) * h;
+    }
+    // Skipped, not added as zero, without a force (-0 + 0 is +0), as on the CPU.
+    let force = body.force.xyz;
+    if any(force != vec3<f32>(0.0)) {
+        v = v + force * (body.inverse_inertia.w * h);
     }
     v = v * linear_damping;
-    var w = gyroscopic_half_step(body, quat_mul(delta_rotation, rotation), velocity.angular.xyz, h);
+    var w0 = velocity.angular.xyz;
+    let torque = body.torque.xyz;
+    if ENABLE_ROTATION && any(torque != vec3<f32>(0.0)) {
+        let inverse_inertia = mat3x3<f32>(
+            state.inverse_inertia_x.xyz,
+            state.inverse_inertia_y.xyz,
+            state.inverse_inertia_z.xyz,
+        );
+        w0 = w0 + inverse_inertia * (torque * h);
+    }
+    var w = gyroscopic_half_step(body, quat_mul(state.delta_rotation, rotation), w0, h);
     w = w * angular_damping;
     return GpuVelocity(
         vec4<f32>(v * translation_mask(body.locks), 0.0),

@@ -112,7 +112,7 @@ fn fused_solve(local: u32) {
             velocities[b] = integrate_velocity(
                 bodies[b],
                 poses[b].rotation,
-                solver_bodies[b].delta_rotation,
+                solver_bodies[b],
                 velocities[b],
                 params.gravity.xyz,
                 params.h,

@@ -9,8 +9,8 @@
 use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE, bytes_of};
 use crate::kernels::radix_sort::tile_count_len;
 use crate::layout::{
-    GpuAabb, GpuContact, GpuLocalManifold, GpuManifold, GpuPose, GpuShape, GpuSweepBox,
-    GpuTouching, GpuVelocity, SweepAxis, TouchingCounts, WorkList,
+    GpuAabb, GpuCollisionGroups, GpuContact, GpuLocalManifold, GpuManifold, GpuPose, GpuShape,
+    GpuSweepBox, GpuTouching, GpuVelocity, SweepAxis, TouchingCounts, WorkList,
 };
 use crate::{GpuError, MAX_MANIFOLD_POINTS};
 
@@ -37,6 +37,8 @@ pub const SORT_KEYS: [&str; 2] = ["sort keys 0", "sort keys 1"];
 pub const SORT_BODIES: [&str; 2] = ["sorted bodies 0", "sorted bodies 1"];
 /// AABBs in sweep order.
 pub const SWEEP_BOXES: &str = "sweep boxes";
+/// `GpuCollisionGroups`, one per body.
+pub const GROUPS: &str = "collision groups";
 /// Tile counts of the body sort.
 pub const BODY_TILES: &str = "body sort tiles";
 /// The long box count and list (`shaders/common/sweep.wgsl`).
@@ -95,6 +97,7 @@ pub fn ensure_body_buffers(pool: &mut BufferPool, bodies: u32) -> Result<bool, G
         grew |= pool.ensure(name, bytes_of::<u32>(n), STORAGE_USAGE)?;
     }
     grew |= pool.ensure(SWEEP_BOXES, bytes_of::<GpuSweepBox>(n), STORAGE_USAGE)?;
+    grew |= pool.ensure(GROUPS, bytes_of::<GpuCollisionGroups>(n), STORAGE_USAGE)?;
     grew |= pool.ensure(
         LONG_BOXES,
         crate::kernels::sweep_pairs::LONG_BOXES_BYTES,

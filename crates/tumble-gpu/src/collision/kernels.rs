@@ -195,6 +195,7 @@ pub fn build_groups(
             pair_a: b(PAIR_A[p][0]),
             pair_b: b(PAIR_B[p][0]),
             long_boxes: b(LONG_BOXES),
+            groups: b(GROUPS),
         };
         ParityGroups {
             sweep: kernels.sweep_pairs.bind(ctx, &sweep_args),

@@ -33,9 +33,9 @@ use crate::kernels::compact_touching::ScatterImpulsesArgs;
 use crate::kernels::radix_sort::RadixSort;
 use crate::kernels::rank_sort::RANK_SORT_CAPACITY;
 use crate::layout::{
-    GpuAabb, GpuContact, GpuLocalManifold, GpuManifold, GpuPose, GpuShape, GpuSweepBox,
-    GpuTouching, GpuVelocity, NarrowParams, ScatterParams, SweepAxis, SweepParams, TouchingCounts,
-    UpdateAabbsParams, WorkList,
+    GpuAabb, GpuCollisionGroups, GpuContact, GpuLocalManifold, GpuManifold, GpuPose, GpuShape,
+    GpuSweepBox, GpuTouching, GpuVelocity, NarrowParams, ScatterParams, SweepAxis, SweepParams,
+    TouchingCounts, UpdateAabbsParams, WorkList,
 };
 use crate::readback::{Mapped, Readback, Region, Ticket};
 use crate::{GpuContext, GpuError, MAX_BODIES, MAX_MANIFOLD_POINTS, StageTimer};
@@ -257,6 +257,30 @@ impl GpuCollision {
             0,
             bytemuck::cast_slice(velocities),
         );
+        let groups = vec![GpuCollisionGroups::ALL; n as usize];
+        queue.write_buffer(self.pool.get(GROUPS), 0, bytemuck::cast_slice(&groups));
+        Ok(())
+    }
+
+    /// Sets the collision groups of bodies `first..first + groups.len()` (every body has
+    /// [`GpuCollisionGroups::ALL`] after [`Self::set_bodies`]); the broad phase forms no pair
+    /// whose groups do not interact, from the next recorded step on.
+    pub fn set_groups(
+        &mut self,
+        first: usize,
+        groups: &[GpuCollisionGroups],
+    ) -> Result<(), GpuError> {
+        let n = self.body_count as usize;
+        if first.checked_add(groups.len()).is_none_or(|end| end > n) {
+            return Err(GpuError::InvalidInput {
+                field: "groups".into(),
+                value: format!("bodies {first}..+{} of {n}", groups.len()),
+            });
+        }
+        let offset = (first * std::mem::size_of::<GpuCollisionGroups>()) as u64;
+        self.ctx
+            .queue
+            .write_buffer(self.pool.get(GROUPS), offset, bytemuck::cast_slice(groups));
         Ok(())
     }
 

@@ -20,6 +20,9 @@ kernel! {
         pair_b,
         /// The long box count and list from `gather_sweep_boxes`.
         long_boxes,
+        /// `array<GpuCollisionGroups>`, one per body: pairs whose groups do not interact are
+        /// not formed.
+        groups,
     }
     /// The kernel: one thread per sorted body, appending pairs through an atomic counter.
     pub static SWEEP_PAIRS = "sweep_pairs.wgsl";

@@ -203,6 +203,21 @@ impl GpuSleep {
         Ok(())
     }
 
+    /// Replaces body `i`'s record in the stage's copy of the bodies as uploaded (after its
+    /// force, torque, gravity scale or groups changed); the island must be queued to wake
+    /// ([`Self::queue_wake`]), which restores the record in the solver's bodies. A no-op
+    /// while the stage is off.
+    pub fn update_awake_body(&mut self, i: u32, body: &GpuBody) {
+        if self.is_enabled() && i < self.body_count {
+            let offset = u64::from(i) * std::mem::size_of::<GpuBody>() as u64;
+            self.ctx.queue.write_buffer(
+                self.pool.get(AWAKE_BODIES),
+                offset,
+                bytemuck::bytes_of(body),
+            );
+        }
+    }
+
     /// Wakes body `i`'s island (if it sleeps) and restarts its rest time at the start of the
     /// next step. A no-op while the stage is off.
     pub fn queue_wake(&mut self, i: u32) {

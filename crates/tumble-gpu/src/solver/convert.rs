@@ -54,6 +54,8 @@ pub fn gpu_body(body: &Body) -> GpuBody {
         angular_damping: body.angular_damping,
         _pad0: 0,
         _pad1: 0,
+        force: vec4(&body.force, body.gravity_scale),
+        torque: vec4(&body.torque, 0.0),
     }
 }
 

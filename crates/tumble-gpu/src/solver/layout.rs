@@ -12,7 +12,7 @@ host_structs! {
     /// Every struct of `solver_types.wgsl`, for the layout check against naga.
     pub fn solver_struct_layouts();
 
-    /// A body's constant solver data. 64 bytes.
+    /// A body's constant solver data. 96 bytes.
     #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
     pub struct GpuBody {
             /// Local principal inverse moments (zero for fixed and kinematic); `w`: inverse mass.
@@ -35,6 +35,10 @@ host_structs! {
             pub _pad0: u32,
             /// Padding.
             pub _pad1: u32,
+            /// Persistent force at the centre of mass (N, world); `w`: gravity scale.
+            pub force: [f32; 4],
+            /// Persistent torque (N m, world); `w` unused.
+            pub torque: [f32; 4],
     }
 
     /// A body's per-step solver state. 96 bytes.

@@ -11,7 +11,7 @@ use tumble_solver::{Body, BodyState, Contact, PERSIST_NORMAL_COS};
 
 use crate::collision::{CollisionConfig, CollisionSnapshot, GpuCollision, ReadbackRequest};
 use crate::constants::NO_PREVIOUS;
-use crate::layout::GpuContact;
+use crate::layout::{GpuCollisionGroups, GpuContact};
 use crate::solver::convert::{gpu_pose, gpu_shape, gpu_velocity};
 use crate::{GpuContext, GpuError, MAX_MANIFOLD_POINTS, StageTimer};
 
@@ -26,6 +26,8 @@ pub struct HybridCollision {
     collision: GpuCollision,
     /// Whether the uploaded shapes match the bodies (false after [`Self::invalidate`]).
     shapes_uploaded: bool,
+    /// The collision groups uploaded, per body.
+    groups: Vec<GpuCollisionGroups>,
     /// Last step's points, as read back, to write the solved impulses into.
     last_points: Vec<GpuContact>,
     /// This step's manifold normal in body A's frame, per pair slot (when it has points).
@@ -42,6 +44,7 @@ impl HybridCollision {
             ctx: ctx.clone(),
             collision: GpuCollision::new(ctx, config)?,
             shapes_uploaded: false,
+            groups: Vec::new(),
             last_points: Vec::new(),
             local_normals: Vec::new(),
             last_tilts: Vec::new(),
@@ -84,6 +87,16 @@ impl HybridCollision {
             self.collision.forget_history();
             self.last_tilts.clear();
             self.shapes_uploaded = true;
+            self.groups = vec![GpuCollisionGroups::ALL; bodies.len()];
+        }
+        // Groups change without a new upload (`World::set_collision_groups`): the few
+        // bodies whose groups differ from the uploaded ones are written.
+        for (i, b) in bodies.iter().enumerate() {
+            let groups = GpuCollisionGroups::of(b.groups);
+            if self.groups[i] != groups {
+                self.collision.set_groups(i, &[groups])?;
+                self.groups[i] = groups;
+            }
         }
         let mut snapshot = self.run_once()?;
         if snapshot.check_overflow().is_err() {

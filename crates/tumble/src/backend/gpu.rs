@@ -46,6 +46,9 @@ pub(crate) struct GpuBackend {
     /// brought up to date; a host value that differs was set by the user and is written to
     /// the GPU before the next step.
     synced: Vec<(Pose, BodyState)>,
+    /// Dense indices of the bodies whose groups, force, torque or gravity scale changed in
+    /// the host copy since the last step: written to the GPU before the next one.
+    changed: Vec<usize>,
     /// The last step's results, until the host has them all.
     unread: Option<Unread>,
     /// What the caller read after the step before the one in `unread` (or after the last
@@ -103,6 +106,7 @@ impl GpuBackend {
             gpu: Mutex::new(gpu),
             uploaded: Vec::new(),
             synced: Vec::new(),
+            changed: Vec::new(),
             unread: None,
             last_asked: Reads::default(),
             invalid: OnceLock::new(),
@@ -155,27 +159,36 @@ impl StepBackend for GpuBackend {
         let host_current = self.unread.as_ref().is_none_or(|u| u.motion_in_host);
         let gpu = self.gpu.get_mut().map_err(|_| poisoned())?;
         self.uploaded_last_step = self.uploaded != handles;
+        let changed = std::mem::take(&mut self.changed);
         if self.uploaded != handles {
             // Adding or removing a body brought the host arrays up to date first.
             debug_assert!(host_current, "bodies changed while the host was behind");
             gpu.set_bodies(&host.bodies, &host.states).map_err(failed)?;
             self.uploaded = handles.to_vec();
-        } else if host_current {
-            for (i, (body, s)) in host.bodies.iter().zip(&host.states).enumerate() {
-                let (pose, synced) = &self.synced[i];
-                if body.pose != *pose {
-                    gpu.set_pose(i, &body.pose).map_err(failed)?;
-                }
-                if s.linear_velocity != synced.linear_velocity
-                    || s.angular_velocity != synced.angular_velocity
-                {
-                    gpu.set_velocity(i, &s.linear_velocity, &s.angular_velocity)
-                        .map_err(failed)?;
+        } else {
+            // With the host behind, the caller changed no pose or velocity since the last
+            // step: every such change brings the host arrays up to date first.
+            if host_current {
+                for (i, (body, s)) in host.bodies.iter().zip(&host.states).enumerate() {
+                    let (pose, synced) = &self.synced[i];
+                    if body.pose != *pose {
+                        gpu.set_pose(i, &body.pose).map_err(failed)?;
+                    }
+                    if s.linear_velocity != synced.linear_velocity
+                        || s.angular_velocity != synced.angular_velocity
+                    {
+                        gpu.set_velocity(i, &s.linear_velocity, &s.angular_velocity)
+                            .map_err(failed)?;
+                    }
                 }
             }
+            // Groups, forces, torques and gravity scales need no motion from the GPU: they
+            // are written whether or not the host has the last step's poses.
+            for d in changed {
+                gpu.set_body_properties(d, &host.bodies[d])
+                    .map_err(failed)?;
+            }
         }
-        // Otherwise the caller changed nothing since the last step: every change brings the
-        // host arrays up to date first.
         gpu.set_effects(*effects).map_err(failed)?;
         let mut reads = config.effects.readback.resolve(asked);
         reads.sleeping &= effects.sleep;
@@ -319,8 +332,12 @@ impl StepBackend for GpuBackend {
     }
 
     fn wake(&mut self, host: &mut Host, d: usize) -> Result<(), Error> {
-        let gpu = self.gpu.get_mut().map_err(|_| poisoned())?;
-        gpu.wake_up(d).map_err(failed)?;
+        // A body the GPU does not hold yet (added since the last step, or before the first)
+        // arrives with the next step's upload, which starts every body awake.
+        if d < self.uploaded.len() {
+            let gpu = self.gpu.get_mut().map_err(|_| poisoned())?;
+            gpu.wake_up(d).map_err(failed)?;
+        }
         host.sleep.wake(d);
         Ok(())
     }
@@ -371,6 +388,17 @@ impl StepBackend for GpuBackend {
         if let Err(e) = result {
             self.unread = Some(u);
             return Err(failed(e));
+        }
+        Ok(())
+    }
+
+    fn body_changed(&mut self, host: &Host, d: usize) -> Result<(), Error> {
+        let _ = host;
+        if let Some(e) = self.invalid.get() {
+            return Err(e.clone());
+        }
+        if !self.changed.contains(&d) {
+            self.changed.push(d);
         }
         Ok(())
     }

@@ -45,6 +45,8 @@ pub(crate) struct Host {
     pub sleep: SleepState,
     /// Last step's counts and times.
     pub stats: StepStats,
+    /// Each body's user data (`BodyDesc::user_data`), never read by the step.
+    pub user_data: Vec<u128>,
 }
 
 /// Last step's manifolds and the handles of their bodies.
@@ -137,6 +139,13 @@ pub(crate) trait StepBackend: fmt::Debug + Send + Sync {
     /// renumbers them).
     fn sync_all(&mut self, host: &mut Host) -> Result<(), Error> {
         self.sync_motion(host)
+    }
+
+    /// The body at dense index `d` has new cold data in `host.bodies[d]` that the step reads
+    /// (collision groups, force, torque, gravity scale): the next step must use it.
+    fn body_changed(&mut self, host: &Host, d: usize) -> Result<(), Error> {
+        let _ = (host, d);
+        Ok(())
     }
 
     /// Forgets whatever the backend keeps of the removed body with id `id` (its cached

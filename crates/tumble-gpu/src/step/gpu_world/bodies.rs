@@ -2,6 +2,7 @@
 //! wake), and the impulses queued for the start of the next step.
 
 use super::*;
+use crate::layout::GpuCollisionGroups;
 
 impl GpuWorld {
     /// Wakes body `i`'s island by the start of the next step (and restarts its rest time);
@@ -35,6 +36,11 @@ impl GpuWorld {
             let velocities: Vec<GpuVelocity> = states.iter().map(gpu_velocity).collect();
             let shapes: Vec<_> = bodies.iter().map(gpu_shape).collect();
             self.collision.set_bodies(&poses, &velocities, &shapes)?;
+            let groups: Vec<GpuCollisionGroups> = bodies
+                .iter()
+                .map(|b| GpuCollisionGroups::of(b.groups))
+                .collect();
+            self.collision.set_groups(0, &groups)?;
             self.collision.forget_history();
             let bytes: &[u8] = bytemuck::cast_slice(&gpu);
             self.pool
@@ -47,6 +53,29 @@ impl GpuWorld {
         self.sleep.reset(&gpu, self.config.dt)?;
         self.bodies = bodies.to_vec();
         Ok(())
+    }
+
+    /// Sets body `i`'s properties that may change after the upload, from `body`: its
+    /// collision groups, force, torque and gravity scale (every other field of `body` is
+    /// ignored). Takes effect from the next step, and wakes the body's island. Errs, changing
+    /// nothing, on a non-finite force, torque or gravity scale.
+    pub fn set_body_properties(&mut self, i: usize, body: &Body) -> Result<(), GpuError> {
+        self.check_body(i)?;
+        require_finite("force", &body.force)?;
+        require_finite("torque", &body.torque)?;
+        if !body.gravity_scale.is_finite() {
+            return Err(invalid("gravity_scale", body.gravity_scale));
+        }
+        let kept = &mut self.bodies[i];
+        kept.groups = body.groups;
+        kept.force = body.force;
+        kept.torque = body.torque;
+        kept.gravity_scale = body.gravity_scale;
+        let record = gpu_body(kept);
+        self.collision
+            .set_groups(i, &[GpuCollisionGroups::of(body.groups)])?;
+        self.sleep.update_awake_body(i as u32, &record);
+        self.write_body(i, |b| b.bodies, &record)
     }
 
     pub(super) fn check_body(&self, i: usize) -> Result<(), GpuError> {

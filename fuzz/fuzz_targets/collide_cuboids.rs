@@ -12,10 +12,13 @@
 //! that is not finite and non-negative (`WorldConfig::validate` rejects it), a translation that
 //! is not finite, and a quaternion that cannot be normalized (the world keeps rotations unit).
 //! Huge, tiny and subnormal sizes, positions and margins are all kept, but the geometric checks
-//! (depth range, points near both boxes, history) apply only within the range of lengths
-//! `collide_cuboids` documents (`tumble_narrow::SUPPORTED_LENGTH`, 1e-9 to 1e9 m: past it
-//! squared lengths and their products leave `f32`); outside it the manifold must still have one
-//! to four finite points and a finite normal.
+//! (depth range, points near both boxes, history) apply only within the domain
+//! `collide_cuboids` documents: the range of lengths (`tumble_narrow::SUPPORTED_LENGTH`, 1e-9 to
+//! 1e9 m: past it squared lengths and their products leave `f32`) and the thinness of the pair
+//! (`tumble_narrow::SUPPORTED_ASPECT`: the smallest half extent of the two boxes at least 1e-6
+//! of the largest; a thinner slab is below one `f32` step of the larger box's coordinates).
+//! Outside it the manifold must still have one to four finite points and a finite normal, and
+//! two calls must still give the same bits.
 #![no_main]
 
 use arbitrary::Arbitrary;
@@ -75,13 +78,24 @@ fn distance_to_box(c: &Cuboid, pose: &Pose, p: &Point3<f64>) -> f64 {
     (local.coords - clamped).norm()
 }
 
-/// Whether every length of the pair lies within the range `collide_cuboids` documents
-/// ([`tumble_narrow::SUPPORTED_LENGTH`]): half extents, translations and margin.
+/// Whether the pair lies within the domain `collide_cuboids` documents: every length (half
+/// extents, translations and margin) within [`tumble_narrow::SUPPORTED_LENGTH`], and the
+/// smallest of the six half extents at least [`tumble_narrow::SUPPORTED_ASPECT`] of the largest.
 fn in_supported_range(a: &Cuboid, pa: &Pose, b: &Cuboid, pb: &Pose, margin: f32) -> bool {
     let (lo, hi) = tumble_narrow::SUPPORTED_LENGTH;
     let size_ok = |h: &Vec3| h.iter().all(|&c| (lo..=hi).contains(&c));
     let pos_ok = |p: &Pose| p.translation.vector.iter().all(|c| c.abs() <= hi);
-    size_ok(&a.half_extents) && size_ok(&b.half_extents) && pos_ok(pa) && pos_ok(pb) && margin <= hi
+    // In f64: the world's extreme pair, a 1e-3 m box next to a 1e3 m one, lies exactly on the
+    // edge, and an f32 product could round it out.
+    let thinnest = f64::from(a.half_extents.min().min(b.half_extents.min()));
+    let largest = f64::from(a.half_extents.max().max(b.half_extents.max()));
+    let aspect_ok = thinnest >= f64::from(tumble_narrow::SUPPORTED_ASPECT) * largest;
+    size_ok(&a.half_extents)
+        && size_ok(&b.half_extents)
+        && pos_ok(pa)
+        && pos_ok(pb)
+        && margin <= hi
+        && aspect_ok
 }
 
 /// What holds for any finite input of positive sizes: one to four finite points and a finite
@@ -208,7 +222,8 @@ fuzz_target!(|input: Input| {
         "two calls differ"
     );
     // Outside the documented range of lengths (f32 squares and products of squares
-    // overflow or flush to zero), only the shape of the output is promised.
+    // overflow or flush to zero) or of thinness (a slab below one f32 step of the larger box),
+    // only the shape of the output is promised.
     let supported = in_supported_range(&a, &pa, &b, &pb, margin);
     let verify = |m: &Manifold| {
         if supported {

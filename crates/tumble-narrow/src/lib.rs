@@ -50,8 +50,8 @@ mod tests;
 pub use axis_choice::{AxisChoice, deepest_axis, preference_slack, preferred_axis};
 pub use box_pair::BoxPair;
 pub use collide::{
-    ContactPolygon, EDGE_PAIR_COUNT, SUPPORTED_LENGTH, VERTEX_OF_A_FEATURE, collide_cuboids,
-    collide_cuboids_cached, contact_polygon,
+    ContactPolygon, EDGE_PAIR_COUNT, SUPPORTED_ASPECT, SUPPORTED_LENGTH, VERTEX_OF_A_FEATURE,
+    collide_cuboids, collide_cuboids_cached, contact_polygon,
 };
 pub use edge_contact::{EdgeContact, edge_contact, support_edge};
 pub use face_contact::{FaceContact, face_contact};

@@ -4,6 +4,16 @@
 // A color's constraints are the slots color_offsets[color]..color_offsets[color + 1]
 // (constraint_store.wgsl). Constraints of one color share no dynamic body, so they run at the same time and the result
 // does not depend on their order; the overflow set runs in one thread, in order.
+//
+// With ColorPass.tail set, one thread visits every constraint of the colors from
+// ColorPass.color to the last graph color, color after color, and then the overflow set: the
+// host dispatches colors one by one only as far as a recent step used them, and the tail
+// takes whatever lies beyond (usually nothing but the overflow set). Each constraint is
+// visited by the same function with the same inputs and colors follow each other in the same
+// order, so the bits do not depend on where the tail starts. The tail is this pipeline with
+// another uniform, not a pipeline of its own, and one thread rather than a workgroup with a
+// barrier between colors: on lavapipe, both of those made the wide path's steps take seconds
+// and its memory grow by hundreds of MB a step (docs/gpu-solver.md).
 
 @group(0) @binding(0) var<uniform> params: SolverParams;
 @group(0) @binding(1) var<uniform> pass_color: ColorPass;
@@ -15,20 +25,27 @@
 // PASS_WARM_START, PASS_SOLVE, PASS_RELAX or PASS_RESTITUTION: one pipeline each.
 override PASS: u32;
 
+// Every constraint slot from color `first`'s first to the overflow set's last, in order, in
+// the calling thread: the colors one after another, then the overflow set (slots are laid
+// out by color, the overflow set last).
+fn visit_in_order(first: u32) {
+    for (var k = color_offsets[first]; k < color_offsets[OVERFLOW_COLOR + 1u]; k++) {
+        visit_constraint(k, PASS);
+    }
+}
+
 @compute @workgroup_size(COLOR_PASS_WORKGROUP_SIZE)
 fn main(thread: Thread) {
     let t = linear_group(thread.workgroup, thread.groups) * COLOR_PASS_WORKGROUP_SIZE + thread.local;
     let color = pass_color.color;
-    let begin = color_offsets[color];
-    let end = color_offsets[color + 1u];
-    if color == OVERFLOW_COLOR {
+    if pass_color.tail != 0u || color == OVERFLOW_COLOR {
         if t == 0u {
-            for (var k = begin; k < end; k++) {
-                visit_constraint(k, PASS);
-            }
+            visit_in_order(color);
         }
         return;
     }
+    let begin = color_offsets[color];
+    let end = color_offsets[color + 1u];
     if begin + t < end {
         visit_constraint(begin + t, PASS);
     }

@@ -38,16 +38,29 @@ const CPU_GOLDEN: [(&str, u64); 5] = [
 
 /// Committed GPU hashes, keyed by the adapter name (which, for lavapipe, includes the JIT's
 /// vector width). Same scene order as [`CPU_GOLDEN`].
-const GPU_GOLDEN: &[(&str, [u64; 5])] = &[(
-    "llvmpipe (LLVM 15.0.6, 256 bits)",
-    [
-        0x4eba_a98d_c236_1a07,
-        0x0b62_d08e_dbde_0c20,
-        0x5b81_ee1d_a89b_e837,
-        0xa235_0a63_0aaa_2403,
-        0xa60e_d418_ca1d_79ab,
-    ],
-)];
+const GPU_GOLDEN: &[(&str, [u64; 5])] = &[
+    (
+        "llvmpipe (LLVM 15.0.6, 256 bits)",
+        [
+            0x4eba_a98d_c236_1a07,
+            0x0b62_d08e_dbde_0c20,
+            0x5b81_ee1d_a89b_e837,
+            0xa235_0a63_0aaa_2403,
+            0xa60e_d418_ca1d_79ab,
+        ],
+    ),
+    // Vulkan, driver 580.159.04 (docs/testing.md).
+    (
+        "NVIDIA H200",
+        [
+            0x7fdc_223a_38ed_8670,
+            0x2296_82e3_b53b_258a,
+            0x9dcf_8782_42ff_8dd8,
+            0xd8e1_a308_93b1_6d63,
+            0xee02_080c_1cb7_28da,
+        ],
+    ),
+];
 
 fn scenes() -> Vec<Scene> {
     vec![

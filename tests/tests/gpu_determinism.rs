@@ -12,8 +12,9 @@ use rand_chacha::ChaCha8Rng;
 use tumble_geometry::{Cuboid, Pose, Real, Vec3};
 use tumble_gpu::GpuContext;
 use tumble_gpu::layout::GpuPose;
+use tumble_gpu::solver::constants::GRAPH_COLOR_COUNT;
 use tumble_gpu::solver::{FusedMemory, SolvePath};
-use tumble_gpu::step::{GpuWorld, GpuWorldConfig, PathPolicy, ReadRequest};
+use tumble_gpu::step::{ColorDispatch, GpuWorld, GpuWorldConfig, PathPolicy, ReadRequest};
 use tumble_solver::{Body, BodyKind, BodyState, Material};
 use tumble_tests::gpu_solver_util::{floor, pose_bits};
 use tumble_tests::scene_support::random_vec;
@@ -77,31 +78,23 @@ fn scene() -> (Vec<Body>, Vec<BodyState>) {
 
 /// Runs the scene for [`STEPS`] steps on the GPU along `path` and returns the poses.
 fn run(ctx: &GpuContext, path: PathPolicy) -> Vec<GpuPose> {
-    run_with(ctx, path, FusedMemory::Auto, STEPS)
+    let config = GpuWorldConfig {
+        path,
+        ..Default::default()
+    };
+    run_with(ctx, config, STEPS).0
 }
 
 /// [`run`] for `steps` steps (at least 80: by then every dropped box has fallen 4 m or more)
-/// with the fused path's bodies kept where `fused_memory` says.
-fn run_with(
-    ctx: &GpuContext,
-    path: PathPolicy,
-    fused_memory: FusedMemory,
-    steps: usize,
-) -> Vec<GpuPose> {
+/// with `config`; also gives the colors the wide path dispatched one by one in the last step.
+fn run_with(ctx: &GpuContext, config: GpuWorldConfig, steps: usize) -> (Vec<GpuPose>, u32) {
     let (bodies, states) = scene();
-    let mut world = GpuWorld::new(
-        ctx,
-        GpuWorldConfig {
-            path,
-            fused_memory,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let mut world = GpuWorld::new(ctx, config).unwrap();
     world.set_bodies(&bodies, &states).unwrap();
     for _ in 0..steps {
         world.step().unwrap();
     }
+    let dispatched = world.solver().color_dispatches();
     let snapshot = world.read_now(ReadRequest::MOTION).unwrap();
     // The scene must have done something for the comparison to mean anything: the dropped
     // boxes fell at least 2 m, and nothing left the world.
@@ -119,7 +112,7 @@ fn run_with(
             "{p:?}"
         );
     }
-    snapshot.poses
+    (snapshot.poses, dispatched)
 }
 
 /// Bitwise equality of two pose lists, reporting the first difference.
@@ -149,9 +142,19 @@ fn wide_and_fused_solver_paths_give_bitwise_equal_poses() {
     let Some(ctx) = GpuContext::for_tests() else {
         return;
     };
-    let wide = run(&ctx, PathPolicy::Always(SolvePath::Wide));
+    let config = GpuWorldConfig {
+        path: PathPolicy::Always(SolvePath::Wide),
+        ..Default::default()
+    };
+    let (wide, dispatched) = run_with(&ctx, config, STEPS);
+    // The wide path dispatches the colors in use one by one (ColorDispatch::InUse, the
+    // default): the pile needs a few colors, far from all 24.
+    assert!(
+        (2..GRAPH_COLOR_COUNT).contains(&dispatched),
+        "colors dispatched one by one: {dispatched}"
+    );
     let fused = run(&ctx, PathPolicy::Always(SolvePath::Fused));
-    assert_bitwise_equal(&wide, &fused, "wide vs fused");
+    assert_bitwise_equal(&wide, &fused, "wide (colors in use) vs fused");
 }
 
 #[test]
@@ -164,8 +167,35 @@ fn fused_path_gives_the_same_bits_with_bodies_in_workgroup_memory() {
     // weak, or a slot visited by another thread than the one that last wrote it, would show
     // as a different bit somewhere in these steps of falling, landing and piling. 80 steps,
     // not 300: lavapipe runs the workgroup-memory kernel about ten times slower.
-    let fused = PathPolicy::Always(SolvePath::Fused);
-    let storage = run_with(&ctx, fused, FusedMemory::Storage, 80);
-    let workgroup = run_with(&ctx, fused, FusedMemory::Workgroup, 80);
+    let fused = |fused_memory| GpuWorldConfig {
+        path: PathPolicy::Always(SolvePath::Fused),
+        fused_memory,
+        ..Default::default()
+    };
+    let storage = run_with(&ctx, fused(FusedMemory::Storage), 80).0;
+    let workgroup = run_with(&ctx, fused(FusedMemory::Workgroup), 80).0;
     assert_bitwise_equal(&storage, &workgroup, "fused: storage vs workgroup memory");
+}
+
+#[test]
+fn wide_path_gives_the_same_bits_whichever_colors_are_dispatched_one_by_one() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    // Each pass dispatches its first colors one by one and ends with a single thread that
+    // visits the remaining colors' constraints in turn and then the overflow set. With
+    // First(0) that thread solves everything, every color in the order the per-color
+    // dispatches take them; a color visited twice or skipped, or colors out of order, would
+    // change a bit in these 80 steps of falling, landing and piling. (The colors in use,
+    // the default, are compared with the fused path in the test above.)
+    let wide = |color_dispatch| GpuWorldConfig {
+        path: PathPolicy::Always(SolvePath::Wide),
+        color_dispatch,
+        ..Default::default()
+    };
+    let (all, dispatched_all) = run_with(&ctx, wide(ColorDispatch::All), 80);
+    assert_eq!(dispatched_all, GRAPH_COLOR_COUNT);
+    let (tail, dispatched) = run_with(&ctx, wide(ColorDispatch::First(0)), 80);
+    assert_eq!(dispatched, 0);
+    assert_bitwise_equal(&all, &tail, "all colors one by one vs all in the tail");
 }

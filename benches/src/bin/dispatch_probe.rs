@@ -3,24 +3,27 @@
 //! pyramids of several sizes and several sweep counts.
 //!
 //! ```sh
-//! cargo run --release -p tumble-benches --bin dispatch_probe -- 4,12,24,50 1,4 wide,fused
+//! cargo run --release -p tumble-benches --bin dispatch_probe -- 4,12,24,50 1,4 wide,fused all,in-use
 //! ```
 //!
 //! The first argument lists pyramid heights, the second biased iterations per substep (one
-//! relax iteration each, 4 substeps), the third the solver paths (`wide`, `fused`). Each scene settles for 30 steps, then 10 are profiled.
-//! The solve pass records `4 * (2 + COLOR_SLOTS * (2 + iterations))` dispatches whatever the
-//! scene, so a solve time that hardly grows from the smallest pyramid to the largest is the
-//! cost of the dispatches and their barriers, and the growth with the height is the cost of
-//! the constraints. The last column hashes every pose and velocity after the profiled steps,
-//! so two builds meant to compute the same result can be compared bit for bit.
+//! relax iteration each, 4 substeps), the third the solver paths (`wide`, `fused`), the
+//! fourth how many colors the wide path dispatches one by one (`all` 24, `in-use` as many as
+//! a recent step used; the default). Each scene settles for 30 steps, then 10 are profiled.
+//! The solve pass records `4 * (2 + (K + 1) * (2 + iterations))` dispatches for K colors
+//! dispatched one by one (each pass closes with one dispatch for the colors beyond K and the
+//! overflow set), so a solve time that hardly grows from the smallest pyramid to the largest
+//! is the cost of the dispatches and their barriers, and the growth with the height is the
+//! cost of the constraints. The last column hashes every pose and velocity after the
+//! profiled steps, so two builds or settings meant to compute the same result can be
+//! compared bit for bit.
 
 use std::collections::BTreeMap;
 
 use tumble_benches::gpu_pool::contact_counts;
 use tumble_gpu::GpuContext;
 use tumble_gpu::solver::SolvePath;
-use tumble_gpu::solver::constants::COLOR_SLOTS;
-use tumble_gpu::step::{GpuWorldConfig, PathPolicy, ReadRequest};
+use tumble_gpu::step::{ColorDispatch, GpuWorldConfig, PathPolicy, ReadRequest};
 use tumble_solver::SolverConfig;
 use tumble_tests::scene_support::gpu_world_of;
 
@@ -54,25 +57,40 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             other => Err(format!("unknown path {other}: wide or fused")),
         })
         .collect::<Result<_, _>>()?;
+    let dispatch_modes: Vec<ColorDispatch> = args
+        .next()
+        .as_deref()
+        .unwrap_or("in-use")
+        .split(',')
+        .map(|m| match m {
+            "all" => Ok(ColorDispatch::All),
+            "in-use" => Ok(ColorDispatch::InUse),
+            other => Err(format!("unknown color dispatch {other}: all or in-use")),
+        })
+        .collect::<Result<_, _>>()?;
     let ctx = GpuContext::new()?;
     println!("device: {} ({:?})", ctx.info.name, ctx.info.backend);
     println!(
-        "| height | bodies | manifolds | iterations | path | solve dispatches | solve ms | per dispatch us | prepare ms | color ms | solver stages ms | collision ms | GPU total ms | pose bits |"
+        "| height | bodies | manifolds | iterations | path | colors dispatched | solve dispatches | solve ms | per dispatch us | prepare ms | color ms | solver stages ms | collision ms | GPU total ms | pose bits |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for &h in &heights {
         let scene = tumble_scenes::pyramid(h as usize);
         let bodies = scene.bodies.len();
-        for (&iters, &path) in iterations
-            .iter()
-            .flat_map(|i| paths.iter().map(move |p| (i, p)))
-        {
+        let mut settings = Vec::new();
+        for &i in &iterations {
+            for &p in &paths {
+                settings.extend(dispatch_modes.iter().map(|&m| (i, p, m)));
+            }
+        }
+        for (iters, path, color_dispatch) in settings {
             let mut world = gpu_world_of(
                 &ctx,
                 &scene,
                 GpuWorldConfig {
                     timestamps: true,
                     path: PathPolicy::Always(path),
+                    color_dispatch,
                     solver: SolverConfig {
                         substeps: SUBSTEPS,
                         iterations: iters,
@@ -101,12 +119,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .iter()
                 .map(|n| ms(n))
                 .sum();
+            let colors = world.solver().color_dispatches();
             let dispatches = match path {
-                SolvePath::Wide => SUBSTEPS * (2 + COLOR_SLOTS * (2 + iters)),
+                SolvePath::Wide => SUBSTEPS * (2 + (colors + 1) * (2 + iters)),
                 SolvePath::Fused => 1,
             };
             println!(
-                "| {h} | {} | {manifolds} | {iters} | {path:?} | {dispatches} | {:.3} | {:.1} | {:.3} | {:.3} | {solver:.3} | {:.3} | {total:.3} | {bits:016x} |",
+                "| {h} | {} | {manifolds} | {iters} | {path:?} | {colors} | {dispatches} | {:.3} | {:.1} | {:.3} | {:.3} | {solver:.3} | {:.3} | {total:.3} | {bits:016x} |",
                 bodies,
                 ms("solve") + ms("solve_fused"),
                 (ms("solve") + ms("solve_fused")) * 1e3 / f64::from(dispatches),
@@ -116,7 +135,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             );
         }
     }
-    host_times(&ctx, &heights)?;
+    for &mode in &dispatch_modes {
+        host_times(&ctx, &heights, mode)?;
+    }
     Ok(())
 }
 
@@ -148,7 +169,12 @@ fn pose_bits(world: &mut tumble_gpu::step::GpuWorld) -> Result<u64, Box<dyn std:
 /// Where a step's wall time goes on the host, timestamps off, default path choice: recording
 /// and submitting (`step`), then waiting for the poses (`wait_snapshot`, which includes the GPU
 /// time), medians over 30 steps after 30 settling ones.
-fn host_times(ctx: &GpuContext, heights: &[u32]) -> Result<(), Box<dyn std::error::Error>> {
+fn host_times(
+    ctx: &GpuContext,
+    heights: &[u32],
+    color_dispatch: ColorDispatch,
+) -> Result<(), Box<dyn std::error::Error>> {
+    println!("\ncolor dispatch {color_dispatch:?}:");
     println!("\n| height | path | record and submit ms | wait for poses ms | step ms |");
     println!("|---|---|---|---|---|");
     for &h in heights {
@@ -161,6 +187,7 @@ fn host_times(ctx: &GpuContext, heights: &[u32]) -> Result<(), Box<dyn std::erro
                     substeps: SUBSTEPS,
                     ..Default::default()
                 },
+                color_dispatch,
                 ..Default::default()
             },
         )?;

@@ -15,7 +15,7 @@ use crate::{GpuContext, GpuError, StageTimer};
 use super::color::{ColorBuffers, ColorGroups, ColorRoundArgs};
 use super::constants::{
     COLOR_OFFSETS_LEN, COLOR_SLOTS, COLOR_TALLY_LEN, CONSTRAINT_ROWS, EMPTY_COLOR,
-    GRAPH_COLOR_COUNT,
+    GRAPH_COLOR_COUNT, TALLY_COUNTS,
 };
 use super::constraint_store::{constraints_by_manifold, store_stride};
 use super::effects::{Effects, effect_overrides};
@@ -89,6 +89,9 @@ pub struct GpuSolver {
     pipelines: SolverPipelines,
     /// `solve_color`, one per [`PassKind`] in [`PassKind::ALL`] order.
     passes: Vec<Kernel>,
+    /// Graph colors each pass dispatches one by one; the tail takes the rest
+    /// ([`Self::set_color_dispatches`]).
+    color_dispatches: u32,
     radix: RadixSort,
     pool: BufferPool,
     params: wgpu::Buffer,
@@ -115,15 +118,21 @@ impl GpuSolver {
             usage: UNIFORM_USAGE,
             mapped_at_creation: false,
         });
-        let pass_colors = (0..COLOR_SLOTS)
-            .map(|color| {
+        // One color per slot, then the tails from each slot on (`sweep_colors`).
+        let pass_colors = [0, 1]
+            .into_iter()
+            .flat_map(|tail| {
+                (0..COLOR_SLOTS).map(move |color| ColorPass {
+                    color,
+                    tail,
+                    ..Default::default()
+                })
+            })
+            .map(|pass| {
                 ctx.device
                     .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                         label: Some("color pass"),
-                        contents: bytemuck::bytes_of(&ColorPass {
-                            color,
-                            ..Default::default()
-                        }),
+                        contents: bytemuck::bytes_of(&pass),
                         usage: wgpu::BufferUsages::UNIFORM,
                     })
             })
@@ -137,6 +146,7 @@ impl GpuSolver {
             effects,
             pipelines,
             passes,
+            color_dispatches: GRAPH_COLOR_COUNT,
             radix,
             pool: BufferPool::new(ctx),
             params,
@@ -153,6 +163,33 @@ impl GpuSolver {
     /// kernels compute the same bits).
     pub fn set_fused_memory(&mut self, memory: FusedMemory) {
         self.fused_memory = memory;
+    }
+
+    /// How many graph colors each pass of the wide path dispatches one by one, from the next
+    /// step on (at most [`GRAPH_COLOR_COUNT`], the default). Every pass ends with one more
+    /// dispatch, a single thread that visits the constraints of the colors from `colors` on
+    /// in turn and then the overflow set. An empty color's dispatch still costs its launch and
+    /// barrier (about 4 us on an H200), so the world sets this to the colors a recent step
+    /// used; a color beyond it is still solved, by the tail (slowly, one constraint after
+    /// another, until the next stats read raises the count). The bits never depend on it:
+    /// each constraint is visited by the same code with the same inputs, in the same color
+    /// order.
+    pub fn set_color_dispatches(&mut self, colors: u32) {
+        self.color_dispatches = colors.min(GRAPH_COLOR_COUNT);
+    }
+
+    /// Graph colors each wide pass dispatches one by one ([`Self::set_color_dispatches`]).
+    pub fn color_dispatches(&self) -> u32 {
+        self.color_dispatches
+    }
+
+    /// The per-color counts of the last recorded step (`COLOR_SLOTS` entries, the overflow
+    /// set last), zeroed at the start of every step and written by the wide path's coloring.
+    pub fn color_counts(&self) -> (&wgpu::Buffer, u64) {
+        (
+            self.pool.get(COLOR_TALLY),
+            u64::from(TALLY_COUNTS) * std::mem::size_of::<u32>() as u64,
+        )
     }
 
     /// Whether the next fused step of `bodies` bodies keeps them in workgroup memory.
@@ -354,6 +391,9 @@ impl GpuSolver {
                 }
             }
             SolvePath::Wide => {
+                // The GPU starts on what the step recorded before the solver (wakes, impulses,
+                // the collision stages) while the host records the coloring and the substeps.
+                submit_so_far(&self.ctx, encoder);
                 let work = inputs.contact_work;
                 {
                     let mut pass = timer.begin_pass(encoder, "color");
@@ -374,6 +414,7 @@ impl GpuSolver {
                         &self.passes[kind.index()],
                         &groups.passes[kind.index()],
                         args,
+                        self.color_dispatches,
                     );
                 };
                 for substep in 0..params.substeps {
@@ -438,15 +479,19 @@ fn submit_so_far(ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder) {
     ctx.queue.submit([recorded.finish()]);
 }
 
-/// One pass over every color slot, each dispatch sized on the GPU by `color_plan`.
+/// One pass over every color: the first `colors` one dispatch each, sized on the GPU by
+/// `color_plan`, then the tail (the remaining colors and the overflow set) in one thread.
+/// `groups[c]` names color `c` and `groups[COLOR_SLOTS + c]` the tail from color `c` on.
 fn sweep_colors(
     pass: &mut wgpu::ComputePass<'_>,
     kernel: &Kernel,
     groups: &[wgpu::BindGroup],
     args: &wgpu::Buffer,
+    colors: u32,
 ) {
     let stride = std::mem::size_of::<DispatchArgs>() as u64;
-    for (slot, group) in groups.iter().enumerate() {
+    for (slot, group) in groups[..colors as usize].iter().enumerate() {
         kernel.dispatch_indirect(pass, group, args, slot as u64 * stride);
     }
+    kernel.dispatch_workgroups(pass, &groups[(COLOR_SLOTS + colors) as usize], 1, 1);
 }

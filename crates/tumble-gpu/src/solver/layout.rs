@@ -171,8 +171,8 @@ host_structs! {
     pub struct ColorPass {
             /// The color (`OVERFLOW_COLOR` for the overflow set).
             pub color: u32,
-            /// Padding.
-            pub _pad0: u32,
+            /// 1 for a pass's tail: every constraint from `color` on, in one thread.
+            pub tail: u32,
             /// Padding.
             pub _pad1: u32,
             /// Padding.

@@ -16,6 +16,21 @@ pub enum PathPolicy {
     Always(SolvePath),
 }
 
+/// How many graph colors each pass of the wide solver path dispatches one by one
+/// ([`crate::solver::GpuSolver::set_color_dispatches`]); the same bits either way.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ColorDispatch {
+    /// As many as a recent step used (read two steps late with the step's stats); the colors
+    /// beyond, if a step uses more, go to the pass's closing single-thread dispatch.
+    #[default]
+    InUse,
+    /// Every graph color, used or not (what the wide path did before; for measuring).
+    All,
+    /// The first this many graph colors, whatever the step uses (`First(0)` sends every color
+    /// through the closing dispatch; for tests and measuring).
+    First(u32),
+}
+
 /// Everything a GPU world needs besides its bodies.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GpuWorldConfig {
@@ -41,6 +56,9 @@ pub struct GpuWorldConfig {
     pub skip_idle_steps: bool,
     /// Where the fused solve path keeps the bodies ([`FusedMemory`]; the same bits either way).
     pub fused_memory: FusedMemory,
+    /// How many colors the wide path dispatches one by one ([`ColorDispatch`]; the same bits
+    /// either way).
+    pub color_dispatch: ColorDispatch,
 }
 
 impl Default for GpuWorldConfig {
@@ -59,6 +77,7 @@ impl Default for GpuWorldConfig {
             timestamps: false,
             skip_idle_steps: true,
             fused_memory: FusedMemory::Auto,
+            color_dispatch: ColorDispatch::InUse,
         }
     }
 }
@@ -78,6 +97,11 @@ impl GpuWorldConfig {
         }
         if !(self.dt.is_finite() && self.dt > 0.0) {
             return Err(invalid("dt", self.dt));
+        }
+        if let ColorDispatch::First(colors) = self.color_dispatch
+            && colors > crate::solver::constants::GRAPH_COLOR_COUNT
+        {
+            return Err(invalid("color_dispatch", self.color_dispatch));
         }
         if !(self.margin.is_finite() && self.margin >= 0.0) {
             return Err(invalid("margin", self.margin));
@@ -99,6 +123,33 @@ impl GpuWorldConfig {
             pairs_per_body: self.pairs_per_body,
             min_pair_capacity: self.min_pair_capacity,
             auto_grow: false,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{ColorDispatch, GpuWorldConfig};
+    use crate::GpuError;
+    use crate::solver::constants::GRAPH_COLOR_COUNT;
+
+    #[test]
+    fn more_colors_one_by_one_than_there_are_is_refused_by_name() {
+        let with = |color_dispatch| GpuWorldConfig {
+            color_dispatch,
+            ..Default::default()
+        };
+        // Every count up to the graph colors is a valid setting (First(0): all in the tail).
+        for k in [0, 1, GRAPH_COLOR_COUNT] {
+            assert!(with(ColorDispatch::First(k)).validate().is_ok(), "{k}");
+        }
+        // One more would name a color that does not exist: refused, not clamped.
+        match with(ColorDispatch::First(GRAPH_COLOR_COUNT + 1)).validate() {
+            Err(GpuError::InvalidInput { field, value }) => {
+                assert_eq!(field, "color_dispatch");
+                assert!(value.contains("25"), "{value}");
+            }
+            other => panic!("expected an InvalidInput error, got {other:?}"),
         }
     }
 }

@@ -17,17 +17,18 @@ use crate::readback::{Readback, Region};
 use crate::sleep::GpuSleep;
 use crate::sleep::constants::AWAKE;
 use crate::solver::apply_impulses::ApplyImpulsesArgs;
+use crate::solver::constants::GRAPH_COLOR_COUNT;
 use crate::solver::convert::{gpu_body, gpu_manifold, gpu_pose, gpu_shape, gpu_tilt, gpu_velocity};
 use crate::solver::layout::{GpuBody, GpuImpulse, GpuTilt};
 use crate::solver::{Effects, GpuSolver, SolvePath, SolverInputs, StepParams};
 use crate::{GpuContext, GpuError, MAX_MANIFOLD_POINTS, StageTimer};
 
-use super::config::{GpuWorldConfig, PathPolicy};
+use super::config::{ColorDispatch, GpuWorldConfig, PathPolicy};
 use super::events::EventStage;
 use super::idle::IdleSteps;
 use super::read_plan::{PendingRead, ReadSizes, decode};
 use super::snapshot::{ContactSnapshot, ReadRequest, Snapshot};
-use super::stats_ring::StatsRing;
+use super::stats_ring::{StatsRing, StatsSources};
 use crate::kernels::contact_events::ContactEventList;
 
 pub use draw::DrawBuffers;
@@ -250,6 +251,14 @@ impl GpuWorld {
     fn take_stats(&mut self) -> Result<(), GpuError> {
         let stats = self.stats.take_lagged()?;
         self.idle.observe(stats.as_ref());
+        let colors = match self.config.color_dispatch {
+            ColorDispatch::InUse => stats.as_ref().and_then(|s| s.colors),
+            ColorDispatch::All => Some(GRAPH_COLOR_COUNT),
+            ColorDispatch::First(colors) => Some(colors),
+        };
+        if let Some(colors) = colors {
+            self.solver.set_color_dispatches(colors);
+        }
         let Some(stats) = stats else {
             return Ok(());
         };
@@ -306,7 +315,7 @@ impl GpuWorld {
             if let Some(events) = &mut self.events {
                 events.record_idle(&mut encoder);
             }
-            return self.finish_step(encoder, self.last_path.unwrap_or(path));
+            return self.finish_step(encoder, self.last_path.unwrap_or(path), false);
         }
         let params = self.params();
         let mut encoder = self.ctx.encoder("tumble step");
@@ -348,7 +357,7 @@ impl GpuWorld {
             events.record(&self.ctx, &mut encoder, &self.collision);
         }
         self.source = ContactSource::Collision;
-        self.finish_step(encoder, path)
+        self.finish_step(encoder, path, true)
     }
 
     /// Turns the contact-event stage on or off from the next step on. On, each step ends
@@ -381,16 +390,21 @@ impl GpuWorld {
         Ok(Some((list, compared)))
     }
 
-    /// Copies for the requested reads, the stats copy, timestamps, submit.
+    /// Copies for the requested reads, the stats copy, timestamps, submit. `solved`: the
+    /// step recorded the solver stage along `path` (not an idle step's repeat).
     fn finish_step(
         &mut self,
         mut encoder: wgpu::CommandEncoder,
         path: SolvePath,
+        solved: bool,
     ) -> Result<(), GpuError> {
         let (_, _, work, _) = self.contact_buffers();
-        let active = self.sleep.active_count();
+        let sources = StatsSources {
+            active: self.sleep.active_count(),
+            color_counts: (solved && path == SolvePath::Wide).then(|| self.solver.color_counts()),
+        };
         self.stats
-            .record(&mut encoder, &work, active, self.idle.changes());
+            .record(&mut encoder, &work, sources, self.idle.changes());
         let read = if self.request == ReadRequest::default() {
             None
         } else {

@@ -11,7 +11,7 @@ mod read_plan;
 pub mod snapshot;
 pub mod stats_ring;
 
-pub use config::{GpuWorldConfig, PathPolicy};
+pub use config::{ColorDispatch, GpuWorldConfig, PathPolicy};
 pub use gpu_world::{DrawBuffers, GpuWorld};
 pub use hybrid::HybridCollision;
 pub use snapshot::{ContactSnapshot, ReadRequest, Snapshot};

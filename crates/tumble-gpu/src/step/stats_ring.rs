@@ -1,11 +1,13 @@
-//! A small per-step readback of the pair work list (count, requested, capacity) and of the
-//! sleep stage's count of bodies the step moved, read two steps late: it sizes the solver
-//! path choice, reports pair overflow and finds idle steps without ever making a step wait
-//! for its own results.
+//! A small per-step readback of the pair work list (count, requested, capacity), of the
+//! sleep stage's count of bodies the step moved and of the wide path's constraints per color,
+//! read two steps late: it sizes the solver path choice and the colors dispatched one by one,
+//! reports pair overflow and finds idle steps without ever making a step wait for its own
+//! results.
 
 use std::sync::{Arc, Mutex};
 
 use crate::layout::WorkList;
+use crate::solver::constants::COLOR_SLOTS;
 use crate::{GpuContext, GpuError};
 
 /// Steps between a step and the read of its work list. Two: the read of step `n - 2` when
@@ -28,16 +30,34 @@ pub struct StepStats {
     pub active: Option<u32>,
     /// The host's change count when the step was recorded ([`StatsRing::record`]).
     pub changes: u64,
+    /// The graph colors up to the last one the step used (its overflow set aside), when the
+    /// step took the wide path.
+    pub colors: Option<u32>,
 }
 
-/// Bytes of the work list copy; the active count follows it.
+/// What a step's stats copy, besides its work list.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct StatsSources<'a> {
+    /// The sleep stage's count of moving bodies (`u32`), when the stage ran.
+    pub active: Option<&'a wgpu::Buffer>,
+    /// The wide path's per-color counts (`COLOR_SLOTS` `u32`s at the byte offset), when the
+    /// step took it.
+    pub color_counts: Option<(&'a wgpu::Buffer, u64)>,
+}
+
+/// Bytes of the work list copy; the active count follows it, then the per-color counts.
 const WORK_BYTES: u64 = std::mem::size_of::<WorkList>() as u64;
+/// Offset of the per-color counts in a slot.
+const COLORS_AT: u64 = WORK_BYTES + 4;
+/// Bytes of the per-color counts.
+const COLOR_BYTES: u64 = COLOR_SLOTS as u64 * 4;
 
 #[derive(Debug)]
 struct Slot {
     buffer: wgpu::Buffer,
-    /// Whether the active count was copied, and the change count, of the pending step.
-    recorded: (bool, u64),
+    /// Whether the active count and the color counts were copied, and the change count, of
+    /// the pending step.
+    recorded: (bool, bool, u64),
     pending: Option<(wgpu::SubmissionIndex, MapResult)>,
 }
 
@@ -56,11 +76,11 @@ impl StatsRing {
             .map(|_| Slot {
                 buffer: ctx.device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("step stats staging"),
-                    size: WORK_BYTES + 4,
+                    size: COLORS_AT + COLOR_BYTES,
                     usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
                     mapped_at_creation: false,
                 }),
-                recorded: (false, 0),
+                recorded: (false, false, 0),
                 pending: None,
             })
             .collect();
@@ -100,39 +120,50 @@ impl StatsRing {
             std::thread::yield_now();
         };
         status.map_err(GpuError::Device)?;
-        let (work, active) = {
+        let (work, active, counts) = {
             let view = slot
                 .buffer
                 .get_mapped_range(..)
                 .map_err(|e| GpuError::Device(e.to_string()))?;
             let work: WorkList = bytemuck::pod_read_unaligned(&view[..WORK_BYTES as usize]);
-            let active: u32 = bytemuck::pod_read_unaligned(&view[WORK_BYTES as usize..]);
-            (work, active)
+            let active: u32 =
+                bytemuck::pod_read_unaligned(&view[WORK_BYTES as usize..COLORS_AT as usize]);
+            let counts: [u32; COLOR_SLOTS as usize] =
+                bytemuck::pod_read_unaligned(&view[COLORS_AT as usize..]);
+            (work, active, counts)
         };
         slot.buffer.unmap();
-        let (copied, changes) = slot.recorded;
+        let (active_copied, colors_copied, changes) = slot.recorded;
         Ok(Some(StepStats {
             work,
-            active: copied.then_some(active),
+            active: active_copied.then_some(active),
             changes,
+            colors: colors_copied.then(|| colors_used(&counts)),
         }))
     }
 
-    /// Records the copy of this step's work list and, when the sleep stage ran, its count of
-    /// moving bodies into the current slot; `changes` is the host's change count.
+    /// Records the copy of this step's work list and of what `sources` names into the
+    /// current slot; `changes` is the host's change count.
     pub fn record(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         work: &wgpu::Buffer,
-        active: Option<&wgpu::Buffer>,
+        sources: StatsSources<'_>,
         changes: u64,
     ) {
         let slot = &mut self.slots[self.next];
         encoder.copy_buffer_to_buffer(work, 0, &slot.buffer, 0, WORK_BYTES);
-        if let Some(active) = active {
+        if let Some(active) = sources.active {
             encoder.copy_buffer_to_buffer(active, 0, &slot.buffer, WORK_BYTES, 4);
         }
-        slot.recorded = (active.is_some(), changes);
+        if let Some((counts, offset)) = sources.color_counts {
+            encoder.copy_buffer_to_buffer(counts, offset, &slot.buffer, COLORS_AT, COLOR_BYTES);
+        }
+        slot.recorded = (
+            sources.active.is_some(),
+            sources.color_counts.is_some(),
+            changes,
+        );
     }
 
     /// Starts mapping the current slot after the submit that holds its copy.
@@ -155,5 +186,28 @@ impl StatsRing {
         }
         self.next = 0;
         Ok(())
+    }
+}
+
+/// The graph colors up to the last non-empty one, from per-color counts (the overflow set,
+/// last, left out).
+fn colors_used(counts: &[u32]) -> u32 {
+    let graph = &counts[..counts.len() - 1];
+    graph
+        .iter()
+        .rposition(|&n| n > 0)
+        .map_or(0, |c| c as u32 + 1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::colors_used;
+
+    #[test]
+    fn colors_used_ends_at_the_last_non_empty_graph_color() {
+        // The overflow set (last entry) does not count; an empty color inside the range does.
+        assert_eq!(colors_used(&[3, 0, 2, 0, 0, 7]), 3);
+        assert_eq!(colors_used(&[0, 0, 0, 5]), 0);
+        assert_eq!(colors_used(&[1, 1, 1, 1]), 3);
     }
 }

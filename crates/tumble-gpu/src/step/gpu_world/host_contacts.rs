@@ -125,7 +125,7 @@ impl GpuWorld {
             events.forget();
         }
         self.host_count = count;
-        self.finish_step(encoder, path)
+        self.finish_step(encoder, path, true)
     }
 
     /// The buffers holding the last step's manifolds, points and work list (handles are

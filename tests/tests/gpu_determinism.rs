@@ -76,6 +76,14 @@ fn scene() -> (Vec<Body>, Vec<BodyState>) {
     (bodies, states)
 }
 
+/// The default settings with the solver path fixed to `path`.
+fn on_path(path: SolvePath) -> GpuWorldConfig {
+    GpuWorldConfig {
+        path: PathPolicy::Always(path),
+        ..Default::default()
+    }
+}
+
 /// Runs the scene for [`STEPS`] steps on the GPU along `path` and returns the poses.
 fn run(ctx: &GpuContext, path: PathPolicy) -> Vec<GpuPose> {
     let config = GpuWorldConfig {
@@ -142,11 +150,7 @@ fn wide_and_fused_solver_paths_give_bitwise_equal_poses() {
     let Some(ctx) = GpuContext::for_tests() else {
         return;
     };
-    let config = GpuWorldConfig {
-        path: PathPolicy::Always(SolvePath::Wide),
-        ..Default::default()
-    };
-    let (wide, dispatched) = run_with(&ctx, config, STEPS);
+    let (wide, dispatched) = run_with(&ctx, on_path(SolvePath::Wide), STEPS);
     // The wide path dispatches the colors in use one by one (ColorDispatch::InUse, the
     // default): the pile needs a few colors, far from all 24.
     assert!(
@@ -168,9 +172,8 @@ fn fused_path_gives_the_same_bits_with_bodies_in_workgroup_memory() {
     // as a different bit somewhere in these steps of falling, landing and piling. 80 steps,
     // not 300: lavapipe runs the workgroup-memory kernel about ten times slower.
     let fused = |fused_memory| GpuWorldConfig {
-        path: PathPolicy::Always(SolvePath::Fused),
         fused_memory,
-        ..Default::default()
+        ..on_path(SolvePath::Fused)
     };
     let storage = run_with(&ctx, fused(FusedMemory::Storage), 80).0;
     let workgroup = run_with(&ctx, fused(FusedMemory::Workgroup), 80).0;
@@ -189,9 +192,8 @@ fn wide_path_gives_the_same_bits_whichever_colors_are_dispatched_one_by_one() {
     // change a bit in these 80 steps of falling, landing and piling. (The colors in use,
     // the default, are compared with the fused path in the test above.)
     let wide = |color_dispatch| GpuWorldConfig {
-        path: PathPolicy::Always(SolvePath::Wide),
         color_dispatch,
-        ..Default::default()
+        ..on_path(SolvePath::Wide)
     };
     let (all, dispatched_all) = run_with(&ctx, wide(ColorDispatch::All), 80);
     assert_eq!(dispatched_all, GRAPH_COLOR_COUNT);

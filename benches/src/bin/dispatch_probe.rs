@@ -42,32 +42,45 @@ fn list(arg: Option<String>, default: &str) -> Result<Vec<u32>, std::num::ParseI
         .collect()
 }
 
+/// The comma-separated names in `arg` (or `default`), each looked up in `known`.
+fn choices<T: Copy>(
+    arg: Option<String>,
+    default: &str,
+    known: &[(&str, T)],
+) -> Result<Vec<T>, String> {
+    arg.as_deref()
+        .unwrap_or(default)
+        .split(',')
+        .map(|name| {
+            known
+                .iter()
+                .find(|(n, _)| *n == name)
+                .map(|&(_, value)| value)
+                .ok_or_else(|| {
+                    let names: Vec<&str> = known.iter().map(|(n, _)| *n).collect();
+                    format!("unknown value {name}: one of {}", names.join(", "))
+                })
+        })
+        .collect()
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let heights = list(args.next(), "4,12,24,50")?;
     let iterations = list(args.next(), "1,4")?;
-    let paths: Vec<SolvePath> = args
-        .next()
-        .as_deref()
-        .unwrap_or("wide")
-        .split(',')
-        .map(|p| match p {
-            "wide" => Ok(SolvePath::Wide),
-            "fused" => Ok(SolvePath::Fused),
-            other => Err(format!("unknown path {other}: wide or fused")),
-        })
-        .collect::<Result<_, _>>()?;
-    let dispatch_modes: Vec<ColorDispatch> = args
-        .next()
-        .as_deref()
-        .unwrap_or("in-use")
-        .split(',')
-        .map(|m| match m {
-            "all" => Ok(ColorDispatch::All),
-            "in-use" => Ok(ColorDispatch::InUse),
-            other => Err(format!("unknown color dispatch {other}: all or in-use")),
-        })
-        .collect::<Result<_, _>>()?;
+    let paths = choices(
+        args.next(),
+        "wide",
+        &[("wide", SolvePath::Wide), ("fused", SolvePath::Fused)],
+    )?;
+    let dispatch_modes = choices(
+        args.next(),
+        "in-use",
+        &[
+            ("all", ColorDispatch::All),
+            ("in-use", ColorDispatch::InUse),
+        ],
+    )?;
     let ctx = GpuContext::new()?;
     println!("device: {} ({:?})", ctx.info.name, ctx.info.backend);
     println!(

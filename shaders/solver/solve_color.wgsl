@@ -11,9 +11,9 @@
 // takes whatever lies beyond (usually nothing but the overflow set). Each constraint is
 // visited by the same function with the same inputs and colors follow each other in the same
 // order, so the bits do not depend on where the tail starts. The tail is this pipeline with
-// another uniform, not a pipeline of its own, and one thread rather than a workgroup with a
-// barrier between colors: on lavapipe, both of those made the wide path's steps take seconds
-// and its memory grow by hundreds of MB a step (docs/gpu-solver.md).
+// another uniform, not a pipeline of its own: on lavapipe, a second pipeline for it made the
+// wide path's steps take seconds and its memory grow by hundreds of MB a step
+// (docs/gpu-solver.md). One thread keeps the kernel free of barriers.
 
 @group(0) @binding(0) var<uniform> params: SolverParams;
 @group(0) @binding(1) var<uniform> pass_color: ColorPass;

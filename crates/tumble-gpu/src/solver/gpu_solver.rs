@@ -173,9 +173,16 @@ impl GpuSolver {
     /// used; a color beyond it is still solved, by the tail (slowly, one constraint after
     /// another, until the next stats read raises the count). The bits never depend on it:
     /// each constraint is visited by the same code with the same inputs, in the same color
-    /// order.
-    pub fn set_color_dispatches(&mut self, colors: u32) {
-        self.color_dispatches = colors.min(GRAPH_COLOR_COUNT);
+    /// order. Errs, changing nothing, on more colors than there are.
+    pub fn set_color_dispatches(&mut self, colors: u32) -> Result<(), GpuError> {
+        if colors > GRAPH_COLOR_COUNT {
+            return Err(GpuError::InvalidInput {
+                field: "color_dispatches".into(),
+                value: format!("{colors} (expected at most {GRAPH_COLOR_COUNT})"),
+            });
+        }
+        self.color_dispatches = colors;
+        Ok(())
     }
 
     /// Graph colors each wide pass dispatches one by one ([`Self::set_color_dispatches`]).

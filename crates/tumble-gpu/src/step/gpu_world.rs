@@ -257,7 +257,7 @@ impl GpuWorld {
             ColorDispatch::First(colors) => Some(colors),
         };
         if let Some(colors) = colors {
-            self.solver.set_color_dispatches(colors);
+            self.solver.set_color_dispatches(colors)?;
         }
         let Some(stats) = stats else {
             return Ok(());

@@ -10,8 +10,12 @@
 //! - CPU: the same hash with 1 and 2 rayon threads and with as many as the machine has, since a
 //!   result that depends on the thread count would make every CPU number in the docs
 //!   unreproducible; that hash must equal the committed one.
-//! - GPU: two runs of every scene in the same process must give the same hash, and on an adapter
-//!   with committed hashes they must equal them. They are keyed by the adapter name, which for
+//! - GPU: on an adapter with committed hashes, one run of every scene must give the committed
+//!   hash: a hash recorded by an earlier process is a stronger repeatability check than a second
+//!   run in this one, and it halves the test's time on the software driver CI uses (a wide-path
+//!   step of the packed pyramid of 12 takes about half a second there). On an adapter without
+//!   committed hashes every scene runs twice and the two hashes must match. Hashes are keyed by
+//!   the adapter name, which for
 //!   the software Vulkan driver CI uses (lavapipe) carries its SIMD width ("llvmpipe (LLVM
 //!   15.0.6, 256 bits)"), since a different JIT target can legally round differently. On any
 //!   other adapter the test prints a line to add to [`GPU_GOLDEN`] to record its hashes.
@@ -187,23 +191,21 @@ fn gpu_hashes_repeat_and_match_the_committed_ones_of_the_adapter() {
     for (k, scene) in scenes().iter().enumerate() {
         assert_eq!(scene.name, CPU_GOLDEN[k].0, "scene order");
         let first = run(scene, Backend::Gpu);
-        let second = run(scene, Backend::Gpu);
-        println!(
-            "{}: GPU hashes of two runs on {adapter}: {first:#018x}, {second:#018x}",
-            scene.name
-        );
-        assert_eq!(
-            first, second,
-            "{}: two GPU runs on {adapter} in one process differ",
-            scene.name
-        );
-        if let Some(golden) = golden
-            && first != golden[k]
-        {
-            failures.push(format!(
+        println!("{}: GPU hash on {adapter}: {first:#018x}", scene.name);
+        match golden {
+            Some(golden) if first != golden[k] => failures.push(format!(
                 "{}: {first:#018x} (committed {:#018x})",
                 scene.name, golden[k]
-            ));
+            )),
+            Some(_) => {}
+            None => {
+                let second = run(scene, Backend::Gpu);
+                assert_eq!(
+                    first, second,
+                    "{}: two GPU runs on {adapter} in one process differ",
+                    scene.name
+                );
+            }
         }
         hashes.push(first);
     }

@@ -96,3 +96,9 @@ macro_rules! stability_suite {
         }
     };
 }
+
+/// The user guide's examples (docs/guide.md), compiled and run as doctests: the guide is not
+/// part of any published crate, so this crate, which is never published, runs them.
+#[cfg(doctest)]
+#[doc = include_str!("../../docs/guide.md")]
+pub struct GuideDoctests;

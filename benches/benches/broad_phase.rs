@@ -54,52 +54,50 @@ fn rows(group: &mut BenchmarkGroup<'_, WallTime>, n: usize, boxes: &[Aabb], flag
     group.throughput(Throughput::Elements(boxes.len() as u64));
     let mut pairs = Vec::new();
     let mut grid = BroadPhase::new();
-    group.bench_with_input(BenchmarkId::new("grid", n), boxes, |b, boxes| {
-        b.iter(|| {
-            grid.find_pairs_filtered(black_box(boxes), flags, &mut pairs)
-                .unwrap();
-            black_box(pairs.len())
-        })
+    row(group, "grid", n, boxes, |boxes| {
+        grid.find_pairs_filtered(boxes, flags, &mut pairs).unwrap();
+        pairs.len()
     });
     let mut sap = SweepAndPrune::new();
-    group.bench_with_input(BenchmarkId::new("sweep", n), boxes, |b, boxes| {
-        b.iter(|| {
-            sap.find_pairs_filtered(black_box(boxes), flags, &mut pairs)
-                .unwrap();
-            black_box(pairs.len())
-        })
+    row(group, "sweep", n, boxes, |boxes| {
+        sap.find_pairs_filtered(boxes, flags, &mut pairs).unwrap();
+        pairs.len()
     });
     let leaves = to_parry(boxes);
-    group.bench_with_input(
-        BenchmarkId::new("parry_bvh_build", n),
-        &leaves,
-        |b, leaves| {
-            let mut workspace = BvhWorkspace::default();
-            b.iter(|| {
-                let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, black_box(leaves));
-                let mut count = 0usize;
-                bvh.traverse_bvtt_single_tree::<false>(&mut workspace, &mut |_, _| count += 1);
-                black_box(count)
-            })
-        },
-    );
+    let mut workspace = BvhWorkspace::default();
+    row(group, "parry_bvh_build", n, &leaves[..], |leaves| {
+        let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, leaves);
+        self_pairs(&bvh, &mut workspace)
+    });
     let mut bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &leaves);
-    group.bench_with_input(
-        BenchmarkId::new("parry_bvh_refit", n),
-        &leaves,
-        |b, leaves| {
-            let mut workspace = BvhWorkspace::default();
-            b.iter(|| {
-                for (i, leaf) in black_box(leaves).iter().enumerate() {
-                    bvh.insert_or_update_partially(*leaf, i as u32, 0.0);
-                }
-                bvh.refit(&mut workspace);
-                let mut count = 0usize;
-                bvh.traverse_bvtt_single_tree::<false>(&mut workspace, &mut |_, _| count += 1);
-                black_box(count)
-            })
-        },
-    );
+    row(group, "parry_bvh_refit", n, &leaves[..], |leaves| {
+        for (i, leaf) in leaves.iter().enumerate() {
+            bvh.insert_or_update_partially(*leaf, i as u32, 0.0);
+        }
+        bvh.refit(&mut workspace);
+        self_pairs(&bvh, &mut workspace)
+    });
+}
+
+/// One row: `count` runs on the (black-boxed) input each iteration and returns how many pairs
+/// it found; what it keeps between iterations (pair lists, trees, workspaces) it captures.
+fn row<I: ?Sized>(
+    group: &mut BenchmarkGroup<'_, WallTime>,
+    name: &str,
+    n: usize,
+    input: &I,
+    mut count: impl FnMut(&I) -> usize,
+) {
+    group.bench_with_input(BenchmarkId::new(name, n), input, |b, input| {
+        b.iter(|| black_box(count(black_box(input))))
+    });
+}
+
+/// The number of overlapping leaf pairs of a parry3d tree, traversed against itself.
+fn self_pairs(bvh: &Bvh, workspace: &mut BvhWorkspace) -> usize {
+    let mut count = 0usize;
+    bvh.traverse_bvtt_single_tree::<false>(workspace, &mut |_, _| count += 1);
+    count
 }
 
 fn broad_pyramid50(c: &mut Criterion) {
@@ -115,8 +113,8 @@ fn broad_random(c: &mut Criterion) {
         let boxes = random_boxes(n, n as u64);
         rows(&mut group, n, &boxes, &vec![false; n]);
         if n == 1_000 {
-            group.bench_with_input(BenchmarkId::new("brute_force", n), &boxes, |b, boxes| {
-                b.iter(|| black_box(brute_force_pairs(black_box(boxes))).len())
+            row(&mut group, "brute_force", n, &boxes[..], |boxes| {
+                brute_force_pairs(boxes).len()
             });
         }
     }

@@ -75,25 +75,28 @@ pub(crate) fn check_groups(
     aabbs: &[Aabb],
     groups: &[CollisionGroups],
 ) -> Result<(), BroadPhaseError> {
-    if aabbs.len() == groups.len() {
-        Ok(())
-    } else {
-        Err(BroadPhaseError::GroupCountMismatch {
-            boxes: aabbs.len(),
-            groups: groups.len(),
-        })
-    }
+    check_count(aabbs.len(), groups.len(), |boxes, groups| {
+        BroadPhaseError::GroupCountMismatch { boxes, groups }
+    })
 }
 
 /// Errs unless there is one static flag per box.
 pub(crate) fn check_flags(aabbs: &[Aabb], is_static: &[bool]) -> Result<(), BroadPhaseError> {
-    if aabbs.len() == is_static.len() {
+    check_count(aabbs.len(), is_static.len(), |boxes, flags| {
+        BroadPhaseError::FlagCountMismatch { boxes, flags }
+    })
+}
+
+/// Errs with `mismatch(boxes, entries)` unless a per-box slice has one entry per box.
+fn check_count(
+    boxes: usize,
+    entries: usize,
+    mismatch: impl FnOnce(usize, usize) -> BroadPhaseError,
+) -> Result<(), BroadPhaseError> {
+    if boxes == entries {
         Ok(())
     } else {
-        Err(BroadPhaseError::FlagCountMismatch {
-            boxes: aabbs.len(),
-            flags: is_static.len(),
-        })
+        Err(mismatch(boxes, entries))
     }
 }
 

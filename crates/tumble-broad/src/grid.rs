@@ -28,9 +28,9 @@
 
 use tumble_geometry::{Aabb, Real};
 
-use crate::BroadPhaseError;
 use crate::cell_size::{Corners, Kind, cell_size, classify};
 use crate::filter::{CollisionGroups, Filter, check_flags, check_groups};
+use crate::{BroadPhaseError, collect_pairs};
 
 /// Cell coordinates are clamped to `±CELL_LIMIT`, so that `lo - 1` cannot overflow; the
 /// clamp is monotone, which is all the search needs.
@@ -488,9 +488,7 @@ pub fn broad_phase_pairs_filtered(
     aabbs: &[Aabb],
     is_static: &[bool],
 ) -> Result<Vec<(u32, u32)>, BroadPhaseError> {
-    let mut out = Vec::new();
-    BroadPhase::new().find_pairs_filtered(aabbs, is_static, &mut out)?;
-    Ok(out)
+    collect_pairs(|out| BroadPhase::new().find_pairs_filtered(aabbs, is_static, out))
 }
 
 /// As `broad_phase_pairs_filtered`, also leaving out the pairs whose [`CollisionGroups`] do
@@ -500,7 +498,5 @@ pub fn broad_phase_pairs_grouped(
     is_static: &[bool],
     groups: &[CollisionGroups],
 ) -> Result<Vec<(u32, u32)>, BroadPhaseError> {
-    let mut out = Vec::new();
-    BroadPhase::new().find_pairs_grouped(aabbs, is_static, groups, &mut out)?;
-    Ok(out)
+    collect_pairs(|out| BroadPhase::new().find_pairs_grouped(aabbs, is_static, groups, out))
 }

@@ -2,6 +2,8 @@
 //! random scenes of every kind the step meets (and some it should never meet), each compared
 //! pair for pair, in order.
 
+use std::ops::Range;
+
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tumble_geometry::{Aabb, Point3, Real};
@@ -41,6 +43,22 @@ fn dense(boxes: &[Aabb]) -> bool {
     bp.was_dense()
 }
 
+/// `n` boxes with centres uniform in `centres` and half extents uniform in `half`, per axis
+/// (each box draws its centre, then its half extents).
+fn uniform_boxes(
+    rng: &mut ChaCha8Rng,
+    n: usize,
+    centres: Range<Real>,
+    half: Range<Real>,
+) -> Vec<Aabb> {
+    (0..n)
+        .map(|_| {
+            let c = std::array::from_fn(|_| rng.random_range(centres.clone()));
+            centred(c, std::array::from_fn(|_| rng.random_range(half.clone())))
+        })
+        .collect()
+}
+
 /// Half extents log-uniform in `[lo, hi]`, per axis.
 fn log_uniform(rng: &mut ChaCha8Rng, lo: Real, hi: Real) -> Real {
     (rng.random_range(lo.ln()..hi.ln())).exp()
@@ -69,12 +87,7 @@ fn uniform_random_scenes_equal_brute_force() {
     {
         let mut rng = ChaCha8Rng::seed_from_u64(100 + k as u64);
         let extent = (n as Real / density).cbrt();
-        let boxes: Vec<Aabb> = (0..n)
-            .map(|_| {
-                let c = std::array::from_fn(|_| rng.random_range(0.0..extent));
-                centred(c, std::array::from_fn(|_| rng.random_range(0.05..0.5)))
-            })
-            .collect();
+        let boxes = uniform_boxes(&mut rng, n, 0.0..extent, 0.05..0.5);
         total += check(&boxes, &format!("uniform n = {n}, density {density}"));
         assert!(dense(&boxes), "a uniform scene gets a bucket per cell");
     }
@@ -111,12 +124,7 @@ fn a_few_oversized_boxes_among_small_ones_equal_brute_force() {
     // Floors, walls and planks among unit-sized boxes: the pyramid's case. The big boxes
     // must go to the side list and the cell must stay at the small boxes' size.
     let mut rng = ChaCha8Rng::seed_from_u64(300);
-    let mut boxes: Vec<Aabb> = (0..2_000)
-        .map(|_| {
-            let c = std::array::from_fn(|_| rng.random_range(-15.0..15.0));
-            centred(c, std::array::from_fn(|_| rng.random_range(0.2..0.6)))
-        })
-        .collect();
+    let mut boxes = uniform_boxes(&mut rng, 2_000, -15.0..15.0, 0.2..0.6);
     // A floor, a wall along z, a plank along x, inserted among the small boxes.
     boxes.insert(0, centred([0.0, -15.0, 0.0], [50.0, 0.5, 50.0]));
     boxes.insert(700, centred([3.0, 0.0, 0.0], [0.5, 20.0, 20.0]));
@@ -225,12 +233,7 @@ fn nan_infinite_and_inverted_boxes_equal_brute_force() {
     // (which can still pair by the closed-interval rule, as brute force says). They must go
     // to the side list or be skipped without disturbing the grid boxes.
     let mut rng = ChaCha8Rng::seed_from_u64(600);
-    let mut boxes: Vec<Aabb> = (0..800)
-        .map(|_| {
-            let c = std::array::from_fn(|_| rng.random_range(0.0..12.0));
-            centred(c, std::array::from_fn(|_| rng.random_range(0.1..0.6)))
-        })
-        .collect();
+    let mut boxes = uniform_boxes(&mut rng, 800, 0.0..12.0, 0.1..0.6);
     boxes[3].min.x = Real::NAN;
     boxes[40].max.y = Real::NAN;
     boxes[77].max.z = Real::INFINITY;
@@ -250,12 +253,7 @@ fn input_order_does_not_matter_beyond_renaming() {
     // Spatially sorted input (as scene builders emit) and shuffled input: the pairs are the
     // same boxes, renamed, and come out sorted either way.
     let mut rng = ChaCha8Rng::seed_from_u64(700);
-    let mut boxes: Vec<Aabb> = (0..1_200)
-        .map(|_| {
-            let c = std::array::from_fn(|_| rng.random_range(0.0..10.0));
-            centred(c, std::array::from_fn(|_| rng.random_range(0.1..0.5)))
-        })
-        .collect();
+    let mut boxes = uniform_boxes(&mut rng, 1_200, 0.0..10.0, 0.1..0.5);
     boxes.sort_by(|a, b| a.min.x.total_cmp(&b.min.x));
     check(&boxes, "sorted along x");
     let mut order: Vec<usize> = (0..boxes.len()).collect();

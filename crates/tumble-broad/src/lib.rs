@@ -53,6 +53,16 @@ pub use motion::{motion_aabb, update_aabbs};
 pub use sweep_and_prune::{SweepAndPrune, sweep_and_prune, sweep_and_prune_filtered};
 pub use sweep_axis::sweep_axis;
 
+/// The pair list of a one-shot query: `query` run on a fresh list (the body the free functions
+/// `broad_phase_pairs_*` and `sweep_and_prune_*` share).
+fn collect_pairs<E>(
+    query: impl FnOnce(&mut Vec<(u32, u32)>) -> Result<(), E>,
+) -> Result<Vec<(u32, u32)>, E> {
+    let mut out = Vec::new();
+    query(&mut out)?;
+    Ok(out)
+}
+
 /// The README's examples, compiled and run as doctests.
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]

@@ -4,9 +4,9 @@
 
 use tumble_geometry::{Aabb, Real};
 
-use crate::BroadPhaseError;
 use crate::filter::{check_flags, wanted};
 use crate::sweep_axis::sweep_axis;
+use crate::{BroadPhaseError, collect_pairs};
 
 /// The boxes in sweep order, stored as one array per bound (structure of arrays) with the
 /// sweep axis first: the inner loop streams through five contiguous `f32` arrays, which the
@@ -164,7 +164,5 @@ pub fn sweep_and_prune_filtered(
     aabbs: &[Aabb],
     is_static: &[bool],
 ) -> Result<Vec<(u32, u32)>, BroadPhaseError> {
-    let mut out = Vec::new();
-    SweepAndPrune::new().find_pairs_filtered(aabbs, is_static, &mut out)?;
-    Ok(out)
+    collect_pairs(|out| SweepAndPrune::new().find_pairs_filtered(aabbs, is_static, out))
 }

@@ -17,6 +17,35 @@
 //! [`World::contacts`] elsewhere. The picture comes back as an [`Image`], written as PNG with
 //! [`Image::write_png`].
 //!
+//! A picture of a cube at rest on the origin, seen from above and to the side:
+//!
+//! ```
+//! use tumble::prelude::*;
+//! use tumble_render::{Camera, Overlay, Palette, RenderConfig, Renderer};
+//!
+//! let mut world = World::new(WorldConfig::default())?;
+//! world.add_body(BodyDesc::fixed().cuboid(Vec3::new(0.5, 0.5, 0.5)))?;
+//! let config = RenderConfig { width: 64, height: 48, samples: 1, shadow_map_size: 0, ..Default::default() };
+//! let mut renderer = match Renderer::for_world(&world, config) {
+//!     Ok(renderer) => renderer,
+//!     // Drawing needs a GPU adapter; CI has one (a software driver) and sets the variable.
+//!     Err(e) if std::env::var_os("TUMBLE_REQUIRE_GPU").is_none() => {
+//!         println!("skipped: {e}");
+//!         return Ok(());
+//!     }
+//!     Err(e) => panic!("no renderer: {e}"),
+//! };
+//! let camera = Camera::looking_at(Point3::new(3.0, 2.0, 4.0), Point3::origin());
+//! let image = renderer.render(&world, &camera, &Overlay::NONE)?;
+//! assert_eq!((image.width, image.height), (64, 48));
+//! // The camera looks at the cube's centre, so the middle pixel is the cube, not the sky; the
+//! // top-left corner, far above the cube's silhouette, is background.
+//! let background = Palette::rgba8(Palette::DEFAULT.background);
+//! assert_ne!(image.pixel(32, 24), background);
+//! assert_eq!(image.pixel(0, 0), background);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! [`World::gpu_draw_buffers`]: tumble::World::gpu_draw_buffers
 //! [`World::contacts`]: tumble::World::contacts
 #![warn(missing_docs)]

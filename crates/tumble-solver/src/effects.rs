@@ -63,13 +63,8 @@ mod tests {
     use tumble_geometry::Pose;
 
     fn body(kind: BodyKind, friction: f32, restitution: f32) -> Body {
-        crate::tests::body(
-            kind,
-            Vec3::repeat(0.5),
-            Pose::identity(),
-            1.0,
-            crate::tests::material(friction, restitution),
-        )
+        let material = crate::tests::material(friction, restitution);
+        crate::tests::cube(kind, Pose::identity(), material)
     }
 
     #[test]

@@ -216,70 +216,33 @@ pub fn solve_with_effects(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{BodyKind, Material, color_constraints, color_contacts, finalize_bodies};
-    use tumble_geometry::{ContactPoint, Cuboid, FeatureKind, Manifold, Point3, Pose};
-
-    const GRAVITY: Real = 9.81;
-    const DT: Real = 1.0 / 60.0;
+    use crate::tests::{
+        DT, G as GRAVITY, floor, floor_corners, gravity, solve_copy, step, unit_cube,
+    };
+    use crate::{Material, color_contacts};
+    use tumble_geometry::Pose;
 
     /// A fixed floor (top face at y = 0) and a unit cube of density 2 resting on it.
     fn floor_and_cube() -> (Vec<Body>, Vec<BodyState>) {
-        let floor = Body::new(
-            BodyKind::Fixed,
-            Cuboid::new(Vec3::new(5.0, 0.5, 5.0)),
-            Pose::translation(0.0, -0.5, 0.0),
-            1.0,
-            Material::default(),
-        )
-        .unwrap();
-        let cube = Body::new(
-            BodyKind::Dynamic,
-            Cuboid::new(Vec3::repeat(0.5)),
-            Pose::translation(0.0, 0.5, 0.0),
-            2.0,
-            Material::default(),
-        )
-        .unwrap();
-        (vec![floor, cube], vec![BodyState::default(); 2])
-    }
-
-    /// The floor-cube manifold for the cube's current pose: its four bottom corners against
-    /// the plane y = 0 (an exact narrow phase for an upright cube).
-    fn manifold(cube: &Body) -> Manifold {
-        let mut m = Manifold {
-            normal: Vec3::y(),
-            kind: FeatureKind::FaceA,
-            feature: 2,
-            ..Default::default()
-        };
-        for (id, v) in [0usize, 1, 4, 5].into_iter().enumerate() {
-            let corner = cube.pose * cube.shape.vertex(v);
-            m.push(ContactPoint {
-                position: Point3::new(corner.x, corner.y * 0.5, corner.z),
-                depth: -corner.y,
-                id: id as u32,
-            });
-        }
-        m
+        let m = Material::default();
+        let cube = unit_cube(2.0, Pose::translation(0.0, 0.5, 0.0), m);
+        (vec![floor(m), cube], vec![BodyState::default(); 2])
     }
 
     fn run_resting(config: &SolverConfig, steps: usize) -> (Body, Contact) {
         let (mut bodies, mut states) = floor_and_cube();
-        let mut contact = Contact::new(0, 1, manifold(&bodies[1]));
+        let mut contact = Contact::new(0, 1, floor_corners(&bodies[1]));
         for _ in 0..steps {
-            contact.manifold = manifold(&bodies[1]);
+            contact.manifold = floor_corners(&bodies[1]);
             let mut contacts = [contact];
-            let coloring = color_constraints(&[(0, 1)], &[false, true]);
-            solve(
-                &bodies,
+            step(
+                &mut bodies,
                 &mut states,
                 &mut contacts,
-                &coloring,
                 config,
-                DT,
-                &Vec3::new(0.0, -GRAVITY, 0.0),
+                &gravity(),
+                &Effects::ALL,
             );
-            finalize_bodies(&mut bodies, &mut states);
             contact = contacts[0];
         }
         (bodies[1], contact)
@@ -314,19 +277,17 @@ mod tests {
         let (mut bodies, mut states) = floor_and_cube();
         bodies[1].pose = Pose::translation(0.0, 0.8, 0.0);
         states[1].linear_velocity = Vec3::new(0.0, -50.0, 0.0);
-        let mut contacts = [Contact::new(0, 1, manifold(&bodies[1]))];
-        let coloring = color_constraints(&[(0, 1)], &[false, true]);
+        let mut contacts = [Contact::new(0, 1, floor_corners(&bodies[1]))];
         let config = SolverConfig::default();
-        solve(
-            &bodies,
+        let effects = Effects::ALL;
+        step(
+            &mut bodies,
             &mut states,
             &mut contacts,
-            &coloring,
             &config,
-            DT,
             &Vec3::zeros(),
+            &effects,
         );
-        finalize_bodies(&mut bodies, &mut states);
         // The bottom face may touch the floor but not cross it by more than round-off.
         assert!(
             bodies[1].pose.translation.y > 0.5 - 1e-3,
@@ -354,7 +315,7 @@ mod tests {
                 } else {
                     bodies.len() as u32 - 1
                 };
-                let mut m = manifold(&cube);
+                let mut m = floor_corners(&cube);
                 for p in m.contacts.iter_mut() {
                     p.depth += level as Real;
                     p.position.y += 0.5 * level as Real;
@@ -377,23 +338,20 @@ mod tests {
                 parallel_threshold: threshold,
                 ..Default::default()
             };
-            let (mut states, mut contacts) = (states0.clone(), contacts0.clone());
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
                 .unwrap();
-            let stats = pool.install(|| {
-                solve(
+            pool.install(|| {
+                solve_copy(
                     &bodies,
-                    &mut states,
-                    &mut contacts,
+                    &states0,
+                    &contacts0,
                     &coloring,
                     &config,
-                    DT,
-                    &Vec3::new(0.0, -GRAVITY, 0.0),
+                    &gravity(),
                 )
-            });
-            (states, contacts, stats)
+            })
         };
         let (serial_states, serial_contacts, serial) = run(u32::MAX, 1);
         let (wide_states, wide_contacts, wide) = run(1, 4);

@@ -202,13 +202,7 @@ mod tests {
     use tumble_geometry::{Cuboid, Point3, Pose};
 
     fn cube(kind: BodyKind, x: Real, y: Real) -> Body {
-        crate::tests::body(
-            kind,
-            Vec3::repeat(0.5),
-            Pose::translation(x, y, 0.0),
-            1.0,
-            Material::default(),
-        )
+        crate::tests::cube(kind, Pose::translation(x, y, 0.0), Material::default())
     }
 
     /// A fixed floor (top at y = 0), a cube resting on it, a second cube resting on the first,

@@ -4,7 +4,7 @@
 use tumble_geometry::{Pose, Real, Rot, Vec3};
 
 use super::reference::{M, V, m64, v64};
-use super::{G, assert_close, body, gravity, material, unit_cube};
+use super::{G, assert_close, assert_close3, body, gravity, material, unit_cube};
 use crate::{
     Body, BodyKind, BodyState, Locks, MAX_LINEAR_SPEED, MAX_ROTATION_PER_SUBSTEP, begin_step,
     finalize_bodies, gyroscopic_midpoint, integrate_positions, integrate_velocities,
@@ -45,14 +45,8 @@ fn every_substep_of_free_fall_is_semi_implicit_euler() {
         );
         integrate_positions(&bodies, &mut states, h);
         x += v * f64::from(h);
-        for j in 0..3 {
-            assert_close(
-                &format!("dp after {k}"),
-                states[0].delta_position[j].into(),
-                x[j],
-                1e-6,
-            );
-        }
+        let what = format!("dp after {k}");
+        assert_close3(&what, &states[0].delta_position, &x, 1e-6);
     }
 }
 
@@ -73,14 +67,8 @@ fn damping_divides_the_velocity_by_one_plus_h_c_each_substep() {
         // Gravity first, then the damping factor 1 / (1 + h c).
         v = (v + v64(&gravity()) * 0.05) / (1.0 + 0.05 * 2.0);
         w /= 1.0 + 0.05 * 5.0;
-        for j in 0..3 {
-            assert_close(
-                &format!("v after {k}"),
-                states[0].linear_velocity[j].into(),
-                v[j],
-                1e-5,
-            );
-        }
+        let what = format!("v after {k}");
+        assert_close3(&what, &states[0].linear_velocity, &v, 1e-5);
         assert_close(
             &format!("w after {k}"),
             states[0].angular_velocity.z.into(),

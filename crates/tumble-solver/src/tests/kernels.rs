@@ -288,22 +288,8 @@ fn kernels_match_the_reference_on_random_constraints() {
         agree("restitution", case, &c, &a, &b, &r, &ra, &rb);
     }
     // Every branch of the kernels ran many times, so each comparison above was exercised.
-    let counts = [
-        ("speculative", seen.speculative),
-        ("biased", seen.biased),
-        ("push-out cap", seen.push_out_capped),
-        ("within slop", seen.within_slop),
-        ("relaxed", seen.relaxed),
-        ("normal released", seen.normal_released),
-        ("friction sliding", seen.friction_sliding),
-        ("friction sticking", seen.friction_sticking),
-        ("tilt capped", seen.tilt_capped),
-        ("tilt free", seen.tilt_free),
-        ("restitution applied", seen.restitution_applied),
-        ("restitution slow", seen.restitution_slow),
-        ("restitution no push", seen.restitution_no_push),
-    ];
-    for (name, n) in counts {
+    let counts = seen.counts();
+    for &(name, n) in &counts {
         assert!(n >= 30, "branch {name} ran {n} times: {counts:?}");
     }
 }

@@ -20,7 +20,10 @@ use tumble_geometry::{ContactPoint, Cuboid, FeatureKind, Manifold, Point3, Pose,
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
-use crate::{Body, BodyKind, Material};
+use crate::{
+    Body, BodyKind, BodyState, Coloring, Contact, Effects, Material, SolveStats, SolverConfig,
+    color_contacts, finalize_bodies, solve, solve_with_effects,
+};
 
 /// Standard gravity, m/s^2.
 pub(crate) const G: Real = 9.81;
@@ -61,6 +64,11 @@ pub(crate) fn floor(material: Material) -> Body {
         1.0,
         material,
     )
+}
+
+/// A unit cube of `kind` and density 1 at `pose`.
+pub(crate) fn cube(kind: BodyKind, pose: Pose, material: Material) -> Body {
+    body(kind, Vec3::repeat(0.5), pose, 1.0, material)
 }
 
 /// A dynamic unit cube of mass `mass` (density = mass, volume 1) at `pose`.
@@ -111,6 +119,46 @@ pub(crate) fn floor_center(b: &Body) -> Manifold {
     )
 }
 
+/// One step of `contacts` over `bodies`, colored greedily, then the poses are written.
+pub(crate) fn step(
+    bodies: &mut [Body],
+    states: &mut [BodyState],
+    contacts: &mut [Contact],
+    config: &SolverConfig,
+    gravity: &Vec3,
+    effects: &Effects,
+) -> SolveStats {
+    let coloring = color_contacts(contacts, bodies);
+    let stats = solve_with_effects(
+        bodies, states, contacts, &coloring, config, DT, gravity, effects,
+    );
+    finalize_bodies(bodies, states);
+    stats
+}
+
+/// One solve of the default step [`DT`] on copies of `states` and `contacts` (the poses are not
+/// written): the states, contacts and statistics after it.
+pub(crate) fn solve_copy(
+    bodies: &[Body],
+    states: &[BodyState],
+    contacts: &[Contact],
+    coloring: &Coloring,
+    config: &SolverConfig,
+    gravity: &Vec3,
+) -> (Vec<BodyState>, Vec<Contact>, SolveStats) {
+    let (mut states, mut contacts) = (states.to_vec(), contacts.to_vec());
+    let stats = solve(
+        bodies,
+        &mut states,
+        &mut contacts,
+        coloring,
+        config,
+        DT,
+        gravity,
+    );
+    (states, contacts, stats)
+}
+
 /// `|a - b| <= tol`, with a message naming the quantity.
 #[track_caller]
 pub(crate) fn assert_close(what: &str, got: f64, expected: f64, tol: f64) {
@@ -118,6 +166,14 @@ pub(crate) fn assert_close(what: &str, got: f64, expected: f64, tol: f64) {
         (got - expected).abs() <= tol,
         "{what}: got {got}, expected {expected} (tolerance {tol})"
     );
+}
+
+/// [`assert_close`] on each component of a vector.
+#[track_caller]
+pub(crate) fn assert_close3(what: &str, got: &Vec3, expected: &reference::V, tol: f64) {
+    for j in 0..3 {
+        assert_close(what, got[j].into(), expected[j], tol);
+    }
 }
 
 /// A uniformly random unit direction (a normalised point of the cube, away from its centre).

@@ -55,40 +55,44 @@ pub(crate) struct RefPoint {
     pub relative_velocity: f64,
 }
 
-/// Which branches a pass took, so a randomized test can show that it exercised all of them.
-#[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct Branches {
-    pub speculative: usize,
-    pub biased: usize,
-    pub push_out_capped: usize,
-    pub within_slop: usize,
-    pub relaxed: usize,
-    pub normal_released: usize,
-    pub friction_sliding: usize,
-    pub friction_sticking: usize,
-    pub tilt_capped: usize,
-    pub tilt_free: usize,
-    pub restitution_applied: usize,
-    pub restitution_slow: usize,
-    pub restitution_no_push: usize,
+/// Declares [`Branches`] from one list of its counters, each with the name the coverage
+/// check prints: the struct, its sum and its named counts then cannot disagree on the fields.
+macro_rules! branches {
+    ($($field:ident: $name:literal),* $(,)?) => {
+        /// Which branches a pass took, so a randomized test can show that it exercised all of
+        /// them.
+        #[derive(Clone, Copy, Debug, Default)]
+        pub(crate) struct Branches {
+            $(pub $field: usize,)*
+        }
+
+        impl Branches {
+            pub fn add(&mut self, o: &Branches) {
+                $(self.$field += o.$field;)*
+            }
+
+            /// Every branch's name and count, in declaration order.
+            pub fn counts(&self) -> Vec<(&'static str, usize)> {
+                vec![$(($name, self.$field)),*]
+            }
+        }
+    };
 }
 
-impl Branches {
-    pub fn add(&mut self, o: &Branches) {
-        self.speculative += o.speculative;
-        self.biased += o.biased;
-        self.push_out_capped += o.push_out_capped;
-        self.within_slop += o.within_slop;
-        self.relaxed += o.relaxed;
-        self.normal_released += o.normal_released;
-        self.friction_sliding += o.friction_sliding;
-        self.friction_sticking += o.friction_sticking;
-        self.tilt_capped += o.tilt_capped;
-        self.tilt_free += o.tilt_free;
-        self.restitution_applied += o.restitution_applied;
-        self.restitution_slow += o.restitution_slow;
-        self.restitution_no_push += o.restitution_no_push;
-    }
+branches! {
+    speculative: "speculative",
+    biased: "biased",
+    push_out_capped: "push-out cap",
+    within_slop: "within slop",
+    relaxed: "relaxed",
+    normal_released: "normal released",
+    friction_sliding: "friction sliding",
+    friction_sticking: "friction sticking",
+    tilt_capped: "tilt capped",
+    tilt_free: "tilt free",
+    restitution_applied: "restitution applied",
+    restitution_slow: "restitution slow",
+    restitution_no_push: "restitution no push",
 }
 
 #[derive(Clone, Debug)]
@@ -267,11 +271,9 @@ impl RefConstraint {
                 let mass = if inverse > 0.0 { 1.0 / inverse } else { 0.0 };
                 new[k] = old[k] - mass * relative.dot(&t[k]);
             }
-            let length = (new[0] * new[0] + new[1] * new[1]).sqrt();
-            if length > limit {
+            let (new, capped) = clamp_to_disc(new, limit);
+            if capped {
                 br.tilt_capped += 1;
-                let scale = if length > 0.0 { limit / length } else { 0.0 };
-                new = [new[0] * scale, new[1] * scale];
             } else {
                 br.tilt_free += 1;
             }
@@ -290,12 +292,9 @@ impl RefConstraint {
             for k in 0..2 {
                 new[k] = old[k] - self.effective_mass(&p, &t[k]) * self.velocity(a, b, &p, &t[k]);
             }
-            let limit = self.friction * p.normal;
-            let length = (new[0] * new[0] + new[1] * new[1]).sqrt();
-            if length > limit {
+            let (new, sliding) = clamp_to_disc(new, self.friction * p.normal);
+            if sliding {
                 br.friction_sliding += 1;
-                let scale = if length > 0.0 { limit / length } else { 0.0 };
-                new = [new[0] * scale, new[1] * scale];
             } else {
                 br.friction_sticking += 1;
             }
@@ -333,5 +332,17 @@ impl RefConstraint {
             self.apply(a, b, &p, &n, applied);
         }
         br
+    }
+}
+
+/// `v` scaled onto the disc of radius `limit` when it lies outside it (the Coulomb and tilt
+/// clamps), and whether it did.
+fn clamp_to_disc(v: [f64; 2], limit: f64) -> ([f64; 2], bool) {
+    let length = (v[0] * v[0] + v[1] * v[1]).sqrt();
+    if length > limit {
+        let scale = if length > 0.0 { limit / length } else { 0.0 };
+        ([v[0] * scale, v[1] * scale], true)
+    } else {
+        (v, false)
     }
 }

@@ -5,11 +5,8 @@
 
 use tumble_geometry::{Point3, Pose, Real, Vec3};
 
-use super::{DT, floor, gravity, manifold, material, unit_cube};
-use crate::{
-    Body, BodyState, Contact, Effects, SolverConfig, SolverKind, color_constraints,
-    solve_with_effects,
-};
+use super::{floor, gravity, manifold, material, solve_copy, unit_cube};
+use crate::{Body, BodyState, Contact, SolverConfig, SolverKind, color_constraints};
 
 /// A unit cube (1 kg) resting on the fixed floor along its bottom edge z = 0 (two points at
 /// x = -0.5 and x = 0.5), carrying `tilt` from an earlier step; the cube's state after one
@@ -27,22 +24,14 @@ fn edge_step(kind: SolverKind, tilt: Vec3) -> (BodyState, Vec3) {
         .collect();
     let mut contact = Contact::new(0, 1, manifold(Vec3::y(), &points));
     contact.tilt_impulse = tilt;
-    let mut contacts = [contact];
-    let mut states = [BodyState::default(); 2];
     let config = SolverConfig {
         kind,
         ..SolverConfig::default()
     };
-    solve_with_effects(
-        &bodies,
-        &mut states,
-        &mut contacts,
-        &color_constraints(&[(0, 1)], &[false, true]),
-        &config,
-        DT,
-        &gravity(),
-        &Effects::ALL,
-    );
+    let coloring = color_constraints(&[(0, 1)], &[false, true]);
+    let states = [BodyState::default(); 2];
+    let (states, contacts, _) =
+        solve_copy(&bodies, &states, &[contact], &coloring, &config, &gravity());
     (states[1], contacts[0].tilt_impulse)
 }
 

@@ -9,28 +9,10 @@ mod pairs;
 
 use tumble_geometry::{Manifold, Pose, Real, Vec3};
 
-use super::{DT, floor_center, floor_corners, gravity, material, unit_cube};
+use super::{DT, floor_center, floor_corners, gravity, material, step, unit_cube};
 use crate::{
     Body, BodyState, Contact, Effects, SolveStats, SolverConfig, color_constraints, color_contacts,
-    finalize_bodies, solve_with_effects,
 };
-
-/// One step of `contacts` over `bodies`, colored greedily, then the poses are written.
-fn step(
-    bodies: &mut [Body],
-    states: &mut [BodyState],
-    contacts: &mut [Contact],
-    config: &SolverConfig,
-    gravity: &Vec3,
-    effects: &Effects,
-) -> SolveStats {
-    let coloring = color_contacts(contacts, bodies);
-    let stats = solve_with_effects(
-        bodies, states, contacts, &coloring, config, DT, gravity, effects,
-    );
-    finalize_bodies(bodies, states);
-    stats
-}
 
 /// One step without gravity, every effect on: bodies meeting in free space.
 fn step_free(

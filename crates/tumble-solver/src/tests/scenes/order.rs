@@ -4,8 +4,8 @@
 use tumble_geometry::Point3;
 
 use super::*;
-use crate::tests::{G, assert_close, floor, manifold};
-use crate::{Coloring, SolveOrder, solve};
+use crate::tests::{G, assert_close, floor, manifold, solve_copy};
+use crate::{Coloring, SolveOrder};
 
 fn column(n: usize) -> (Vec<Body>, Vec<BodyState>, Vec<Contact>) {
     let m = material(0.6, 0.0);
@@ -48,20 +48,12 @@ fn the_colored_order_is_the_sequential_order_of_the_permuted_contacts() {
     // A column alternates two colors: contacts 0, 2 then 1, 3.
     assert_eq!(coloring.order, vec![0, 2, 1, 3]);
     let run = |contacts: &[Contact], coloring: &Coloring, order: SolveOrder| {
-        let (mut states, mut contacts) = (states0.clone(), contacts.to_vec());
         let config = SolverConfig {
             order,
             ..SolverConfig::default()
         };
-        solve(
-            &bodies,
-            &mut states,
-            &mut contacts,
-            coloring,
-            &config,
-            DT,
-            &gravity(),
-        );
+        let (states, contacts, _) =
+            solve_copy(&bodies, &states0, contacts, coloring, &config, &gravity());
         (states, contacts)
     };
     let permuted: Vec<Contact> = coloring
@@ -114,18 +106,16 @@ fn solve_stats_count_constraints_points_and_parallel_colors_only() {
     let coloring = color_constraints(&pairs, &dynamic);
     assert_eq!(coloring.overflow_count(), 6);
     let run = |threshold: u32| {
-        let (mut states, mut contacts) = (states.clone(), contacts.clone());
         let config = SolverConfig {
             parallel_threshold: threshold,
             ..SolverConfig::default()
         };
-        let stats = solve(
+        let (states, _, stats) = solve_copy(
             &bodies,
-            &mut states,
-            &mut contacts,
+            &states,
+            &contacts,
             &coloring,
             &config,
-            DT,
             &Vec3::zeros(),
         );
         (stats, states)

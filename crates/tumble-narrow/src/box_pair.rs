@@ -72,20 +72,15 @@ impl BoxPair {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tumble_geometry::{Rot, nalgebra::Translation3};
+    use crate::tests::at;
+    use tumble_geometry::Rot;
 
     #[test]
     fn points_map_between_frames_consistently_with_the_world_poses() {
         let a = Cuboid::new(Vec3::new(1.0, 2.0, 3.0));
         let b = Cuboid::new(Vec3::new(0.5, 0.25, 2.0));
-        let pose_a = Pose::from_parts(
-            Translation3::new(100.0, -50.0, 3.0),
-            Rot::from_euler_angles(0.3, -1.1, 2.0),
-        );
-        let pose_b = Pose::from_parts(
-            Translation3::new(101.0, -49.5, 2.0),
-            Rot::from_euler_angles(-0.7, 0.2, 0.4),
-        );
+        let pose_a = at(100.0, -50.0, 3.0, Rot::from_euler_angles(0.3, -1.1, 2.0));
+        let pose_b = at(101.0, -49.5, 2.0, Rot::from_euler_angles(-0.7, 0.2, 0.4));
         let pair = BoxPair::new(&a, &pose_a, &b, &pose_b);
         let p_b = Point3::new(0.3, -0.2, 1.5);
         let world = pose_b * p_b;

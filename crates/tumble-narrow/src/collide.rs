@@ -285,26 +285,13 @@ fn push(polygon: &mut ContactPolygon, p: ContactPoint) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tumble_geometry::{Rot, nalgebra::Translation3};
-
-    const MARGIN: Real = 0.02;
-
-    fn cube(h: Real) -> Cuboid {
-        Cuboid::new(Vec3::repeat(h))
-    }
+    use crate::tests::{MARGIN, at, crossed_edges, cube, cube_on_slab};
+    use tumble_geometry::Rot;
 
     #[test]
     fn a_box_resting_on_a_slab_gets_four_points_on_the_slab_face() {
-        let slab = Cuboid::new(Vec3::new(5.0, 0.5, 5.0));
         // Cube bottom 2 mm below the slab top (y = 0.5).
-        let m = collide_cuboids(
-            &slab,
-            &Pose::identity(),
-            &cube(0.5),
-            &Pose::translation(1.0, 0.998, 0.0),
-            MARGIN,
-        )
-        .expect("overlapping boxes touch");
+        let m = cube_on_slab(1.0, 0.998, 0.0).expect("overlapping boxes touch");
         assert_eq!((m.kind, m.feature, m.len), (FeatureKind::FaceA, 2, 4));
         assert_eq!(m.normal, Vec3::y());
         for p in m.points() {
@@ -328,10 +315,7 @@ mod tests {
         .expect("overlapping boxes touch");
         // Both faces tie on depth; A's face wins ties, and either way the normal is +y (A to B).
         assert!((m.normal - Vec3::y()).norm() < 1e-6);
-        let tilted = Pose::from_parts(
-            Translation3::new(0.0, -1.02, 0.0),
-            Rot::from_euler_angles(0.0, 0.0, 0.05),
-        );
+        let tilted = at(0.0, -1.02, 0.0, Rot::from_euler_angles(0.0, 0.0, 0.05));
         let m = collide_cuboids(&small, &tilted, &big, &Pose::identity(), MARGIN)
             .expect("the tilted corner dips in");
         // Tilted A: B's bottom face is now the reference, the normal still runs from A to B.
@@ -342,15 +326,7 @@ mod tests {
 
     #[test]
     fn crossed_edges_give_one_point_with_the_overlap_as_depth() {
-        let q = std::f32::consts::FRAC_PI_4;
-        let pose_a = Pose::from_parts(
-            Translation3::identity(),
-            Rot::from_euler_angles(0.0, 0.0, q),
-        );
-        let pose_b = Pose::from_parts(
-            Translation3::new(0.0, 2f32.sqrt() - 0.01, 0.0),
-            Rot::from_euler_angles(q, 0.0, 0.0),
-        );
+        let (pose_a, pose_b) = crossed_edges(0.5, -0.01);
         let m = collide_cuboids(&cube(0.5), &pose_a, &cube(0.5), &pose_b, MARGIN)
             .expect("the edges cross 1 cm deep");
         assert_eq!((m.kind, m.len), (FeatureKind::Edge, 1));
@@ -381,7 +357,7 @@ mod tests {
     fn last_steps_reference_face_is_kept_and_renames_nothing() {
         let a = cube(0.5);
         let rot = Rot::from_euler_angles(0.0, 0.0, 0.004);
-        let pose_b = Pose::from_parts(Translation3::new(0.25, 0.999, 0.25), rot);
+        let pose_b = at(0.25, 0.999, 0.25, rot);
         let fresh = collide_cuboids(&a, &Pose::identity(), &a, &pose_b, MARGIN).expect("touching");
         let other = if fresh.kind == FeatureKind::FaceA {
             (FeatureKind::FaceB, 3)

@@ -53,7 +53,8 @@ pub fn edge_contact(pair: &BoxPair, i: usize, j: usize, normal: &Vec3) -> EdgeCo
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tumble_geometry::{CUBOID_EDGES, Cuboid, Pose, Rot, nalgebra::Translation3};
+    use crate::tests::{crossed_edges, cube};
+    use tumble_geometry::{CUBOID_EDGES, Cuboid};
 
     #[test]
     fn support_edges_follow_the_cuboid_edge_numbering() {
@@ -78,18 +79,10 @@ mod tests {
 
     #[test]
     fn crossed_edges_meet_at_their_middles_with_the_overlap_as_depth() {
-        let a = Cuboid::new(Vec3::repeat(1.0));
+        let a = cube(1.0);
         // A turned 45 degrees about z (top edge along z at y = sqrt 2), B turned about x (bottom
         // edge along x at y = centre - sqrt 2), sunk 0.05 into A.
-        let q = std::f32::consts::FRAC_PI_4;
-        let pose_a = Pose::from_parts(
-            Translation3::identity(),
-            Rot::from_euler_angles(0.0, 0.0, q),
-        );
-        let pose_b = Pose::from_parts(
-            Translation3::new(0.0, 2.0 * 2f32.sqrt() - 0.05, 0.0),
-            Rot::from_euler_angles(q, 0.0, 0.0),
-        );
+        let (pose_a, pose_b) = crossed_edges(1.0, -0.05);
         let pair = BoxPair::new(&a, &pose_a, &a, &pose_b);
         let normal_world = Vec3::y();
         let normal = pose_a.rotation.inverse_transform_vector(&normal_world);

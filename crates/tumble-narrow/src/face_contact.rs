@@ -95,12 +95,13 @@ pub fn face_contact(pair: &BoxPair, reference: usize, margin: Real, kind: u32) -
 mod tests {
     use super::*;
     use crate::feature_id::KIND_FACE_A;
+    use crate::tests::cube;
     use tumble_geometry::{Cuboid, Pose, Rot, nalgebra::Translation3};
 
     #[test]
     fn a_small_box_sunk_into_a_large_one_gives_its_four_bottom_corners() {
         let big = Cuboid::new(Vec3::new(5.0, 1.0, 5.0));
-        let small = Cuboid::new(Vec3::new(0.5, 0.5, 0.5));
+        let small = cube(0.5);
         // Small box's bottom at y = 0.9: 0.1 below the big box's top face (y = 1).
         let pair = BoxPair::new(
             &big,
@@ -125,7 +126,7 @@ mod tests {
 
     #[test]
     fn an_overhanging_box_is_cut_at_the_reference_face_edge() {
-        let a = Cuboid::new(Vec3::new(1.0, 1.0, 1.0));
+        let a = cube(1.0);
         // B overhangs A's +x side by 0.5: the clipped patch spans x in [0, 1], area 1 x 1.
         let pair = BoxPair::new(
             &a,
@@ -149,10 +150,10 @@ mod tests {
 
     #[test]
     fn points_above_the_margin_are_dropped_but_still_measured() {
-        let a = Cuboid::new(Vec3::repeat(1.0));
+        let a = cube(1.0);
         // B tilted 0.2 rad about z and resting with its lowest corner 0.01 into A.
         let tilt = Rot::from_euler_angles(0.0, 0.0, 0.2);
-        let b = Cuboid::new(Vec3::new(0.5, 0.5, 0.5));
+        let b = cube(0.5);
         let lowest = (tilt * Vec3::new(-0.5, -0.5, 0.0))
             .y
             .min((tilt * Vec3::new(0.5, -0.5, 0.0)).y);

@@ -162,41 +162,29 @@ fn argmax<const N: usize>(values: &[Real; N]) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tumble_geometry::{Cuboid, Pose, Rot, nalgebra::Translation3};
-
-    fn pair(ha: Vec3, hb: Vec3, pose_b: Pose) -> BoxPair {
-        BoxPair::new(
-            &Cuboid::new(ha),
-            &Pose::identity(),
-            &Cuboid::new(hb),
-            &pose_b,
-        )
-    }
+    use crate::tests::{aligned_pair, at, crossed_edges, cube};
+    use tumble_geometry::{Cuboid, Pose, Rot};
 
     #[test]
     fn aligned_boxes_separate_exactly_along_the_offset_axis() {
-        // Unit cubes whose centres are 2.5 apart along y: gap 0.5 on A's +y face and B's -y face.
-        let p = pair(
-            Vec3::repeat(1.0),
-            Vec3::repeat(1.0),
-            Pose::translation(0.0, 2.5, 0.0),
-        );
-        let q = SatQuery::new(&p);
-        assert_eq!(q.best_face_a(&p), (2, 0.5));
-        assert_eq!(q.best_face_b(&p), (3, 0.5));
-        assert_eq!(q.max_separation(), 0.5);
-        // Every edge pair of aligned boxes is parallel or a face normal in disguise; none beats 0.5.
-        assert!(q.edge.iter().all(|&s| s <= 0.5));
+        // Unit cubes whose centres are 2.5 apart along axis k: gap 0.5 on A's +k face (2k) and
+        // B's -k face (2k + 1).
+        for k in 0..3 {
+            let p = aligned_pair(Vec3::ith(k, 2.5));
+            let q = SatQuery::new(&p);
+            assert_eq!(q.best_face_a(&p), (2 * k, 0.5), "axis {k}");
+            assert_eq!(q.best_face_b(&p), (2 * k + 1, 0.5), "axis {k}");
+            assert_eq!(q.max_separation(), 0.5, "axis {k}");
+            // Every edge pair of aligned boxes is parallel or a face normal in disguise; none
+            // beats 0.5.
+            assert!(q.edge.iter().all(|&s| s <= 0.5), "axis {k}");
+        }
     }
 
     #[test]
     fn overlap_depth_is_the_smallest_overlap_over_the_axes() {
         // B sunk 0.2 into A's top face and offset sideways by 1.5 (overlap 0.5 on x): depth 0.2.
-        let p = pair(
-            Vec3::repeat(1.0),
-            Vec3::repeat(1.0),
-            Pose::translation(1.5, 1.8, 0.0),
-        );
+        let p = aligned_pair(Vec3::new(1.5, 1.8, 0.0));
         let q = SatQuery::new(&p);
         assert!((q.max_separation() + 0.2).abs() < 1e-6);
         assert_eq!(q.best_face_a(&p).0, 2);
@@ -206,14 +194,8 @@ mod tests {
     fn crossed_edges_separate_along_their_cross_product() {
         // Two unit cubes each turned 45 degrees, A about z and B about x, so that A's top edge
         // (along z) and B's bottom edge (along x) cross above one another: the edge axis is y.
-        let turned = Rot::from_euler_angles(std::f32::consts::FRAC_PI_4, 0.0, 0.0);
-        let a = Cuboid::new(Vec3::repeat(1.0));
-        let pose_a = Pose::from_parts(
-            Translation3::identity(),
-            Rot::from_euler_angles(0.0, 0.0, std::f32::consts::FRAC_PI_4),
-        );
-        let pose_b = Pose::from_parts(Translation3::new(0.0, 2.0 * 2f32.sqrt() + 0.1, 0.0), turned);
-        let p = BoxPair::new(&a, &pose_a, &a, &pose_b);
+        let (pose_a, pose_b) = crossed_edges(1.0, 0.1);
+        let p = BoxPair::new(&cube(1.0), &pose_a, &cube(1.0), &pose_b);
         let q = SatQuery::new(&p);
         // A's top edge is at height sqrt 2, B's bottom edge at 0.1 + sqrt 2: gap 0.1, reached only
         // by the edge axis (the faces are all at 45 degrees to y).
@@ -226,10 +208,7 @@ mod tests {
     fn the_closed_form_edge_separation_matches_the_projection_on_the_normalised_axis() {
         let a = Cuboid::new(Vec3::new(0.3, 1.2, 0.7));
         let b = Cuboid::new(Vec3::new(2.0, 0.1, 0.4));
-        let pose_b = Pose::from_parts(
-            Translation3::new(0.9, -1.4, 2.2),
-            Rot::from_euler_angles(0.4, -1.3, 2.9),
-        );
+        let pose_b = at(0.9, -1.4, 2.2, Rot::from_euler_angles(0.4, -1.3, 2.9));
         let p = BoxPair::new(&a, &Pose::identity(), &b, &pose_b);
         for k in 0..9 {
             let n = edge_axis(&p, k / 3, k % 3).expect("generic rotation: no parallel edges");
@@ -240,11 +219,7 @@ mod tests {
 
     #[test]
     fn parallel_edge_pairs_are_skipped() {
-        let p = pair(
-            Vec3::repeat(1.0),
-            Vec3::repeat(1.0),
-            Pose::translation(0.3, 0.1, 5.0),
-        );
+        let p = aligned_pair(Vec3::new(0.3, 0.1, 5.0));
         let q = SatQuery::new(&p);
         // Aligned boxes: a_i x b_i is zero for i = 0, 1, 2, the diagonal 3i + i.
         for i in 0..3 {

@@ -2,15 +2,6 @@
 
 use super::*;
 
-fn aligned_pair(offset: Vec3) -> BoxPair {
-    BoxPair::new(
-        &cube(1.0),
-        &Pose::identity(),
-        &cube(1.0),
-        &Pose::translation(offset.x, offset.y, offset.z),
-    )
-}
-
 #[test]
 fn the_first_of_equal_axes_wins() {
     // Aligned unit cubes 2.5 apart along x and along y: gap 0.5 on both axes, exactly (sums of
@@ -82,7 +73,7 @@ fn the_deepest_axis_is_the_strictly_largest_of_each_kind() {
     }
     // An edge strictly best: two cubes turned 45 degrees about different axes, their edges
     // crossing 0.1 apart (see `crossed_edges`); every face is at 45 degrees to the gap.
-    let (pose_a, pose_b) = crossed_edges(0.1);
+    let (pose_a, pose_b) = crossed_edges(0.5, 0.1);
     let pair = BoxPair::new(&cube(0.5), &pose_a, &cube(0.5), &pose_b);
     let sat = SatQuery::new(&pair);
     let deepest = deepest_axis(&pair, &sat);

@@ -15,6 +15,19 @@ fn rotation(q: [f64; 4]) -> Rot {
     Rot::new_normalize(Quaternion::new(w / n, x / n, y / n, z / n).cast::<f32>())
 }
 
+/// A seeded stream of numbers uniform in `[0, 1)`, 24 bits each: the top bits of a 64-bit
+/// linear congruential generator (Knuth's MMIX constants), so the cases need no RNG crate and
+/// stay the same on every platform.
+fn uniform(seed: u64) -> impl FnMut() -> Real {
+    let mut state = seed;
+    move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 40) as Real / (1u64 << 24) as Real
+    }
+}
+
 /// One to four finite points and a finite normal: what holds at any length.
 fn assert_shape(m: &Manifold) {
     assert!(
@@ -89,13 +102,7 @@ fn a_large_boxs_vertex_near_a_small_box_gives_a_unit_normal() {
     // contacts, the case the cancellation hit.
     let a = cube(1000.0);
     let b = Cuboid::new(Vec3::new(0.5, 0.3, 0.2));
-    let mut state = 0x9e37_79b9_7f4a_7c15u64;
-    let mut unit = move || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 40) as Real / (1u64 << 24) as Real
-    };
+    let mut unit = uniform(0x9e37_79b9_7f4a_7c15);
     let (mut vertex_of_a, mut worst) = (0, 0.0 as Real);
     for _ in 0..2000 {
         let rot = Rot::new_normalize(tumble_geometry::nalgebra::Quaternion::new(
@@ -265,13 +272,7 @@ fn thin_boxes_at_the_supported_aspect_keep_their_points_on_both_boxes() {
     // both boxes, up to the fuzz target's tolerance (1e-3 of the larger box, 1 m here: f32
     // rounding amplified by up to 1e3 at the parallel-edge cutoff); the finding's point was
     // half the large box off, 500 times that tolerance. (15,248 of the pairs touch; none fails.)
-    let mut state = 0x5eed_0005_u64;
-    let mut unit = move || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 40) as Real / (1u64 << 24) as Real
-    };
+    let mut unit = uniform(0x5eed_0005);
     let mut run = |ratio: Real| {
         let (mut contacts, mut failed, mut worst) = (0, 0, f64::NEG_INFINITY);
         for _ in 0..20_000 {

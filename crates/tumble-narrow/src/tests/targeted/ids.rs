@@ -2,22 +2,6 @@
 
 use super::*;
 
-/// A turned 45 degrees about z, B turned 45 degrees about x and raised so that A's top edge
-/// (along z) and B's bottom edge (along x) cross `gap` apart (negative: overlapping) above the
-/// origin.
-pub(super) fn crossed_edges(gap: Real) -> (Pose, Pose) {
-    let q = std::f32::consts::FRAC_PI_4;
-    (
-        at(0.0, 0.0, 0.0, Rot::from_euler_angles(0.0, 0.0, q)),
-        at(
-            0.0,
-            2f32.sqrt() + gap,
-            0.0,
-            Rot::from_euler_angles(q, 0.0, 0.0),
-        ),
-    )
-}
-
 #[test]
 fn crossed_edges_pack_their_pair_into_the_feature_and_the_id() {
     // A's highest edge runs along its z with local x and y both positive: edge 4 * 2 + 1 + 2 =
@@ -25,7 +9,7 @@ fn crossed_edges_pack_their_pair_into_the_feature_and_the_id() {
     // z positive: 4 * 0 + 0 + 2 = 2. The feature is 11 * 12 + 2, the id kind 2 with A's edge in
     // bits 4-7 and B's in bits 0-3.
     for gap in [-0.01, 0.01] {
-        let (pose_a, pose_b) = crossed_edges(gap);
+        let (pose_a, pose_b) = crossed_edges(0.5, gap);
         let m = collide_cuboids(&cube(0.5), &pose_a, &cube(0.5), &pose_b, MARGIN)
             .expect("within the margin");
         assert_eq!((m.kind, m.feature, m.len), (FeatureKind::Edge, 134, 1));
@@ -41,7 +25,7 @@ fn crossed_edges_pack_their_pair_into_the_feature_and_the_id() {
         assert!((m.normal - Vec3::y()).norm() < 1e-5);
     }
     // 3 cm apart with a 2 cm margin: nothing (every SAT axis sees at most the 3 cm).
-    let (pose_a, pose_b) = crossed_edges(0.03);
+    let (pose_a, pose_b) = crossed_edges(0.5, 0.03);
     assert!(collide_cuboids(&cube(0.5), &pose_a, &cube(0.5), &pose_b, MARGIN).is_none());
 }
 
@@ -77,15 +61,7 @@ fn a_box_resting_inside_a_face_gets_its_four_bottom_corners_as_ids() {
     // A small aligned cube well inside a slab's top face, 2 mm deep: the four corners of its
     // bottom face (3: corners 0, 1, 5, 4) are incident corners, labelled (k - 1, k) for corner
     // k; reference face 2, incident face 3, kind 0.
-    let slab = Cuboid::new(Vec3::new(5.0, 0.5, 5.0));
-    let m = collide_cuboids(
-        &slab,
-        &Pose::identity(),
-        &cube(0.5),
-        &Pose::translation(1.0, 0.998, -1.0),
-        MARGIN,
-    )
-    .expect("overlap");
+    let m = cube_on_slab(1.0, 0.998, -1.0).expect("overlap");
     let mut ids: Vec<u32> = m.points().iter().map(|p| p.id).collect();
     ids.sort_unstable();
     let mut want: Vec<u32> = (0..4u32)

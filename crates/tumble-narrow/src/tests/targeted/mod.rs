@@ -9,10 +9,9 @@ mod ids;
 mod margin;
 mod preferences;
 
-use ids::crossed_edges;
-
 use super::reference::{Box64, V64, best_of};
 use super::spec::{Axis, Spec};
+use super::{MARGIN, aligned_pair, at, crossed_edges, cube, cube_on_slab};
 use crate::feature_id::{
     KIND_EDGE, KIND_FACE_A, KIND_FACE_B, KIND_VERTEX, SIDE_LABEL_BASE, edge_point_id,
     face_point_id, id_kind, vertex_point_id,
@@ -30,16 +29,6 @@ use crate::{
 use tumble_geometry::{
     Cuboid, FeatureKind, Manifold, Point3, Pose, Real, Rot, Vec3, nalgebra::Translation3,
 };
-
-const MARGIN: Real = 0.02;
-
-fn cube(h: Real) -> Cuboid {
-    Cuboid::new(Vec3::repeat(h))
-}
-
-fn at(x: Real, y: Real, z: Real, rot: Rot) -> Pose {
-    Pose::from_parts(Translation3::new(x, y, z), rot)
-}
 
 fn kind_and_feature(m: Option<Manifold>) -> Option<(FeatureKind, u32)> {
     m.map(|m| (m.kind, m.feature))

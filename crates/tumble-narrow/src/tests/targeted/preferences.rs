@@ -314,7 +314,7 @@ fn preference_slack_is_the_hysteresis_tolerance_when_the_edge_is_face_like_for_e
     // The crossed edges 0.1 apart: the faces are all at 45 degrees to the edge axis (not face
     // like), and tie by symmetry at 1/sqrt(2) (sqrt(2) + 0.1) - 0.5 - (1 + 1/sqrt(2)) / 2 =
     // -0.282843; the face and edge tolerances are then equal, 2e-3 * 0.282843 + 2e-5 * 0.5.
-    let (pose_a, pose_b) = crossed_edges(0.1);
+    let (pose_a, pose_b) = crossed_edges(0.5, 0.1);
     let pair = BoxPair::new(&cube(0.5), &pose_a, &cube(0.5), &pose_b);
     let slack = preference_slack(&pair, &SatQuery::new(&pair));
     assert!((slack - 5.756_86e-4).abs() < 1e-8, "{slack}");

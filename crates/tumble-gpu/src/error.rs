@@ -67,3 +67,11 @@ pub enum GpuError {
     #[error("GPU device error: {0}")]
     Device(String),
 }
+
+/// [`GpuError::InvalidInput`] naming `field`, with `value` printed by `Debug`.
+pub(crate) fn invalid(field: impl Into<String>, value: impl std::fmt::Debug) -> GpuError {
+    GpuError::InvalidInput {
+        field: field.into(),
+        value: format!("{value:?}"),
+    }
+}

@@ -129,6 +129,45 @@ macro_rules! pipelines {
 }
 pub(crate) use pipelines;
 
+/// `names` with each `(from, to)` of `renames` renamed: the bindings of a kernel that takes
+/// another kernel's argument struct under other names. Fails to compile (as the constant it
+/// is evaluated in) when `names` lacks a `from` or has other than `N` entries.
+pub const fn renamed<const N: usize>(
+    names: &[&'static str],
+    renames: &[(&str, &'static str)],
+) -> [&'static str; N] {
+    assert!(names.len() == N, "renamed: N is not the number of names");
+    let mut out = [""; N];
+    let mut i = 0;
+    while i < N {
+        out[i] = names[i];
+        i += 1;
+    }
+    let mut r = 0;
+    while r < renames.len() {
+        let from = renames[r].0.as_bytes();
+        let mut i = 0;
+        while i < N && !same_bytes(out[i].as_bytes(), from) {
+            i += 1;
+        }
+        assert!(i < N, "renamed: no such name");
+        out[i] = renames[r].1;
+        r += 1;
+    }
+    out
+}
+
+const fn same_bytes(a: &[u8], b: &[u8]) -> bool {
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() && a[i] == b[i] {
+        i += 1;
+    }
+    i == a.len()
+}
+
 /// A kernel: its file and the names of its buffers, in binding order. Declared with
 /// [`kernel!`]; everything else (binding kinds, override names) is read from the shader.
 #[derive(Debug)]
@@ -454,7 +493,22 @@ impl Kernel {
 
     /// A bind group over `args` (whole buffers).
     pub fn bind(&self, ctx: &GpuContext, args: &dyn KernelArgs) -> wgpu::BindGroup {
-        let buffers = args.buffers();
+        self.bind_buffers(ctx, &args.buffers())
+    }
+
+    /// A bind group over the buffer `buffer` gives for each binding's name: a stage that
+    /// names its buffers as its kernels' bindings looks every kernel's arguments up in one
+    /// place instead of listing them kernel by kernel.
+    pub fn bind_named<'a>(
+        &self,
+        ctx: &GpuContext,
+        buffer: impl Fn(&'static str) -> &'a wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        let buffers: Vec<&wgpu::Buffer> = self.spec.buffers.iter().map(|&n| buffer(n)).collect();
+        self.bind_buffers(ctx, &buffers)
+    }
+
+    fn bind_buffers(&self, ctx: &GpuContext, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
         assert_eq!(
             buffers.len(),
             self.bindings,

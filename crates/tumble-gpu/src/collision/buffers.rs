@@ -5,6 +5,10 @@
 //! searches and whose impulses and local manifolds `carry_impulses` reads. Each parity's pair arrays have two
 //! copies, the radix sort's ping-pong; the sorted result lands in copy
 //! [`PAIR_RESULT_COPY`] (the pair sort always runs an even number of passes).
+//!
+//! A buffer that the kernels bind under one name is called by that name, so that the bind
+//! groups look the kernels' arguments up by binding name (`kernels::build_groups`); the
+//! others (per parity or copy, or bound under several names) are looked up explicitly there.
 
 use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE, bytes_of};
 use crate::kernels::radix_sort::tile_count_len;
@@ -30,21 +34,21 @@ pub const AABBS: &str = "aabbs";
 /// The bodies' `WorkList` (written by the host).
 pub const BODY_WORK: &str = "body work list";
 /// `SweepAxis`.
-pub const SWEEP_AXIS: &str = "sweep axis";
+pub const SWEEP_AXIS: &str = "sweep_axis";
 /// Body sort keys, two copies.
 pub const SORT_KEYS: [&str; 2] = ["sort keys 0", "sort keys 1"];
 /// Body sort values (body indices), two copies.
 pub const SORT_BODIES: [&str; 2] = ["sorted bodies 0", "sorted bodies 1"];
 /// AABBs in sweep order.
-pub const SWEEP_BOXES: &str = "sweep boxes";
+pub const SWEEP_BOXES: &str = "sweep_boxes";
 /// `GpuCollisionGroups`, one per body.
-pub const GROUPS: &str = "collision groups";
+pub const GROUPS: &str = "groups";
 /// Tile counts of the body sort.
 pub const BODY_TILES: &str = "body sort tiles";
 /// The long box count and list (`shaders/common/sweep.wgsl`).
-pub const LONG_BOXES: &str = "long boxes";
+pub const LONG_BOXES: &str = "long_boxes";
 /// The sweep's append counter.
-pub const PAIR_COUNTER: &str = "pair counter";
+pub const PAIR_COUNTER: &str = "counter";
 /// First bodies of the pairs, `[parity][copy]`.
 pub const PAIR_A: [[&str; 2]; 2] = [["pair a 0.0", "pair a 0.1"], ["pair a 1.0", "pair a 1.1"]];
 /// Second bodies of the pairs, `[parity][copy]`.
@@ -54,7 +58,7 @@ pub const PAIR_WORK: [&str; 2] = ["pair work list 0", "pair work list 1"];
 /// Tile counts of the pair sort.
 pub const PAIR_TILES: &str = "pair sort tiles";
 /// Last step's index of each pair.
-pub const PREVIOUS_INDEX: &str = "previous pair index";
+pub const PREVIOUS_INDEX: &str = "previous_index";
 /// Manifolds, per parity.
 pub const MANIFOLDS: [&str; 2] = ["manifolds 0", "manifolds 1"];
 /// Contact points, per parity.
@@ -65,15 +69,15 @@ pub const LOCAL_MANIFOLDS: [&str; 2] = ["local manifolds 0", "local manifolds 1"
 /// Per-tile (manifolds in contact, points) totals of the compaction.
 pub const TOUCHING_TILES: &str = "touching tiles";
 /// `TouchingCounts`.
-pub const TOUCHING_COUNTS: &str = "touching counts";
+pub const TOUCHING_COUNTS: &str = "counts";
 /// `GpuTouching`, one per manifold in contact.
 pub const TOUCHING: &str = "touching";
 /// Manifolds in contact, dense.
-pub const TOUCHING_MANIFOLDS: &str = "touching manifolds";
+pub const TOUCHING_MANIFOLDS: &str = "touching_manifolds";
 /// Their points, dense.
-pub const TOUCHING_POINTS: &str = "touching points";
+pub const TOUCHING_POINTS: &str = "touching_points";
 /// Impulses uploaded in dense point order for `scatter_impulses`.
-pub const IMPULSE_UPLOAD: &str = "impulse upload";
+pub const IMPULSE_UPLOAD: &str = "impulses";
 /// `ScatterParams`.
 pub const SCATTER_PARAMS: &str = "scatter params";
 /// `UpdateAabbsParams`.

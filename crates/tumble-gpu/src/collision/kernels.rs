@@ -4,23 +4,22 @@ use super::buffers::*;
 use crate::GpuContext;
 use crate::buffer_pool::BufferPool;
 use crate::kernel::pipelines;
-use crate::kernels::carry_impulses::{CARRY_IMPULSES, CarryImpulsesArgs};
-use crate::kernels::choose_axis::{CHOOSE_AXIS, ChooseAxisArgs};
-use crate::kernels::collide_cuboids::{COLLIDE_CUBOIDS, CollideCuboidsArgs};
+use crate::kernels::carry_impulses::CARRY_IMPULSES;
+use crate::kernels::choose_axis::CHOOSE_AXIS;
+use crate::kernels::collide_cuboids::COLLIDE_CUBOIDS;
 use crate::kernels::compact_touching::{
-    COUNT_TOUCHING, CountTouchingArgs, SCAN_TOUCHING, SCATTER_IMPULSES, ScanTouchingArgs,
-    WRITE_TOUCHING, WriteTouchingArgs,
+    COUNT_TOUCHING, SCAN_TOUCHING, SCATTER_IMPULSES, WRITE_TOUCHING,
 };
-use crate::kernels::gather_sweep_boxes::{GATHER_SWEEP_BOXES, GatherSweepBoxesArgs};
-use crate::kernels::match_pairs::{MATCH_PAIRS, MatchPairsArgs};
-use crate::kernels::plan_dispatch::{PLAN_DISPATCH, PlanDispatchArgs};
+use crate::kernels::gather_sweep_boxes::GATHER_SWEEP_BOXES;
+use crate::kernels::match_pairs::MATCH_PAIRS;
+use crate::kernels::plan_dispatch::PLAN_DISPATCH;
 use crate::kernels::radix_sort::{
     RadixBindGroups, RadixBuffers, RadixSort, index_bits, plan_passes, result_copy,
 };
-use crate::kernels::rank_sort::{RANK_SORT, RankSortArgs};
-use crate::kernels::sweep_pairs::{LONG_PAIRS, SWEEP_PAIRS, SweepPairsArgs};
-use crate::kernels::update_aabbs::{UPDATE_AABBS, UpdateAabbsArgs};
-use crate::kernels::write_sort_keys::{WRITE_SORT_KEYS, WriteSortKeysArgs};
+use crate::kernels::rank_sort::RANK_SORT;
+use crate::kernels::sweep_pairs::{LONG_PAIRS, SWEEP_PAIRS};
+use crate::kernels::update_aabbs::UPDATE_AABBS;
+use crate::kernels::write_sort_keys::WRITE_SORT_KEYS;
 
 pipelines! {
     /// Every pipeline the collision stages dispatch (the radix sort's are [`RadixSort`]'s).
@@ -118,34 +117,15 @@ pub fn build_groups(
     bodies: u32,
 ) -> CollisionGroups {
     let b = |name: &'static str| pool.get(name);
-    let update_aabbs = kernels.update_aabbs.bind(
-        ctx,
-        &UpdateAabbsArgs {
-            params: b(UPDATE_PARAMS),
-            poses: b(POSES),
-            velocities: b(VELOCITIES),
-            shapes: b(SHAPES),
-            aabbs: b(AABBS),
-        },
-    );
-    let choose_axis = kernels.choose_axis.bind(
-        ctx,
-        &ChooseAxisArgs {
-            work: b(BODY_WORK),
-            aabbs: b(AABBS),
-            sweep_axis: b(SWEEP_AXIS),
-        },
-    );
-    let write_sort_keys = kernels.write_sort_keys.bind(
-        ctx,
-        &WriteSortKeysArgs {
-            work: b(BODY_WORK),
-            sweep_axis: b(SWEEP_AXIS),
-            aabbs: b(AABBS),
-            keys: b(SORT_KEYS[0]),
-            values: b(SORT_BODIES[0]),
-        },
-    );
+    // The body kernels' buffers by binding name.
+    let body = |name: &'static str| match name {
+        "work" => b(BODY_WORK),
+        "keys" => b(SORT_KEYS[0]),
+        "values" => b(SORT_BODIES[0]),
+        "sorted_bodies" => b(SORT_BODIES[BODY_RESULT_COPY]),
+        "params" => b(SWEEP_PARAMS),
+        name => b(name),
+    };
     let body_passes = plan_passes(&[(true, u32::BITS)]);
     assert_eq!(result_copy(&body_passes), BODY_RESULT_COPY);
     let body_sort = radix.bind(
@@ -158,154 +138,72 @@ pub fn build_groups(
         },
         &body_passes,
     );
-    // The rank sort sorts copy 0 in place, where the radix sort's even number of passes
-    // leaves its result (asserted above).
-    let small_body_sort = kernels.rank_sort.bind(
-        ctx,
-        &RankSortArgs {
-            work: b(BODY_WORK),
-            keys: b(SORT_KEYS[0]),
-            values: b(SORT_BODIES[0]),
-        },
-    );
-    let gather_sweep_boxes = kernels.gather_sweep_boxes.bind(
-        ctx,
-        &GatherSweepBoxesArgs {
-            work: b(BODY_WORK),
-            sweep_axis: b(SWEEP_AXIS),
-            aabbs: b(AABBS),
-            shapes: b(SHAPES),
-            sorted_bodies: b(SORT_BODIES[BODY_RESULT_COPY]),
-            sweep_boxes: b(SWEEP_BOXES),
-            params: b(SWEEP_PARAMS),
-            long_boxes: b(LONG_BOXES),
-        },
-    );
     // Pairs sort by b, then stably by a: lexicographic (a, b), the CPU's order.
     let pair_bits = index_bits(bodies);
     let pair_passes = plan_passes(&[(false, pair_bits), (true, pair_bits)]);
     assert_eq!(result_copy(&pair_passes), PAIR_RESULT_COPY);
-    let parity = [0, 1].map(|p| {
+    // The pair kernels' buffers by binding name, for parity `p` (last step's is `q`). The
+    // sweep appends into copy 0, the pair sort's result copy (asserted above), where the rank
+    // sort sorts in place and the kernels after the sort read.
+    let pair = |p: usize| {
         let q = 1 - p;
-        let r = PAIR_RESULT_COPY;
-        let sweep_args = SweepPairsArgs {
-            params: b(SWEEP_PARAMS),
-            sweep_boxes: b(SWEEP_BOXES),
-            counter: b(PAIR_COUNTER),
-            pair_a: b(PAIR_A[p][0]),
-            pair_b: b(PAIR_B[p][0]),
-            long_boxes: b(LONG_BOXES),
-            groups: b(GROUPS),
-        };
-        ParityGroups {
-            sweep: kernels.sweep_pairs.bind(ctx, &sweep_args),
-            long_pairs: kernels.long_pairs.bind(ctx, &sweep_args),
-            plan: kernels.plan_dispatch.bind(
-                ctx,
-                &PlanDispatchArgs {
-                    counter: b(PAIR_COUNTER),
-                    work: b(PAIR_WORK[p]),
-                },
-            ),
-            pair_sort: radix.bind(
-                ctx,
-                &RadixBuffers {
-                    work: b(PAIR_WORK[p]),
-                    first: [b(PAIR_A[p][0]), b(PAIR_A[p][1])],
-                    second: [b(PAIR_B[p][0]), b(PAIR_B[p][1])],
-                    tile_counts: b(PAIR_TILES),
-                },
-                &pair_passes,
-            ),
-            // In place in copy 0, the radix sort's result copy (asserted above).
-            small_pair_sort: kernels.rank_sort.bind(
-                ctx,
-                &RankSortArgs {
-                    work: b(PAIR_WORK[p]),
-                    keys: b(PAIR_A[p][0]),
-                    values: b(PAIR_B[p][0]),
-                },
-            ),
-            match_pairs: kernels.match_pairs.bind(
-                ctx,
-                &MatchPairsArgs {
-                    work: b(PAIR_WORK[p]),
-                    pair_a: b(PAIR_A[p][r]),
-                    pair_b: b(PAIR_B[p][r]),
-                    previous_work: b(PAIR_WORK[q]),
-                    previous_a: b(PAIR_A[q][r]),
-                    previous_b: b(PAIR_B[q][r]),
-                    previous_index: b(PREVIOUS_INDEX),
-                },
-            ),
-            collide: kernels.collide_cuboids.bind(
-                ctx,
-                &CollideCuboidsArgs {
-                    params: b(NARROW_PARAMS),
-                    work: b(PAIR_WORK[p]),
-                    pair_a: b(PAIR_A[p][r]),
-                    pair_b: b(PAIR_B[p][r]),
-                    poses: b(POSES),
-                    velocities: b(VELOCITIES),
-                    shapes: b(SHAPES),
-                    previous_index: b(PREVIOUS_INDEX),
-                    previous_manifolds: b(MANIFOLDS[q]),
-                    manifolds: b(MANIFOLDS[p]),
-                    contacts: b(CONTACTS[p]),
-                },
-            ),
-            carry: kernels.carry_impulses.bind(
-                ctx,
-                &CarryImpulsesArgs {
-                    work: b(PAIR_WORK[p]),
-                    poses: b(POSES),
-                    manifolds: b(MANIFOLDS[p]),
-                    previous_manifolds: b(MANIFOLDS[q]),
-                    previous_contacts: b(CONTACTS[q]),
-                    previous_locals: b(LOCAL_MANIFOLDS[q]),
-                    contacts: b(CONTACTS[p]),
-                    locals: b(LOCAL_MANIFOLDS[p]),
-                },
-            ),
-            count_touching: kernels.count_touching.bind(
-                ctx,
-                &CountTouchingArgs {
-                    work: b(PAIR_WORK[p]),
-                    manifolds: b(MANIFOLDS[p]),
-                    tile_totals: b(TOUCHING_TILES),
-                },
-            ),
-            scan_touching: kernels.scan_touching.bind(
-                ctx,
-                &ScanTouchingArgs {
-                    work: b(PAIR_WORK[p]),
-                    tile_totals: b(TOUCHING_TILES),
-                    counts: b(TOUCHING_COUNTS),
-                },
-            ),
-            write_touching: kernels.write_touching.bind(
-                ctx,
-                &WriteTouchingArgs {
-                    work: b(PAIR_WORK[p]),
-                    manifolds: b(MANIFOLDS[p]),
-                    contacts: b(CONTACTS[p]),
-                    tile_offsets: b(TOUCHING_TILES),
-                    touching: b(TOUCHING),
-                    touching_manifolds: b(TOUCHING_MANIFOLDS),
-                    touching_points: b(TOUCHING_POINTS),
-                },
-            ),
+        move |name: &'static str| match name {
+            "work" => b(PAIR_WORK[p]),
+            "previous_work" => b(PAIR_WORK[q]),
+            "pair_a" | "keys" => b(PAIR_A[p][PAIR_RESULT_COPY]),
+            "pair_b" | "values" => b(PAIR_B[p][PAIR_RESULT_COPY]),
+            "previous_a" => b(PAIR_A[q][PAIR_RESULT_COPY]),
+            "previous_b" => b(PAIR_B[q][PAIR_RESULT_COPY]),
+            "manifolds" => b(MANIFOLDS[p]),
+            "previous_manifolds" => b(MANIFOLDS[q]),
+            "contacts" => b(CONTACTS[p]),
+            "previous_contacts" => b(CONTACTS[q]),
+            "locals" => b(LOCAL_MANIFOLDS[p]),
+            "previous_locals" => b(LOCAL_MANIFOLDS[q]),
+            "tile_totals" | "tile_offsets" => b(TOUCHING_TILES),
+            "params" => b(SWEEP_PARAMS),
+            name => b(name),
         }
+    };
+    let parity = [0, 1].map(|p| ParityGroups {
+        sweep: kernels.sweep_pairs.bind_named(ctx, pair(p)),
+        long_pairs: kernels.long_pairs.bind_named(ctx, pair(p)),
+        plan: kernels.plan_dispatch.bind_named(ctx, pair(p)),
+        pair_sort: radix.bind(
+            ctx,
+            &RadixBuffers {
+                work: b(PAIR_WORK[p]),
+                first: [b(PAIR_A[p][0]), b(PAIR_A[p][1])],
+                second: [b(PAIR_B[p][0]), b(PAIR_B[p][1])],
+                tile_counts: b(PAIR_TILES),
+            },
+            &pair_passes,
+        ),
+        small_pair_sort: kernels.rank_sort.bind_named(ctx, pair(p)),
+        match_pairs: kernels.match_pairs.bind_named(ctx, pair(p)),
+        collide: kernels.collide_cuboids.bind_named(ctx, |name| match name {
+            "params" => b(NARROW_PARAMS),
+            name => pair(p)(name),
+        }),
+        carry: kernels.carry_impulses.bind_named(ctx, pair(p)),
+        count_touching: kernels.count_touching.bind_named(ctx, pair(p)),
+        scan_touching: kernels.scan_touching.bind_named(ctx, pair(p)),
+        write_touching: kernels.write_touching.bind_named(ctx, pair(p)),
     });
     CollisionGroups {
         generation: pool.generation(),
         pair_bits,
-        update_aabbs,
-        choose_axis,
-        write_sort_keys,
+        update_aabbs: kernels.update_aabbs.bind_named(ctx, |name| match name {
+            "params" => b(UPDATE_PARAMS),
+            name => body(name),
+        }),
+        choose_axis: kernels.choose_axis.bind_named(ctx, body),
+        write_sort_keys: kernels.write_sort_keys.bind_named(ctx, body),
         body_sort,
-        small_body_sort,
-        gather_sweep_boxes,
+        // In place in copy 0, where the radix sort's even number of passes leaves its result
+        // (asserted above).
+        small_body_sort: kernels.rank_sort.bind_named(ctx, body),
+        gather_sweep_boxes: kernels.gather_sweep_boxes.bind_named(ctx, body),
         parity,
     }
 }

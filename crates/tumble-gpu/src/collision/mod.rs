@@ -29,7 +29,6 @@ pub use snapshot::{CollisionSnapshot, ReadbackRequest};
 
 use crate::buffer_pool::BufferPool;
 use crate::kernel::Kernel;
-use crate::kernels::compact_touching::ScatterImpulsesArgs;
 use crate::kernels::radix_sort::RadixSort;
 use crate::kernels::rank_sort::RANK_SORT_CAPACITY;
 use crate::layout::{

@@ -238,17 +238,15 @@ impl GpuCollision {
             0,
             bytemuck::bytes_of(&params),
         );
-        let pool = &self.pool;
-        let group = self.kernels.scatter_impulses.bind(
-            &self.ctx,
-            &ScatterImpulsesArgs {
-                params: pool.get(SCATTER_PARAMS),
-                touching: pool.get(TOUCHING),
-                touching_manifolds: pool.get(TOUCHING_MANIFOLDS),
-                impulses: pool.get(IMPULSE_UPLOAD),
-                contacts: pool.get(CONTACTS[self.last_parity()]),
-            },
-        );
+        let parity = self.last_parity();
+        let group = self
+            .kernels
+            .scatter_impulses
+            .bind_named(&self.ctx, |name| match name {
+                "params" => self.pool.get(SCATTER_PARAMS),
+                "contacts" => self.pool.get(CONTACTS[parity]),
+                name => self.pool.get(name),
+            });
         let mut encoder = self.ctx.encoder("collision step");
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {

@@ -3,19 +3,13 @@
 //! the field and value named.
 
 use crate::GpuError;
+use crate::error::invalid;
 use crate::layout::{GpuPose, GpuShape, GpuVelocity};
 
 /// How far a rotation quaternion's norm may be from 1. Poses integrated in `f32` drift by a
 /// few ulps per step before renormalisation; 1e-3 leaves room for that while catching
 /// quaternions that were never normalised (which would scale the box).
 pub const UNIT_QUATERNION_TOLERANCE: f32 = 1e-3;
-
-fn invalid(field: String, value: impl std::fmt::Debug) -> GpuError {
-    GpuError::InvalidInput {
-        field,
-        value: format!("{value:?}"),
-    }
-}
 
 fn all_finite(v: &[f32]) -> bool {
     v.iter().all(|x| x.is_finite())
@@ -76,7 +70,7 @@ pub fn check_count(field: &str, len: usize, expected: usize) -> Result<(), GpuEr
 /// Errs unless `value` is finite and at least `min`.
 pub fn check_at_least(field: &str, value: f32, min: f32) -> Result<(), GpuError> {
     if !(value.is_finite() && value >= min) {
-        return Err(invalid(field.to_string(), value));
+        return Err(invalid(field, value));
     }
     Ok(())
 }

@@ -13,34 +13,31 @@ use crate::solver::layout::GpuBody;
 use crate::{GpuContext, GpuError, StageTimer};
 
 use super::constants::{AWAKE, ISLAND_ROUNDS};
-use super::islands::{CheckLabelsArgs, HookLabelsArgs, JumpLabelsArgs};
-use super::kinematic::KinematicWakeArgs;
 use super::layout::SleepParams;
 use super::pipelines::SleepPipelines;
-use super::plan_search::{BODY_GROUPS_OFFSET, LINK_GROUPS_OFFSET, PlanSearchArgs};
-use super::rest::{FallAsleepArgs, IslandRestArgs, UpdateRestArgs};
-use super::touch::TouchSleepersArgs;
-use super::wake::{WakeBodiesArgs, WakeIslandsArgs};
+use super::plan_search::{BODY_GROUPS_OFFSET, LINK_GROUPS_OFFSET};
 
 /// Timer name of the pass that wakes flagged islands.
 pub const SLEEP_WAKE: &str = "sleep: wake";
 /// Timer name of the pass that updates rest times and puts islands to sleep.
 pub const SLEEP_ISLANDS: &str = "sleep: islands";
 
-const PARAMS: &str = "sleep params";
-const AWAKE_BODIES: &str = "sleep awake bodies";
-const ISLAND: &str = "sleep island labels";
-const REST_TIME: &str = "sleep rest times";
-const LABELS: &str = "sleep search labels";
-/// The two copies the rounds hook into, in turn.
-const NEXT_LABELS: [&str; 2] = ["sleep search labels next 0", "sleep search labels next 1"];
-const SHORTEST_REST: &str = "sleep shortest rest";
-const WAKE: &str = "sleep wake flags";
-const UNFINISHED: &str = "sleep unfinished search";
-const KINEMATIC: &str = "sleep kinematic bodies";
-const READY: &str = "sleep ready bodies";
-const SEARCH_GROUPS: &str = "sleep search dispatch sizes";
-const ACTIVE: &str = "sleep active bodies";
+// The pool's buffers are named as the kernels' bindings are, so the kernels' arguments are
+// looked up by name (`Kernel::bind_named`).
+const PARAMS: &str = "params";
+const AWAKE_BODIES: &str = "awake_bodies";
+const ISLAND: &str = "island";
+const REST_TIME: &str = "rest_time";
+const LABELS: &str = "labels";
+/// The two copies the rounds hook into, in turn (`next_labels` and `spare`).
+const NEXT_LABELS: [&str; 2] = ["next_labels 0", "next_labels 1"];
+const SHORTEST_REST: &str = "shortest_rest";
+const WAKE: &str = "wake";
+const UNFINISHED: &str = "unfinished";
+const KINEMATIC: &str = "kinematic";
+const READY: &str = "ready";
+const SEARCH_GROUPS: &str = "search_groups";
+const ACTIVE: &str = "moving";
 
 /// Pair buffer sets the collision stages alternate between (this step's and last step's).
 const PAIR_SETS: usize = 2;
@@ -271,105 +268,30 @@ impl GpuSleep {
         }
         let k = self.pipelines.as_ref().expect("enabled");
         let (ctx, p) = (&self.ctx, &self.pool);
-        let hook = |next: usize| HookLabelsArgs {
-            work: inputs.contact_work,
-            manifolds: inputs.manifolds,
-            awake_bodies: p.get(AWAKE_BODIES),
-            island: p.get(ISLAND),
-            labels: p.get(LABELS),
-            next_labels: p.get(NEXT_LABELS[next]),
-        };
-        let jump = |from: usize| JumpLabelsArgs {
-            params: p.get(PARAMS),
-            next_labels: p.get(NEXT_LABELS[from]),
-            labels: p.get(LABELS),
-            spare: p.get(NEXT_LABELS[1 - from]),
+        // The step's buffers, then the pool's; `next` picks the copy a round hooks into.
+        let buffer = |next: usize| {
+            move |name: &'static str| match name {
+                "work" => inputs.contact_work,
+                "manifolds" => inputs.manifolds,
+                "velocities" => inputs.velocities,
+                "aabbs" => inputs.aabbs,
+                "bodies" => inputs.bodies,
+                "shapes" => inputs.shapes,
+                "next_labels" => p.get(NEXT_LABELS[next]),
+                "spare" => p.get(NEXT_LABELS[1 - next]),
+                name => p.get(name),
+            }
         };
         let groups = Groups {
-            update_rest: k.update_rest.bind(
-                ctx,
-                &UpdateRestArgs {
-                    params: p.get(PARAMS),
-                    awake_bodies: p.get(AWAKE_BODIES),
-                    velocities: inputs.velocities,
-                    island: p.get(ISLAND),
-                    rest_time: p.get(REST_TIME),
-                    labels: p.get(LABELS),
-                    next_labels: p.get(NEXT_LABELS[0]),
-                    shortest_rest: p.get(SHORTEST_REST),
-                    ready: p.get(READY),
-                },
-            ),
-            touch_sleepers: k.touch_sleepers.bind(
-                ctx,
-                &TouchSleepersArgs {
-                    work: inputs.contact_work,
-                    manifolds: inputs.manifolds,
-                    awake_bodies: p.get(AWAKE_BODIES),
-                    velocities: inputs.velocities,
-                    island: p.get(ISLAND),
-                    rest_time: p.get(REST_TIME),
-                    wake: p.get(WAKE),
-                },
-            ),
-            kinematic_wake: k.kinematic_wake.bind(
-                ctx,
-                &KinematicWakeArgs {
-                    params: p.get(PARAMS),
-                    kinematic: p.get(KINEMATIC),
-                    velocities: inputs.velocities,
-                    aabbs: inputs.aabbs,
-                    island: p.get(ISLAND),
-                    wake: p.get(WAKE),
-                },
-            ),
-            plan_search: k.plan_search.bind(
-                ctx,
-                &PlanSearchArgs {
-                    params: p.get(PARAMS),
-                    work: inputs.contact_work,
-                    ready: p.get(READY),
-                    search_groups: p.get(SEARCH_GROUPS),
-                },
-            ),
-            hook_labels: [0, 1].map(|next| k.hook_labels.bind(ctx, &hook(next))),
-            jump_labels: [0, 1].map(|from| k.jump_labels.bind(ctx, &jump(from))),
-            check_labels: k.check_labels.bind(
-                ctx,
-                &CheckLabelsArgs {
-                    work: inputs.contact_work,
-                    manifolds: inputs.manifolds,
-                    awake_bodies: p.get(AWAKE_BODIES),
-                    island: p.get(ISLAND),
-                    labels: p.get(LABELS),
-                    unfinished: p.get(UNFINISHED),
-                },
-            ),
-            island_rest: k.island_rest.bind(
-                ctx,
-                &IslandRestArgs {
-                    params: p.get(PARAMS),
-                    awake_bodies: p.get(AWAKE_BODIES),
-                    island: p.get(ISLAND),
-                    labels: p.get(LABELS),
-                    rest_time: p.get(REST_TIME),
-                    shortest_rest: p.get(SHORTEST_REST),
-                },
-            ),
-            fall_asleep: k.fall_asleep.bind(
-                ctx,
-                &FallAsleepArgs {
-                    params: p.get(PARAMS),
-                    unfinished: p.get(UNFINISHED),
-                    awake_bodies: p.get(AWAKE_BODIES),
-                    labels: p.get(LABELS),
-                    shortest_rest: p.get(SHORTEST_REST),
-                    island: p.get(ISLAND),
-                    velocities: inputs.velocities,
-                    bodies: inputs.bodies,
-                    shapes: inputs.shapes,
-                },
-            ),
+            update_rest: k.update_rest.bind_named(ctx, buffer(0)),
+            touch_sleepers: k.touch_sleepers.bind_named(ctx, buffer(0)),
+            kinematic_wake: k.kinematic_wake.bind_named(ctx, buffer(0)),
+            plan_search: k.plan_search.bind_named(ctx, buffer(0)),
+            hook_labels: [0, 1].map(|next| k.hook_labels.bind_named(ctx, buffer(next))),
+            jump_labels: [0, 1].map(|from| k.jump_labels.bind_named(ctx, buffer(from))),
+            check_labels: k.check_labels.bind_named(ctx, buffer(0)),
+            island_rest: k.island_rest.bind_named(ctx, buffer(0)),
+            fall_asleep: k.fall_asleep.bind_named(ctx, buffer(0)),
             key,
         };
         if self.groups.len() == PAIR_SETS {
@@ -385,20 +307,11 @@ impl GpuSleep {
             return;
         }
         let k = self.pipelines.as_ref().expect("enabled");
-        let p = &self.pool;
-        let group = k.wake_islands.bind(
-            &self.ctx,
-            &WakeIslandsArgs {
-                params: p.get(PARAMS),
-                wake: p.get(WAKE),
-                awake_bodies: p.get(AWAKE_BODIES),
-                island: p.get(ISLAND),
-                rest_time: p.get(REST_TIME),
-                bodies,
-                shapes,
-                moving: p.get(ACTIVE),
-            },
-        );
+        let group = k.wake_islands.bind_named(&self.ctx, |name| match name {
+            "bodies" => bodies,
+            "shapes" => shapes,
+            name => self.pool.get(name),
+        });
         self.wake_group = Some((key, group));
     }
 
@@ -420,16 +333,10 @@ impl GpuSleep {
         let (_, wake_group) = self.wake_group.as_ref().expect("built above");
         let queued = (!self.queued.is_empty()).then(|| {
             let buffer = self.ctx.storage_buffer("queued wakes", &self.queued);
-            let p = &self.pool;
-            let group = k.wake_bodies.bind(
-                &self.ctx,
-                &WakeBodiesArgs {
-                    queued: &buffer,
-                    island: p.get(ISLAND),
-                    rest_time: p.get(REST_TIME),
-                    wake: p.get(WAKE),
-                },
-            );
+            let group = k.wake_bodies.bind_named(&self.ctx, |name| match name {
+                "queued" => &buffer,
+                name => self.pool.get(name),
+            });
             (buffer, group)
         });
         self.queued.clear();

@@ -78,15 +78,6 @@ kernel! {
     pub static COLOR_PLAN = "solver/color_plan.wgsl";
 }
 
-/// The color stage's buffers for one parity (which copy of the color state is this step's).
-pub(super) struct ColorBuffers<'a> {
-    pub rounds: ColorRoundArgs<'a>,
-    pub color_offsets: &'a wgpu::Buffer,
-    pub color_args: &'a wgpu::Buffer,
-    pub sort_keys: &'a wgpu::Buffer,
-    pub sort_values: &'a wgpu::Buffer,
-}
-
 /// The color stage's bind groups for one parity, in the order [`Self::record`] runs them.
 #[derive(Debug)]
 pub(super) struct ColorGroups {
@@ -99,31 +90,19 @@ pub(super) struct ColorGroups {
 }
 
 impl ColorGroups {
-    pub(super) fn new(ctx: &crate::GpuContext, k: &SolverPipelines, b: &ColorBuffers<'_>) -> Self {
-        let r = &b.rounds;
+    /// The bind groups over `buffer`'s buffers, by binding name.
+    pub(super) fn new<'a>(
+        ctx: &crate::GpuContext,
+        k: &SolverPipelines,
+        buffer: impl Fn(&'static str) -> &'a wgpu::Buffer,
+    ) -> Self {
         Self {
-            propose: k.color_propose.bind(ctx, r),
-            resolve: k.color_resolve.bind(ctx, r),
-            withdraw: k.color_withdraw.bind(ctx, r),
-            finish: k.color_finish.bind(ctx, r),
-            count: k.color_count.bind(
-                ctx,
-                &ColorCountArgs {
-                    contact_work: r.contact_work,
-                    color_state: r.color_state,
-                    color_tally: r.color_tally,
-                    sort_keys: b.sort_keys,
-                    sort_values: b.sort_values,
-                },
-            ),
-            plan: k.color_plan.bind(
-                ctx,
-                &ColorPlanArgs {
-                    color_tally: r.color_tally,
-                    color_offsets: b.color_offsets,
-                    color_args: b.color_args,
-                },
-            ),
+            propose: k.color_propose.bind_named(ctx, &buffer),
+            resolve: k.color_resolve.bind_named(ctx, &buffer),
+            withdraw: k.color_withdraw.bind_named(ctx, &buffer),
+            finish: k.color_finish.bind_named(ctx, &buffer),
+            count: k.color_count.bind_named(ctx, &buffer),
+            plan: k.color_plan.bind_named(ctx, &buffer),
         }
     }
 

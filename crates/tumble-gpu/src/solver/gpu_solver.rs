@@ -12,24 +12,21 @@ use crate::kernels::radix_sort::{
 use crate::layout::DispatchArgs;
 use crate::{GpuContext, GpuError, StageTimer};
 
-use super::color::{ColorBuffers, ColorGroups, ColorRoundArgs};
+use super::color::ColorGroups;
 use super::constants::{
     COLOR_OFFSETS_LEN, COLOR_SLOTS, COLOR_TALLY_LEN, CONSTRAINT_ROWS, EMPTY_COLOR,
     GRAPH_COLOR_COUNT, TALLY_COUNTS,
 };
 use super::constraint_store::{constraints_by_manifold, store_stride};
 use super::effects::{Effects, effect_overrides};
-use super::fused::{SolveFusedArgs, SolveFusedSharedArgs};
-use super::integrate::{FinalizeBodiesArgs, IntegratePositionsArgs, IntegrateVelocitiesArgs};
 use super::layout::{ColorPass, ColorSlot, GpuConstraint, GpuSolverBody, GpuTilt, SolverParams};
 use super::path::{FusedMemory, SolvePath};
 use super::pipelines::{SolverPipelines, pass_kernels};
-use super::prepare::{PrepareBodiesArgs, PrepareContactsArgs};
-use super::solve_color::{PassKind, SolveColorArgs};
-use super::store::StoreImpulsesArgs;
+use super::solve_color::PassKind;
 
 mod bind_groups;
 
+// Named as the kernels' bindings are (`bind_groups`), but for the copies kept per parity.
 const SOLVER_BODIES: &str = "solver_bodies";
 const CONSTRAINTS: &str = "constraints";
 const COLOR_STATE: [&str; 2] = ["color_state_0", "color_state_1"];

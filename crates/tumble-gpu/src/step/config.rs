@@ -5,6 +5,7 @@ use tumble_solver::SolverConfig;
 
 use crate::GpuError;
 use crate::collision::CollisionConfig;
+use crate::error::invalid;
 use crate::solver::{FusedMemory, SolvePath};
 
 /// How each step chooses between the wide and the fused solver paths.
@@ -79,13 +80,6 @@ impl Default for GpuWorldConfig {
             fused_memory: FusedMemory::Auto,
             color_dispatch: ColorDispatch::InUse,
         }
-    }
-}
-
-fn invalid(field: &str, value: impl std::fmt::Debug) -> GpuError {
-    GpuError::InvalidInput {
-        field: field.to_string(),
-        value: format!("{value:?}"),
     }
 }
 

@@ -12,6 +12,7 @@ use tumble_solver::{Body, BodyState, Stage};
 
 use crate::buffer_pool::{BufferPool, STORAGE_USAGE};
 use crate::collision::{GpuCollision, StepBuffers};
+use crate::error::invalid;
 use crate::layout::{GpuContact, GpuManifold, GpuPose, GpuVelocity, WorkList};
 use crate::readback::{Readback, Region};
 use crate::sleep::GpuSleep;
@@ -89,13 +90,6 @@ pub struct GpuWorld {
     idle: IdleSteps,
     /// The contact-event stage, while events are on.
     events: Option<EventStage>,
-}
-
-fn invalid(field: impl Into<String>, value: impl std::fmt::Debug) -> GpuError {
-    GpuError::InvalidInput {
-        field: field.into(),
-        value: format!("{value:?}"),
-    }
 }
 
 impl GpuWorld {

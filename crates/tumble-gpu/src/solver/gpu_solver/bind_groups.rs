@@ -9,18 +9,29 @@ impl GpuSolver {
         let k = &self.pipelines;
         let get = |name| self.pool.get(name);
         let order = get(SORT_VALUES[result_copy(&self.sort_passes)]);
-        let round = |p: usize| ColorRoundArgs {
-            params: &self.params,
-            contact_work: inputs.contact_work,
-            manifolds: inputs.manifolds,
-            bodies: inputs.bodies,
-            previous_colors: get(COLOR_STATE[1 - p]),
-            color_state: get(COLOR_STATE[p]),
-            color_marks: get(COLOR_MARKS),
-            color_scratch: get(COLOR_SCRATCH),
-            color_tally: get(COLOR_TALLY),
+        // Every kernel's buffers by binding name: the step's, then the pool's (named as the
+        // bindings are). `p` is the parity: which copy of the colors and tilts is this step's.
+        let buffer = |p: usize| {
+            move |name: &'static str| match name {
+                "params" => &self.params,
+                "contact_work" => inputs.contact_work,
+                "manifolds" => inputs.manifolds,
+                "contacts" => inputs.contacts,
+                "bodies" => inputs.bodies,
+                "poses" => inputs.poses,
+                "velocities" | "velocity_buffer" => inputs.velocities,
+                "solver_body_buffer" => get(SOLVER_BODIES),
+                "previous_colors" => get(COLOR_STATE[1 - p]),
+                "color_state" => get(COLOR_STATE[p]),
+                "previous_tilts" => get(TILTS[1 - p]),
+                "tilts" => get(TILTS[p]),
+                "sort_keys" => get(SORT_KEYS[0]),
+                "sort_values" => get(SORT_VALUES[0]),
+                "color_order" => order,
+                name => get(name),
+            }
         };
-        let both = |f: &dyn Fn(usize) -> wgpu::BindGroup| [f(0), f(1)];
+        let both = |kernel: &Kernel| [0, 1].map(|p| kernel.bind_named(ctx, buffer(p)));
         let radix = self.radix.bind(
             ctx,
             &RadixBuffers {
@@ -34,157 +45,28 @@ impl GpuSolver {
         let passes = PassKind::ALL
             .iter()
             .map(|&kind| {
-                self.pass_colors
-                    .iter()
-                    .map(|pass_color| {
-                        self.passes[kind.index()].bind(
-                            ctx,
-                            &SolveColorArgs {
-                                params: &self.params,
-                                pass_color,
-                                color_offsets: get(COLOR_OFFSETS),
-                                solver_bodies: get(SOLVER_BODIES),
-                                velocities: inputs.velocities,
-                                constraints: get(CONSTRAINTS),
-                            },
-                        )
+                let kernel = &self.passes[kind.index()];
+                let pass = |pass_color| {
+                    kernel.bind_named(ctx, |name| match name {
+                        "pass_color" => pass_color,
+                        name => buffer(0)(name),
                     })
-                    .collect()
+                };
+                self.pass_colors.iter().map(pass).collect()
             })
             .collect();
         BindGroups {
-            color: [0, 1].map(|p| {
-                ColorGroups::new(
-                    ctx,
-                    k,
-                    &ColorBuffers {
-                        rounds: round(p),
-                        color_offsets: get(COLOR_OFFSETS),
-                        color_args: get(COLOR_ARGS),
-                        sort_keys: get(SORT_KEYS[0]),
-                        sort_values: get(SORT_VALUES[0]),
-                    },
-                )
-            }),
+            color: [0, 1].map(|p| ColorGroups::new(ctx, k, buffer(p))),
             radix,
-            prepare_bodies: k.prepare_bodies.bind(
-                ctx,
-                &PrepareBodiesArgs {
-                    params: &self.params,
-                    bodies: inputs.bodies,
-                    poses: inputs.poses,
-                    solver_bodies: get(SOLVER_BODIES),
-                },
-            ),
-            prepare_contacts: both(&|p| {
-                k.prepare_contacts.bind(
-                    ctx,
-                    &PrepareContactsArgs {
-                        params: &self.params,
-                        contact_work: inputs.contact_work,
-                        manifolds: inputs.manifolds,
-                        contacts: inputs.contacts,
-                        bodies: inputs.bodies,
-                        poses: inputs.poses,
-                        velocities: inputs.velocities,
-                        solver_bodies: get(SOLVER_BODIES),
-                        previous_tilts: get(TILTS[1 - p]),
-                        color_order: order,
-                        constraints: get(CONSTRAINTS),
-                    },
-                )
-            }),
-            integrate_velocities: k.integrate_velocities.bind(
-                ctx,
-                &IntegrateVelocitiesArgs {
-                    params: &self.params,
-                    bodies: inputs.bodies,
-                    poses: inputs.poses,
-                    solver_bodies: get(SOLVER_BODIES),
-                    velocities: inputs.velocities,
-                },
-            ),
-            integrate_positions: k.integrate_positions.bind(
-                ctx,
-                &IntegratePositionsArgs {
-                    params: &self.params,
-                    bodies: inputs.bodies,
-                    poses: inputs.poses,
-                    velocities: inputs.velocities,
-                    solver_bodies: get(SOLVER_BODIES),
-                },
-            ),
-            finalize_bodies: k.finalize_bodies.bind(
-                ctx,
-                &FinalizeBodiesArgs {
-                    params: &self.params,
-                    bodies: inputs.bodies,
-                    solver_bodies: get(SOLVER_BODIES),
-                    poses: inputs.poses,
-                },
-            ),
-            store_impulses: both(&|p| {
-                k.store_impulses.bind(
-                    ctx,
-                    &StoreImpulsesArgs {
-                        contact_work: inputs.contact_work,
-                        color_order: order,
-                        constraints: get(CONSTRAINTS),
-                        poses: inputs.poses,
-                        contacts: inputs.contacts,
-                        tilts: get(TILTS[p]),
-                    },
-                )
-            }),
+            prepare_bodies: k.prepare_bodies.bind_named(ctx, buffer(0)),
+            prepare_contacts: both(&k.prepare_contacts),
+            integrate_velocities: k.integrate_velocities.bind_named(ctx, buffer(0)),
+            integrate_positions: k.integrate_positions.bind_named(ctx, buffer(0)),
+            finalize_bodies: k.finalize_bodies.bind_named(ctx, buffer(0)),
+            store_impulses: both(&k.store_impulses),
             passes,
-            solve_fused: both(&|p| {
-                k.solve_fused.bind(
-                    ctx,
-                    &SolveFusedArgs {
-                        params: &self.params,
-                        contact_work: inputs.contact_work,
-                        manifolds: inputs.manifolds,
-                        contacts: inputs.contacts,
-                        bodies: inputs.bodies,
-                        previous_colors: get(COLOR_STATE[1 - p]),
-                        color_state: get(COLOR_STATE[p]),
-                        color_marks: get(COLOR_MARKS),
-                        color_scratch: get(COLOR_SCRATCH),
-                        color_offsets: get(COLOR_OFFSETS),
-                        color_order: order,
-                        poses: inputs.poses,
-                        velocities: inputs.velocities,
-                        solver_bodies: get(SOLVER_BODIES),
-                        constraints: get(CONSTRAINTS),
-                        previous_tilts: get(TILTS[1 - p]),
-                        tilts: get(TILTS[p]),
-                    },
-                )
-            }),
-            solve_fused_shared: both(&|p| {
-                k.solve_fused_shared.bind(
-                    ctx,
-                    &SolveFusedSharedArgs {
-                        params: &self.params,
-                        contact_work: inputs.contact_work,
-                        manifolds: inputs.manifolds,
-                        contacts: inputs.contacts,
-                        bodies: inputs.bodies,
-                        previous_colors: get(COLOR_STATE[1 - p]),
-                        color_state: get(COLOR_STATE[p]),
-                        color_marks: get(COLOR_MARKS),
-                        color_scratch: get(COLOR_SCRATCH),
-                        color_offsets: get(COLOR_OFFSETS),
-                        color_order: order,
-                        poses: inputs.poses,
-                        velocity_buffer: inputs.velocities,
-                        solver_body_buffer: get(SOLVER_BODIES),
-                        constraints: get(CONSTRAINTS),
-                        previous_tilts: get(TILTS[1 - p]),
-                        tilts: get(TILTS[p]),
-                    },
-                )
-            }),
+            solve_fused: both(&k.solve_fused),
+            solve_fused_shared: both(&k.solve_fused_shared),
         }
     }
 }

@@ -211,45 +211,47 @@ impl Unread {
         Ok(out)
     }
 
+    /// The value of `cell`, made by `decode` from a fetch of `bits` the first time it is asked
+    /// for; a failed fetch is kept as its message.
+    fn decoded<'a, T>(
+        &self,
+        cell: &'a OnceLock<Result<T, String>>,
+        gpu: &Mutex<GpuWorld>,
+        bits: u8,
+        decode: impl FnOnce(Snapshot) -> T,
+    ) -> Result<&'a T, String> {
+        let value = cell.get_or_init(|| {
+            let s = self.fetch(gpu, Reads::from_bits(bits)).map_err(failed)?;
+            Ok(decode(s))
+        });
+        value.as_ref().map_err(Clone::clone)
+    }
+
     /// Every body's pose after the step.
     pub(crate) fn poses(&self, gpu: &Mutex<GpuWorld>) -> Result<&[Pose], String> {
-        let poses = self.poses.get_or_init(|| {
-            let s = self
-                .fetch(gpu, Reads::from_bits(Reads::POSES))
-                .map_err(failed)?;
-            Ok((0..s.poses.len()).map(|i| s.pose(i)).collect())
+        let poses = self.decoded(&self.poses, gpu, Reads::POSES, |s| {
+            (0..s.poses.len()).map(|i| s.pose(i)).collect()
         });
-        poses.as_deref().map_err(Clone::clone)
+        poses.map(Vec::as_slice)
     }
 
     /// Every body's velocities after the step.
     pub(crate) fn velocities(&self, gpu: &Mutex<GpuWorld>) -> Result<&[BodyState], String> {
-        let velocities = self.velocities.get_or_init(|| {
-            let s = self
-                .fetch(gpu, Reads::from_bits(Reads::VELOCITIES))
-                .map_err(failed)?;
-            Ok((0..s.velocities.len()).map(|i| s.state(i)).collect())
+        let velocities = self.decoded(&self.velocities, gpu, Reads::VELOCITIES, |s| {
+            (0..s.velocities.len()).map(|i| s.state(i)).collect()
         });
-        velocities.as_deref().map_err(Clone::clone)
+        velocities.map(Vec::as_slice)
     }
 
     /// Which bodies sleep after the step.
     pub(crate) fn sleeping(&self, gpu: &Mutex<GpuWorld>) -> Result<&[bool], String> {
-        let flags = self.sleeping.get_or_init(|| {
-            let s = self
-                .fetch(gpu, Reads::from_bits(Reads::SLEEPING))
-                .map_err(failed)?;
-            Ok(s.sleeping)
-        });
-        flags.as_deref().map_err(Clone::clone)
+        let flags = self.decoded(&self.sleeping, gpu, Reads::SLEEPING, |s| s.sleeping);
+        flags.map(Vec::as_slice)
     }
 
     /// The step's manifolds with their impulses.
     pub(crate) fn contacts(&self, gpu: &Mutex<GpuWorld>) -> Result<&ContactView, String> {
-        let view = self.contacts.get_or_init(|| {
-            let s = self
-                .fetch(gpu, Reads::from_bits(Reads::CONTACTS))
-                .map_err(failed)?;
+        self.decoded(&self.contacts, gpu, Reads::CONTACTS, |s| {
             let set = s.contacts.unwrap_or_default();
             let contacts = set.contacts();
             let handles = contacts
@@ -261,13 +263,12 @@ impl Unread {
                     )
                 })
                 .collect();
-            Ok(ContactView {
+            ContactView {
                 contacts,
                 handles,
                 pairs: set.work.count as usize,
-            })
-        });
-        view.as_ref().map_err(Clone::clone)
+            }
+        })
     }
 
     /// The step's statistics: counts from its manifolds, stage times from its timestamps.

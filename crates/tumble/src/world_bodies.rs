@@ -1,7 +1,7 @@
 //! Adding, removing, reading and setting bodies.
 
 use tumble_geometry::{Point3, Pose, Real, Vec3};
-use tumble_solver::{BodyKind, BodyState, InvalidParameter, Locks, bounds};
+use tumble_solver::{Body, BodyKind, BodyState, InvalidParameter, Locks, bounds};
 
 use crate::{BodyDesc, BodyHandle, Error, World};
 
@@ -219,18 +219,7 @@ impl World {
         }
         let (dt, substeps) = (self.config.dt, self.config.solver.substeps);
         let pose = self.backend.pose(&self.host, d)?;
-        let inv_dt = 1.0 / dt;
-        let v = (target.translation.vector - pose.translation.vector) * inv_dt;
-        let turn = target.rotation * pose.rotation.inverse();
-        let w = turn.scaled_axis() * inv_dt;
-        bounds::require_length_at_most(
-            "target",
-            &v,
-            bounds::MAX_SPEED,
-            bounds::EXPECTED_TARGET_SPEED,
-        )?;
-        let max_w = bounds::max_angular_speed(dt, substeps);
-        bounds::require_length_at_most("target", &w, max_w, bounds::EXPECTED_TARGET_SPIN)?;
+        let (v, w) = target_velocities(&pose, &target, dt, substeps)?;
         self.backend.sync_motion(&mut self.host)?;
         self.host.states[d].linear_velocity = v;
         self.host.states[d].angular_velocity = w;
@@ -257,31 +246,72 @@ impl World {
             self.backend.pose(&self.host, d)?,
             self.backend.state(&self.host, d)?,
         );
-        let mut body = self.host.bodies[d];
-        body.pose = pose;
-        let r = point.coords - body.pose.translation.vector;
-        let v = state.linear_velocity + body.inverse_mass_axes().component_mul(&impulse);
-        let w = state.angular_velocity + body.inverse_inertia_world() * r.cross(&impulse);
         let (dt, substeps) = (self.config.dt, self.config.solver.substeps);
-        let result = bounds::EXPECTED_IMPULSE_RESULT;
-        let too_fast = bounds::require_length_at_most("impulse", &v, bounds::MAX_SPEED, result)
-            .and_then(|()| {
-                let max_w = bounds::max_angular_speed(dt, substeps);
-                bounds::require_length_at_most("impulse", &w, max_w, result)
-            });
-        if too_fast.is_err() {
-            return Err(InvalidParameter::new(
-                "impulse",
-                [impulse.x, impulse.y, impulse.z],
-                result,
-            )
-            .into());
-        }
+        let body = &self.host.bodies[d];
+        let (v, w) = velocities_after_impulse(body, pose, &state, &impulse, &point, dt, substeps)?;
         self.backend.sync_motion(&mut self.host)?;
         let state = &mut self.host.states[d];
         state.linear_velocity = v;
         state.angular_velocity = w;
         self.host.sleep.wake(d);
         Ok(())
+    }
+}
+
+/// The velocities that take a kinematic body from `pose` to `target` in one step of `dt`
+/// (`substeps` substeps), refused (as `target`) beyond the speed and spin bounds. Shared by
+/// [`World::set_kinematic_target`] and the batch's check of the same action.
+pub(crate) fn target_velocities(
+    pose: &Pose,
+    target: &Pose,
+    dt: Real,
+    substeps: u32,
+) -> Result<(Vec3, Vec3), InvalidParameter> {
+    let inv_dt = 1.0 / dt;
+    let v = (target.translation.vector - pose.translation.vector) * inv_dt;
+    let turn = target.rotation * pose.rotation.inverse();
+    let w = turn.scaled_axis() * inv_dt;
+    bounds::require_length_at_most(
+        "target",
+        &v,
+        bounds::MAX_SPEED,
+        bounds::EXPECTED_TARGET_SPEED,
+    )?;
+    let max_w = bounds::max_angular_speed(dt, substeps);
+    bounds::require_length_at_most("target", &w, max_w, bounds::EXPECTED_TARGET_SPIN)?;
+    Ok((v, w))
+}
+
+/// The velocities `impulse` at world `point` leaves on `body` (at `pose`, moving at `state`),
+/// refused (as `impulse`) when they exceed the speed or spin bounds of a step of `dt` in
+/// `substeps` substeps. Shared by [`World::apply_impulse`] and the batch's check of the same
+/// action.
+pub(crate) fn velocities_after_impulse(
+    body: &Body,
+    pose: Pose,
+    state: &BodyState,
+    impulse: &Vec3,
+    point: &Point3,
+    dt: Real,
+    substeps: u32,
+) -> Result<(Vec3, Vec3), InvalidParameter> {
+    let mut body = *body;
+    body.pose = pose;
+    let r = point.coords - body.pose.translation.vector;
+    let v = state.linear_velocity + body.inverse_mass_axes().component_mul(impulse);
+    let w = state.angular_velocity + body.inverse_inertia_world() * r.cross(impulse);
+    let result = bounds::EXPECTED_IMPULSE_RESULT;
+    let too_fast = bounds::require_length_at_most("impulse", &v, bounds::MAX_SPEED, result)
+        .and_then(|()| {
+            let max_w = bounds::max_angular_speed(dt, substeps);
+            bounds::require_length_at_most("impulse", &w, max_w, result)
+        });
+    match too_fast {
+        Ok(()) => Ok((v, w)),
+        Err(_) => Err(InvalidParameter::new(
+            "impulse",
+            [impulse.x, impulse.y, impulse.z],
+            result,
+        )),
     }
 }

@@ -5,8 +5,8 @@
 mod common;
 
 use common::*;
-use tumble::EffectSwitch;
 use tumble::prelude::*;
+use tumble::{EffectSwitch, WorldSnapshot};
 
 /// Every pose and velocity, as bits: equal bits mean the same state, not merely a close one.
 fn bits(w: &World) -> Vec<u32> {
@@ -66,14 +66,20 @@ fn run(w: &mut World, n: usize) -> Vec<Vec<u32>> {
         .collect()
 }
 
+/// The pile after `steps` steps, and its snapshot then.
+fn pile_snapshot(sleep: bool, steps: usize) -> (World, WorldSnapshot) {
+    let mut w = pile(sleep);
+    run(&mut w, steps);
+    let snap = w.snapshot().unwrap();
+    (w, snap)
+}
+
 #[test]
 fn a_restored_world_continues_bit_for_bit() {
     // Without sleep the snapshot is taken while the pile still settles; with it, late enough
     // that islands fall asleep during the 60 steps after it.
     for (sleep, before) in [(false, 40), (true, 100)] {
-        let mut w = pile(sleep);
-        run(&mut w, before);
-        let snap = w.snapshot().unwrap();
+        let (mut w, snap) = pile_snapshot(sleep, before);
         assert_eq!(snap.step_count(), before as u64);
         assert_eq!(snap.body_count(), 7);
         // The same body added after the snapshot and after the restore gets the same handle
@@ -129,13 +135,10 @@ fn snapshots_refuse_another_backend() {
 #[cfg(feature = "serde")]
 mod json {
     use super::*;
-    use tumble::WorldSnapshot;
 
     #[test]
     fn a_json_round_trip_keeps_every_bit() {
-        let mut w = pile(true);
-        run(&mut w, 35);
-        let snap = w.snapshot().unwrap();
+        let (mut w, snap) = pile_snapshot(true, 35);
         let text = serde_json::to_string(&snap).unwrap();
         let back: WorldSnapshot = serde_json::from_str(&text).unwrap();
         let original = run(&mut w, 40);
@@ -145,9 +148,7 @@ mod json {
 
     #[test]
     fn an_altered_snapshot_is_refused_and_the_world_left_unchanged() {
-        let mut w = pile(false);
-        run(&mut w, 10);
-        let snap = w.snapshot().unwrap();
+        let (mut w, snap) = pile_snapshot(false, 10);
         let text = serde_json::to_value(&snap).unwrap();
         let before = bits(&w);
         type Alter = fn(&mut serde_json::Value);

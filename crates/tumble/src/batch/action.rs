@@ -12,6 +12,7 @@ use tumble_geometry::{Point3, Pose, Vec3};
 use tumble_solver::{BodyKind, BodyState, InvalidParameter, bounds};
 
 use super::error::{BatchError, WorldId};
+use crate::world_bodies::{target_velocities, velocities_after_impulse};
 use crate::{BodyHandle, Error, World};
 
 /// What an [`Action`] does to its body.
@@ -168,26 +169,13 @@ pub(crate) fn plan<'w>(
                         "a kinematic body",
                     )));
                 }
-                // The same arithmetic as `World::set_kinematic_target`; no action moves a
-                // pose, so the world's pose is the one the target will be reached from.
+                // The function `World::set_kinematic_target` uses; no action moves a pose, so
+                // the world's pose is the one the target will be reached from.
                 let pose = world
                     .backend
                     .pose(&world.host, d)
                     .map_err(|e| body_error(index, action.body, e))?;
-                let inv_dt = 1.0 / dt;
-                let v = (target.translation.vector - pose.translation.vector) * inv_dt;
-                let turn = target.rotation * pose.rotation.inverse();
-                let w = turn.scaled_axis() * inv_dt;
-                bounds::require_length_at_most(
-                    "target",
-                    &v,
-                    bounds::MAX_SPEED,
-                    bounds::EXPECTED_TARGET_SPEED,
-                )
-                .map_err(fail)?;
-                let max_w = bounds::max_angular_speed(dt, substeps);
-                bounds::require_length_at_most("target", &w, max_w, bounds::EXPECTED_TARGET_SPIN)
-                    .map_err(fail)?;
+                let (v, w) = target_velocities(&pose, &target, dt, substeps).map_err(fail)?;
                 pending.insert(key, BodyState::moving(v, w));
             }
             ActionKind::Impulse { impulse, point } => {
@@ -202,8 +190,8 @@ pub(crate) fn plan<'w>(
                 if !body.is_dynamic() {
                     continue;
                 }
-                // The same arithmetic as `World::apply_impulse`, from the velocities the
-                // earlier entries leave.
+                // The function `World::apply_impulse` uses, from the velocities the earlier
+                // entries leave.
                 let pose = world
                     .backend
                     .pose(&world.host, d)
@@ -215,25 +203,9 @@ pub(crate) fn plan<'w>(
                         .state(&world.host, d)
                         .map_err(|e| body_error(index, action.body, e))?,
                 };
-                let mut moved = *body;
-                moved.pose = pose;
-                let r = point.coords - moved.pose.translation.vector;
-                let v = state.linear_velocity + moved.inverse_mass_axes().component_mul(&impulse);
-                let w = state.angular_velocity + moved.inverse_inertia_world() * r.cross(&impulse);
-                let result = bounds::EXPECTED_IMPULSE_RESULT;
-                let max_w = bounds::max_angular_speed(dt, substeps);
-                let too_fast =
-                    bounds::require_length_at_most("impulse", &v, bounds::MAX_SPEED, result)
-                        .and_then(|()| {
-                            bounds::require_length_at_most("impulse", &w, max_w, result)
-                        });
-                if too_fast.is_err() {
-                    return Err(fail(InvalidParameter::new(
-                        "impulse",
-                        [impulse.x, impulse.y, impulse.z],
-                        result,
-                    )));
-                }
+                let (v, w) =
+                    velocities_after_impulse(body, pose, &state, &impulse, &point, dt, substeps)
+                        .map_err(fail)?;
                 pending.insert(key, BodyState::moving(v, w));
             }
         }

@@ -20,7 +20,25 @@ pub const VELOCITY_FLOATS: usize = 6;
 struct Read {
     what: &'static str,
     floats: usize,
-    write: fn(&World, usize, &mut [f32]) -> Result<(), Error>,
+    write: WriteBody,
+}
+
+/// Writes body `d` of the world into its chunk of the output.
+type WriteBody = fn(&World, usize, &mut [f32]) -> Result<(), Error>;
+
+impl Read {
+    const fn new(what: &'static str, floats: usize, write: WriteBody) -> Read {
+        Read {
+            what,
+            floats,
+            write,
+        }
+    }
+
+    /// The same read as the method `what` (its errors name that method).
+    const fn named(self, what: &'static str) -> Read {
+        Read { what, ..self }
+    }
 }
 
 fn write_pose(world: &World, d: usize, out: &mut [f32]) -> Result<(), Error> {
@@ -37,32 +55,12 @@ fn write_velocity(world: &World, d: usize, out: &mut [f32]) -> Result<(), Error>
     Ok(())
 }
 
-const POSES: Read = Read {
-    what: "read_poses",
-    floats: POSE_FLOATS,
-    write: write_pose,
-};
-const ALL_POSES: Read = Read {
-    what: "read_all_poses",
-    ..POSES
-};
-const STRIDED_POSES: Read = Read {
-    what: "read_all_poses_strided",
-    ..POSES
-};
-const VELOCITIES: Read = Read {
-    what: "read_velocities",
-    floats: VELOCITY_FLOATS,
-    write: write_velocity,
-};
-const ALL_VELOCITIES: Read = Read {
-    what: "read_all_velocities",
-    ..VELOCITIES
-};
-const STRIDED_VELOCITIES: Read = Read {
-    what: "read_all_velocities_strided",
-    ..VELOCITIES
-};
+const POSES: Read = Read::new("read_poses", POSE_FLOATS, write_pose);
+const ALL_POSES: Read = POSES.named("read_all_poses");
+const STRIDED_POSES: Read = POSES.named("read_all_poses_strided");
+const VELOCITIES: Read = Read::new("read_velocities", VELOCITY_FLOATS, write_velocity);
+const ALL_VELOCITIES: Read = VELOCITIES.named("read_all_velocities");
+const STRIDED_VELOCITIES: Read = VELOCITIES.named("read_all_velocities_strided");
 
 /// Writes every body of `world` into `out` (exactly its length).
 fn write_world(read: &Read, world: &World, out: &mut [f32]) -> Result<(), Error> {

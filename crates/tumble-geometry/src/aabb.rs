@@ -47,11 +47,12 @@ impl Aabb {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Rot, Vec3};
+    use crate::Vec3;
+    use crate::test_support::{brick, turned_about_z};
 
     #[test]
     fn an_unrotated_box_has_its_half_extents_plus_the_margin() {
-        let cuboid = Cuboid::new(Vec3::new(1.0, 2.0, 3.0));
+        let cuboid = brick();
         let pose = Pose::translation(10.0, -4.0, 0.5);
         let b = Aabb::from_cuboid(&cuboid, &pose, 0.25);
         assert_eq!(b.min, Point3::new(8.75, -6.25, -2.75));
@@ -62,11 +63,8 @@ mod tests {
     #[test]
     fn a_rotated_box_is_bounded_by_the_sum_of_its_projected_half_extents() {
         // 45 degrees about z: the x and y extents are both (1 + 2) / sqrt(2) = 2.1213.
-        let cuboid = Cuboid::new(Vec3::new(1.0, 2.0, 3.0));
-        let pose = Pose::from_parts(
-            nalgebra::Translation3::new(1.0, 0.0, 0.0),
-            Rot::from_axis_angle(&Vec3::z_axis(), std::f32::consts::FRAC_PI_4),
-        );
+        let cuboid = brick();
+        let pose = turned_about_z(1.0, 0.0, 0.0, std::f32::consts::FRAC_PI_4);
         let b = Aabb::from_cuboid(&cuboid, &pose, 0.0);
         let e = 3.0 / std::f32::consts::SQRT_2;
         let close = |a: Real, b: Real| (a - b).abs() < 1e-5;

@@ -144,15 +144,11 @@ impl Cuboid {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Rot;
-
-    fn cuboid() -> Cuboid {
-        Cuboid::new(Vec3::new(1.0, 2.0, 3.0))
-    }
+    use crate::test_support::{brick, turned_about_z};
 
     #[test]
     fn vertex_bits_select_the_sign_of_each_axis() {
-        let c = cuboid();
+        let c = brick();
         assert_eq!(c.vertex(0), Point3::new(-1.0, -2.0, -3.0));
         assert_eq!(c.vertex(1), Point3::new(1.0, -2.0, -3.0));
         assert_eq!(c.vertex(2), Point3::new(-1.0, 2.0, -3.0));
@@ -163,7 +159,7 @@ mod tests {
 
     #[test]
     fn faces_point_outward_and_wind_counter_clockwise_from_outside() {
-        let c = cuboid();
+        let c = brick();
         for f in 0..6 {
             let face = c.face(f);
             let mut n = Vec3::zeros();
@@ -185,7 +181,7 @@ mod tests {
 
     #[test]
     fn edges_run_along_their_axis_between_neighbour_vertices() {
-        let c = cuboid();
+        let c = brick();
         for e in 0..12 {
             let (a, b) = c.edge(e);
             let d = b - a;
@@ -197,22 +193,17 @@ mod tests {
 
     #[test]
     fn support_is_the_farthest_corner_along_the_direction() {
-        let c = cuboid();
-        assert_eq!(
-            c.local_support(&Vec3::new(1.0, -1.0, 0.5)),
-            Point3::new(1.0, -2.0, 3.0)
-        );
-        assert_eq!(
-            c.local_support(&Vec3::new(-0.1, 2.0, -9.0)),
-            Point3::new(-1.0, 2.0, -3.0)
-        );
+        let c = brick();
+        for (dir, corner) in [
+            (Vec3::new(1.0, -1.0, 0.5), Point3::new(1.0, -2.0, 3.0)),
+            (Vec3::new(-0.1, 2.0, -9.0), Point3::new(-1.0, 2.0, -3.0)),
+        ] {
+            assert_eq!(c.local_support(&dir), corner, "along {dir}");
+        }
         // Zero components go to the positive side.
         assert_eq!(c.local_support(&Vec3::zeros()), Point3::new(1.0, 2.0, 3.0));
         // In the world: a quarter turn about z maps local +x to world +y.
-        let pose = Pose::from_parts(
-            nalgebra::Translation3::new(5.0, 0.0, 0.0),
-            Rot::from_axis_angle(&Vec3::z_axis(), std::f32::consts::FRAC_PI_2),
-        );
+        let pose = turned_about_z(5.0, 0.0, 0.0, std::f32::consts::FRAC_PI_2);
         let s = c.support(&pose, &Vec3::new(0.0, 1.0, 0.0));
         // Farthest along world +y is local +x at h.x = 1 from the centre.
         assert!((s.y - 1.0).abs() < 1e-5, "{s}");
@@ -223,7 +214,7 @@ mod tests {
 
     #[test]
     fn best_face_is_the_most_aligned_outward_normal() {
-        let c = cuboid();
+        let c = brick();
         assert_eq!(c.best_face(&Vec3::new(1.0, 0.5, 0.5)), 0);
         assert_eq!(c.best_face(&Vec3::new(-1.0, 0.5, 0.5)), 1);
         assert_eq!(c.best_face(&Vec3::new(0.1, 0.9, -0.5)), 2);
@@ -239,22 +230,20 @@ mod tests {
 
     #[test]
     fn closest_point_clamps_outside_points_and_keeps_inside_ones() {
-        let c = cuboid();
+        let c = brick();
         let inside = Point3::new(0.5, -1.0, 2.0);
-        assert_eq!(c.local_closest_point(&inside), inside);
-        assert_eq!(
-            c.local_closest_point(&Point3::new(3.0, -5.0, 0.0)),
-            Point3::new(1.0, -2.0, 0.0)
-        );
-        assert_eq!(
-            c.local_closest_point(&Point3::new(-3.0, 5.0, -7.0)),
-            Point3::new(-1.0, 2.0, -3.0)
-        );
+        for (p, nearest) in [
+            (inside, inside),
+            (Point3::new(3.0, -5.0, 0.0), Point3::new(1.0, -2.0, 0.0)),
+            (Point3::new(-3.0, 5.0, -7.0), Point3::new(-1.0, 2.0, -3.0)),
+        ] {
+            assert_eq!(c.local_closest_point(&p), nearest, "from {p}");
+        }
     }
 
     #[test]
     fn volume_and_aabb_follow_the_half_extents() {
-        let c = cuboid();
+        let c = brick();
         assert_eq!(c.volume(), 48.0);
         let b = c.aabb(&Pose::translation(1.0, 1.0, 1.0), 0.5);
         assert_eq!(b.min, Point3::new(-0.5, -1.5, -2.5));

@@ -30,6 +30,8 @@ mod ray;
 mod reduce;
 mod segment;
 mod sweep;
+#[cfg(test)]
+mod test_support;
 
 pub use aabb::Aabb;
 pub use clip::{ClipPolygon, ClipVertex, MAX_CLIP_VERTICES};

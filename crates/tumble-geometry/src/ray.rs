@@ -24,6 +24,16 @@ pub struct CastHit {
     pub normal: Vec3,
 }
 
+impl CastHit {
+    /// The hit of a cast that starts inside or touching the box: time 0, no normal.
+    pub fn at_start() -> Self {
+        CastHit {
+            toi: 0.0,
+            normal: Vec3::zeros(),
+        }
+    }
+}
+
 /// The nearest point of a box to a query point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointProjection {
@@ -198,15 +208,11 @@ impl Cuboid {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Rot;
-
-    fn cube() -> Cuboid {
-        Cuboid::new(Vec3::new(1.0, 2.0, 3.0))
-    }
+    use crate::test_support::{brick, turned_about_z};
 
     #[test]
     fn a_ray_along_an_axis_hits_the_facing_face() {
-        let c = cube();
+        let c = brick();
         let pose = Pose::translation(10.0, 0.0, 0.0);
         let hit = c
             .cast_ray(&pose, &Point3::origin(), &Vec3::x(), 100.0)
@@ -235,11 +241,8 @@ mod tests {
     fn a_rotated_box_is_hit_on_its_turned_face() {
         // A quarter turn about z: local +y points to world -x, so the face hit from the
         // origin is local +y at 2 m from the centre.
-        let c = cube();
-        let pose = Pose::from_parts(
-            nalgebra::Translation3::new(10.0, 0.0, 0.0),
-            Rot::from_axis_angle(&Vec3::z_axis(), std::f32::consts::FRAC_PI_2),
-        );
+        let c = brick();
+        let pose = turned_about_z(10.0, 0.0, 0.0, std::f32::consts::FRAC_PI_2);
         let hit = c
             .cast_ray(&pose, &Point3::origin(), &Vec3::x(), 100.0)
             .expect("hit");
@@ -249,7 +252,7 @@ mod tests {
 
     #[test]
     fn a_ray_from_inside_hits_at_zero_with_no_normal() {
-        let c = cube();
+        let c = brick();
         let hit = c
             .cast_ray(
                 &Pose::identity(),
@@ -258,18 +261,12 @@ mod tests {
                 1.0,
             )
             .expect("inside");
-        assert_eq!(
-            hit,
-            CastHit {
-                toi: 0.0,
-                normal: Vec3::zeros()
-            }
-        );
+        assert_eq!(hit, CastHit::at_start());
     }
 
     #[test]
     fn nan_input_misses_rather_than_hits() {
-        let c = cube();
+        let c = brick();
         let nan = Vec3::new(Real::NAN, 0.0, 0.0);
         assert!(
             c.cast_ray(&Pose::identity(), &Point3::new(5.0, 0.0, 0.0), &nan, 10.0)
@@ -308,11 +305,8 @@ mod tests {
 
     #[test]
     fn points_project_onto_the_nearest_part_of_the_box() {
-        let c = cube();
-        let pose = Pose::from_parts(
-            nalgebra::Translation3::new(0.0, 0.0, 5.0),
-            Rot::from_axis_angle(&Vec3::z_axis(), std::f32::consts::FRAC_PI_2),
-        );
+        let c = brick();
+        let pose = turned_about_z(0.0, 0.0, 5.0, std::f32::consts::FRAC_PI_2);
         // Local +x is world +y; 3 m above the centre in world y is 2 m outside that face.
         let p = Point3::new(0.0, 3.0, 5.0);
         assert!(!c.contains_point(&pose, &p));

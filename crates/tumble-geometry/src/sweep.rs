@@ -183,13 +183,7 @@ mod tests {
         assert!(cast_cuboid(&c, &above, &Vec3::x(), &c, &target, 10.0).is_none());
         // Overlapping at the start: toi 0, no normal.
         let hit = cast_cuboid(&c, &target, &Vec3::x(), &c, &target, 10.0).expect("overlap");
-        assert_eq!(
-            hit,
-            CastHit {
-                toi: 0.0,
-                normal: Vec3::zeros()
-            }
-        );
+        assert_eq!(hit, CastHit::at_start());
     }
 
     /// The box cast agrees with bisection on the overlap test, on random pairs: the time of

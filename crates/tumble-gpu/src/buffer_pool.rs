@@ -75,6 +75,19 @@ impl BufferPool {
         Ok(true)
     }
 
+    /// [`Self::ensure`] for each `(name, bytes)` in turn; true when any was (re)allocated.
+    pub fn ensure_all(
+        &mut self,
+        sizes: &[(&'static str, u64)],
+        usage: wgpu::BufferUsages,
+    ) -> Result<bool, GpuError> {
+        let mut grew = false;
+        for &(name, bytes) in sizes {
+            grew |= self.ensure(name, bytes, usage)?;
+        }
+        Ok(grew)
+    }
+
     /// The buffer called `name`. Panics if it was never [`ensure`](Self::ensure)d: that is a
     /// bug in the engine, not bad user input.
     pub fn get(&self, name: &'static str) -> &wgpu::Buffer {

@@ -13,14 +13,11 @@ pub const RADIX_BITS: u32 = 4;
 /// Buckets per radix pass.
 pub const RADIX: u32 = 1 << RADIX_BITS;
 
-/// Keys one workgroup of the radix sort handles per pass: one per thread.
-pub const RADIX_TILE: u32 = WORKGROUP_SIZE;
-
 /// The most contact points in one manifold (the thesis's reduction to four points).
 pub const MAX_MANIFOLD_POINTS: u32 = tumble_geometry::MAX_MANIFOLD_POINTS as u32;
 
 /// The most bodies a scene may have on the GPU path. The radix sort's offset scan runs in a
-/// single workgroup over `RADIX * bodies / RADIX_TILE` entries; at this cap that is 2^18
+/// single workgroup over `RADIX * bodies / WORKGROUP_SIZE` entries (one key per thread of a tile); at this cap that is 2^18
 /// entries (1024 per thread), still one short dispatch. Bodies are also indexed with 24 bits
 /// in debugging dumps.
 pub const MAX_BODIES: u32 = 1 << 22;
@@ -66,67 +63,65 @@ pub const MAX_LONG_BOXES: u32 = 64;
 /// times as many, and a floor under a pile of 42,926 cubes spans all of them.
 pub const LONG_BOX_FACTOR: f32 = 16.0;
 
+/// `(WGSL name, value)` pairs of `override` values, each value converted by `f64::from`:
+/// `NAME` takes the constant `NAME` in scope (the name is written once), `NAME = value` any
+/// other value.
+macro_rules! override_values {
+    ($($name:ident $(= $value:expr)?),* $(,)?) => {
+        vec![$((stringify!($name), $crate::constants::override_values!(@ $name $($value)?))),*]
+    };
+    (@ $name:ident) => { f64::from($name) };
+    (@ $name:ident $value:expr) => { f64::from($value) };
+}
+pub(crate) use override_values;
+
 /// Every override value the shaders may declare, by WGSL name.
 pub fn shader_constants() -> Vec<(&'static str, f64)> {
-    use tumble_narrow::feature_id as id;
-    use tumble_narrow::tolerance as tol;
+    use crate::kernels::rank_sort::RANK_SORT_ITEMS;
+    use crate::layout::BODY_STATIC;
+    use crate::solver::constants::PERSIST_NORMAL_COS;
+    use tumble_geometry::{SEGMENT_DEGENERATE_RATIO, SEGMENT_PARALLEL_SIN_SQ};
+    use tumble_narrow::tolerance::*;
+    use tumble_narrow::{EDGE_PAIR_COUNT, VERTEX_OF_A_FEATURE, feature_id as id};
     let [kind_shift, reference_shift, incident_shift, field_shift] = id_shifts();
-    vec![
-        ("WORKGROUP_SIZE", f64::from(WORKGROUP_SIZE)),
-        ("RADIX_BITS", f64::from(RADIX_BITS)),
-        ("RADIX", f64::from(RADIX)),
-        (
-            "RANK_SORT_ITEMS",
-            f64::from(crate::kernels::rank_sort::RANK_SORT_ITEMS),
-        ),
-        (
-            "MAX_WORKGROUPS_PER_DIMENSION",
-            f64::from(MAX_WORKGROUPS_PER_DIMENSION),
-        ),
-        ("BODY_STATIC", f64::from(crate::layout::BODY_STATIC)),
-        ("MAX_LONG_BOXES", f64::from(MAX_LONG_BOXES)),
-        ("NO_PREVIOUS", f64::from(NO_PREVIOUS)),
-        ("MANIFOLD_FACE_A", f64::from(MANIFOLD_FACE_A)),
-        ("MANIFOLD_FACE_B", f64::from(MANIFOLD_FACE_B)),
-        ("MANIFOLD_EDGE", f64::from(MANIFOLD_EDGE)),
-        ("PERSIST_DISTANCE", f64::from(PERSIST_DISTANCE)),
+    override_values![
+        WORKGROUP_SIZE,
+        RADIX_BITS,
+        RADIX,
+        RANK_SORT_ITEMS,
+        MAX_WORKGROUPS_PER_DIMENSION,
+        BODY_STATIC,
+        MAX_LONG_BOXES,
+        NO_PREVIOUS,
+        MANIFOLD_FACE_A,
+        MANIFOLD_FACE_B,
+        MANIFOLD_EDGE,
+        PERSIST_DISTANCE,
         // Also in the solver's list (its tilt carry); both read tumble-solver's value.
-        (
-            "PERSIST_NORMAL_COS",
-            f64::from(crate::solver::constants::PERSIST_NORMAL_COS),
-        ),
-        ("PARALLEL_EDGE_SIN_SQ", f64::from(tol::PARALLEL_EDGE_SIN_SQ)),
-        ("FACE_B_REL_TOL", f64::from(tol::FACE_B_REL_TOL)),
-        ("FACE_B_ABS_TOL", f64::from(tol::FACE_B_ABS_TOL)),
-        ("EDGE_REL_TOL", f64::from(tol::EDGE_REL_TOL)),
-        ("EDGE_ABS_TOL", f64::from(tol::EDGE_ABS_TOL)),
-        ("FACE_LIKE_EDGE_COS", f64::from(tol::FACE_LIKE_EDGE_COS)),
-        ("FACE_LIKE_MAX_DEPTH", f64::from(tol::FACE_LIKE_MAX_DEPTH)),
-        ("HYSTERESIS_REL_TOL", f64::from(tol::HYSTERESIS_REL_TOL)),
-        ("HYSTERESIS_ABS_TOL", f64::from(tol::HYSTERESIS_ABS_TOL)),
-        ("WITNESS_TOL", f64::from(tol::WITNESS_TOL)),
-        (
-            "SEGMENT_DEGENERATE_RATIO",
-            f64::from(tumble_geometry::SEGMENT_DEGENERATE_RATIO),
-        ),
-        (
-            "SEGMENT_PARALLEL_SIN_SQ",
-            f64::from(tumble_geometry::SEGMENT_PARALLEL_SIN_SQ),
-        ),
-        ("ID_KIND_FACE_A", f64::from(id::KIND_FACE_A)),
-        ("ID_KIND_FACE_B", f64::from(id::KIND_FACE_B)),
-        ("ID_KIND_EDGE", f64::from(id::KIND_EDGE)),
-        ("ID_KIND_VERTEX", f64::from(id::KIND_VERTEX)),
-        ("ID_KIND_SHIFT", f64::from(kind_shift)),
-        ("ID_REFERENCE_SHIFT", f64::from(reference_shift)),
-        ("ID_INCIDENT_SHIFT", f64::from(incident_shift)),
-        ("ID_FIELD_SHIFT", f64::from(field_shift)),
-        ("SIDE_LABEL_BASE", f64::from(id::SIDE_LABEL_BASE)),
-        ("EDGE_PAIR_COUNT", f64::from(tumble_narrow::EDGE_PAIR_COUNT)),
-        (
-            "VERTEX_OF_A_FEATURE",
-            f64::from(tumble_narrow::VERTEX_OF_A_FEATURE),
-        ),
+        PERSIST_NORMAL_COS,
+        PARALLEL_EDGE_SIN_SQ,
+        FACE_B_REL_TOL,
+        FACE_B_ABS_TOL,
+        EDGE_REL_TOL,
+        EDGE_ABS_TOL,
+        FACE_LIKE_EDGE_COS,
+        FACE_LIKE_MAX_DEPTH,
+        HYSTERESIS_REL_TOL,
+        HYSTERESIS_ABS_TOL,
+        WITNESS_TOL,
+        SEGMENT_DEGENERATE_RATIO,
+        SEGMENT_PARALLEL_SIN_SQ,
+        ID_KIND_FACE_A = id::KIND_FACE_A,
+        ID_KIND_FACE_B = id::KIND_FACE_B,
+        ID_KIND_EDGE = id::KIND_EDGE,
+        ID_KIND_VERTEX = id::KIND_VERTEX,
+        ID_KIND_SHIFT = kind_shift,
+        ID_REFERENCE_SHIFT = reference_shift,
+        ID_INCIDENT_SHIFT = incident_shift,
+        ID_FIELD_SHIFT = field_shift,
+        SIDE_LABEL_BASE = id::SIDE_LABEL_BASE,
+        EDGE_PAIR_COUNT,
+        VERTEX_OF_A_FEATURE,
     ]
 }
 

@@ -147,12 +147,8 @@ impl GpuContext {
         Self::open(adapter, options.timestamps, options.limits.clone())
     }
 
-    /// Opens a device on a given adapter, checking the limits the kernels rely on.
-    pub fn from_adapter(adapter: wgpu::Adapter, timestamps: bool) -> Result<Self, GpuError> {
-        Self::open(adapter, timestamps, None)
-    }
-
-    /// Opens a device on `adapter` with `limits` (the adapter's own when `None`).
+    /// Opens a device on `adapter` with `limits` (the adapter's own when `None`), checking the
+    /// limits the kernels rely on.
     fn open(
         adapter: wgpu::Adapter,
         timestamps: bool,

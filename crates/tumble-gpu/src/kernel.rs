@@ -91,9 +91,10 @@ macro_rules! kernel {
 }
 pub(crate) use kernel;
 
-/// Declares a struct of built kernels, one `pub` [`Kernel`] field per spec, and its
-/// constructor `build`, which takes each kernel from a function of its spec (typically
-/// `|spec| Kernel::new(ctx, spec)`, the pipeline cache).
+/// Declares a struct of built kernels, one `pub` [`Kernel`] field per spec (documented as
+/// built from it, then by the field's own docs), and its constructor `build`, which takes
+/// each kernel from a function of its spec (typically `|spec| Kernel::new(ctx, spec)`, the
+/// pipeline cache).
 macro_rules! pipelines {
     (
         $(#[$meta:meta])*
@@ -108,6 +109,7 @@ macro_rules! pipelines {
         #[derive(Clone, Debug)]
         $vis struct $name {
             $(
+                #[doc = concat!("Built from [`", stringify!($spec), "`].")]
                 $(#[$field_meta])*
                 pub $field: $crate::kernel::Kernel,
             )*

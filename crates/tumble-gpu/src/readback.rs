@@ -143,7 +143,7 @@ impl Readback {
     }
 
     /// Waits for the map and returns the bytes of every region.
-    pub fn wait(&mut self, ticket: Ticket, regions: &[Region]) -> Result<Vec<Vec<u8>>, GpuError> {
+    pub fn wait(&mut self, ticket: &Ticket, regions: &[Region]) -> Result<Vec<Vec<u8>>, GpuError> {
         let mapped = self.wait_mapped(ticket)?;
         regions.iter().map(|r| mapped.read::<u8>(r)).collect()
     }
@@ -161,13 +161,13 @@ impl Readback {
     /// An idle device is not enough: when another thread shares the device, its own poll may
     /// have collected this map's callback and not yet run it when ours returns, so this polls
     /// until the callback has run (or [`READ_TIMEOUT`] passes).
-    pub fn wait_mapped(&mut self, ticket: Ticket) -> Result<Mapped<'_>, GpuError> {
+    pub fn wait_mapped(&mut self, ticket: &Ticket) -> Result<Mapped<'_>, GpuError> {
         let deadline = std::time::Instant::now() + READ_TIMEOUT;
         loop {
             self.ctx.wait_idle()?;
             // A slot with no map pending fails at once in `take`.
-            if self.slots[ticket.slot].mapped.is_none() || self.is_mapped(&ticket) {
-                return self.take(&ticket);
+            if self.slots[ticket.slot].mapped.is_none() || self.is_mapped(ticket) {
+                return self.take(ticket);
             }
             if std::time::Instant::now() > deadline {
                 return Err(GpuError::Device("readback was not mapped in time".into()));

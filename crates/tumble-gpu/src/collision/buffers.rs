@@ -90,85 +90,56 @@ pub const NARROW_PARAMS: &str = "narrow params";
 /// Makes every body-sized buffer hold `bodies`; true when any was reallocated.
 pub fn ensure_body_buffers(pool: &mut BufferPool, bodies: u32) -> Result<bool, GpuError> {
     let n = u64::from(bodies);
-    let mut grew = false;
-    grew |= pool.ensure(POSES, bytes_of::<GpuPose>(n), STORAGE_USAGE)?;
-    grew |= pool.ensure(VELOCITIES, bytes_of::<GpuVelocity>(n), STORAGE_USAGE)?;
-    grew |= pool.ensure(SHAPES, bytes_of::<GpuShape>(n), STORAGE_USAGE)?;
-    grew |= pool.ensure(AABBS, bytes_of::<GpuAabb>(n), STORAGE_USAGE)?;
-    grew |= pool.ensure(BODY_WORK, bytes_of::<WorkList>(1), STORAGE_USAGE)?;
-    grew |= pool.ensure(SWEEP_AXIS, bytes_of::<SweepAxis>(1), STORAGE_USAGE)?;
-    for name in SORT_KEYS.iter().chain(&SORT_BODIES) {
-        grew |= pool.ensure(name, bytes_of::<u32>(n), STORAGE_USAGE)?;
-    }
-    grew |= pool.ensure(SWEEP_BOXES, bytes_of::<GpuSweepBox>(n), STORAGE_USAGE)?;
-    grew |= pool.ensure(GROUPS, bytes_of::<GpuCollisionGroups>(n), STORAGE_USAGE)?;
-    grew |= pool.ensure(
-        LONG_BOXES,
-        crate::kernels::sweep_pairs::LONG_BOXES_BYTES,
-        STORAGE_USAGE,
-    )?;
-    grew |= pool.ensure(
-        BODY_TILES,
-        bytes_of::<u32>(tile_count_len(bodies)),
-        STORAGE_USAGE,
-    )?;
-    for name in [UPDATE_PARAMS, SWEEP_PARAMS, NARROW_PARAMS] {
-        grew |= pool.ensure(name, 16, UNIFORM_USAGE)?;
-    }
-    Ok(grew)
+    let storage = [
+        (POSES, bytes_of::<GpuPose>(n)),
+        (VELOCITIES, bytes_of::<GpuVelocity>(n)),
+        (SHAPES, bytes_of::<GpuShape>(n)),
+        (AABBS, bytes_of::<GpuAabb>(n)),
+        (BODY_WORK, bytes_of::<WorkList>(1)),
+        (SWEEP_AXIS, bytes_of::<SweepAxis>(1)),
+        (SORT_KEYS[0], bytes_of::<u32>(n)),
+        (SORT_KEYS[1], bytes_of::<u32>(n)),
+        (SORT_BODIES[0], bytes_of::<u32>(n)),
+        (SORT_BODIES[1], bytes_of::<u32>(n)),
+        (SWEEP_BOXES, bytes_of::<GpuSweepBox>(n)),
+        (GROUPS, bytes_of::<GpuCollisionGroups>(n)),
+        (LONG_BOXES, crate::kernels::sweep_pairs::LONG_BOXES_BYTES),
+        (BODY_TILES, bytes_of::<u32>(tile_count_len(bodies))),
+    ];
+    let params = [(UPDATE_PARAMS, 16), (SWEEP_PARAMS, 16), (NARROW_PARAMS, 16)];
+    Ok(pool.ensure_all(&storage, STORAGE_USAGE)? | pool.ensure_all(&params, UNIFORM_USAGE)?)
 }
 
 /// Makes every pair-sized buffer hold `capacity` pairs; true when any was reallocated.
 pub fn ensure_pair_buffers(pool: &mut BufferPool, capacity: u32) -> Result<bool, GpuError> {
     let n = u64::from(capacity);
-    let mut grew = false;
-    grew |= pool.ensure(PAIR_COUNTER, bytes_of::<u32>(1), STORAGE_USAGE)?;
-    for parity in 0..2 {
-        for copy in 0..2 {
-            grew |= pool.ensure(PAIR_A[parity][copy], bytes_of::<u32>(n), STORAGE_USAGE)?;
-            grew |= pool.ensure(PAIR_B[parity][copy], bytes_of::<u32>(n), STORAGE_USAGE)?;
-        }
-        grew |= pool.ensure(PAIR_WORK[parity], bytes_of::<WorkList>(1), STORAGE_USAGE)?;
-        grew |= pool.ensure(MANIFOLDS[parity], bytes_of::<GpuManifold>(n), STORAGE_USAGE)?;
-        let points = n * u64::from(MAX_MANIFOLD_POINTS);
-        grew |= pool.ensure(
-            CONTACTS[parity],
-            bytes_of::<GpuContact>(points),
-            STORAGE_USAGE,
-        )?;
-        grew |= pool.ensure(
-            LOCAL_MANIFOLDS[parity],
-            bytes_of::<GpuLocalManifold>(n),
-            STORAGE_USAGE,
-        )?;
-    }
-    grew |= pool.ensure(
-        PAIR_TILES,
-        bytes_of::<u32>(tile_count_len(capacity)),
-        STORAGE_USAGE,
-    )?;
-    grew |= pool.ensure(PREVIOUS_INDEX, bytes_of::<u32>(n), STORAGE_USAGE)?;
-    let tiles = u64::from(capacity.div_ceil(crate::WORKGROUP_SIZE));
-    grew |= pool.ensure(TOUCHING_TILES, bytes_of::<[u32; 2]>(tiles), STORAGE_USAGE)?;
-    grew |= pool.ensure(
-        TOUCHING_COUNTS,
-        bytes_of::<TouchingCounts>(1),
-        STORAGE_USAGE,
-    )?;
-    grew |= pool.ensure(TOUCHING, bytes_of::<GpuTouching>(n), STORAGE_USAGE)?;
-    grew |= pool.ensure(
-        TOUCHING_MANIFOLDS,
-        bytes_of::<GpuManifold>(n),
-        STORAGE_USAGE,
-    )?;
     let points = n * u64::from(MAX_MANIFOLD_POINTS);
-    grew |= pool.ensure(
-        TOUCHING_POINTS,
-        bytes_of::<GpuContact>(points),
-        STORAGE_USAGE,
-    )?;
-    grew |= pool.ensure(SCATTER_PARAMS, 16, UNIFORM_USAGE)?;
-    Ok(grew)
+    let mut grew = pool.ensure(PAIR_COUNTER, bytes_of::<u32>(1), STORAGE_USAGE)?;
+    for p in 0..2 {
+        let parity = [
+            (PAIR_A[p][0], bytes_of::<u32>(n)),
+            (PAIR_B[p][0], bytes_of::<u32>(n)),
+            (PAIR_A[p][1], bytes_of::<u32>(n)),
+            (PAIR_B[p][1], bytes_of::<u32>(n)),
+            (PAIR_WORK[p], bytes_of::<WorkList>(1)),
+            (MANIFOLDS[p], bytes_of::<GpuManifold>(n)),
+            (CONTACTS[p], bytes_of::<GpuContact>(points)),
+            (LOCAL_MANIFOLDS[p], bytes_of::<GpuLocalManifold>(n)),
+        ];
+        grew |= pool.ensure_all(&parity, STORAGE_USAGE)?;
+    }
+    let tiles = u64::from(capacity.div_ceil(crate::WORKGROUP_SIZE));
+    let shared = [
+        (PAIR_TILES, bytes_of::<u32>(tile_count_len(capacity))),
+        (PREVIOUS_INDEX, bytes_of::<u32>(n)),
+        (TOUCHING_TILES, bytes_of::<[u32; 2]>(tiles)),
+        (TOUCHING_COUNTS, bytes_of::<TouchingCounts>(1)),
+        (TOUCHING, bytes_of::<GpuTouching>(n)),
+        (TOUCHING_MANIFOLDS, bytes_of::<GpuManifold>(n)),
+        (TOUCHING_POINTS, bytes_of::<GpuContact>(points)),
+    ];
+    grew |= pool.ensure_all(&shared, STORAGE_USAGE)?;
+    Ok(grew | pool.ensure(SCATTER_PARAMS, 16, UNIFORM_USAGE)?)
 }
 
 /// The buffers one step's stages hand to each other: the world's bodies and what the

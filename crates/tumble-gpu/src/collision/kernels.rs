@@ -24,35 +24,21 @@ use crate::kernels::write_sort_keys::WRITE_SORT_KEYS;
 pipelines! {
     /// Every pipeline the collision stages dispatch (the radix sort's are [`RadixSort`]'s).
     pub struct CollisionKernels {
-        /// `update_aabbs`.
         update_aabbs: UPDATE_AABBS,
-        /// `choose_axis`.
         choose_axis: CHOOSE_AXIS,
-        /// `write_sort_keys`.
         write_sort_keys: WRITE_SORT_KEYS,
-        /// `rank_sort` (the body sort of short lists).
+        /// The body and pair sorts of short lists.
         rank_sort: RANK_SORT,
-        /// `gather_sweep_boxes`.
         gather_sweep_boxes: GATHER_SWEEP_BOXES,
-        /// `sweep_pairs`.
         sweep_pairs: SWEEP_PAIRS,
-        /// `long_pairs`.
         long_pairs: LONG_PAIRS,
-        /// `plan_dispatch`.
         plan_dispatch: PLAN_DISPATCH,
-        /// `match_pairs`.
         match_pairs: MATCH_PAIRS,
-        /// `collide_cuboids`.
         collide_cuboids: COLLIDE_CUBOIDS,
-        /// `carry_impulses`.
         carry_impulses: CARRY_IMPULSES,
-        /// `count_touching`.
         count_touching: COUNT_TOUCHING,
-        /// `scan_touching`.
         scan_touching: SCAN_TOUCHING,
-        /// `write_touching`.
         write_touching: WRITE_TOUCHING,
-        /// `scatter_impulses`.
         scatter_impulses: SCATTER_IMPULSES,
     }
 }

@@ -2,6 +2,7 @@
 //! impulses, the blocking step-and-read, and the per-buffer reads for tests and tools.
 
 use super::*;
+use crate::buffer_pool::bytes_of;
 
 impl GpuCollision {
     /// Records copies of what `request` asks for from the last recorded step into a staging
@@ -18,10 +19,8 @@ impl GpuCollision {
             let g = &self.groups.as_ref().expect("built above").parity[parity];
             let k = &self.kernels;
             let work = self.pool.get(PAIR_WORK[parity]);
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("compact_touching"),
-                timestamp_writes: None,
-            });
+            let mut timer = StageTimer::disabled(&self.ctx);
+            let mut pass = timer.begin_pass(encoder, "compact_touching");
             k.count_touching
                 .dispatch_work(&mut pass, &g.count_touching, work);
             k.scan_touching
@@ -29,7 +28,6 @@ impl GpuCollision {
             k.write_touching
                 .dispatch_work(&mut pass, &g.write_touching, work);
         }
-        let size = |t: usize| t as u64;
         let pairs = if request.pairs || request.manifolds {
             self.readback_pairs.min(self.pair_capacity)
         } else {
@@ -41,64 +39,43 @@ impl GpuCollision {
         } else {
             (0, 0)
         };
-        let per_pair = 2 * 4
-            + size(std::mem::size_of::<GpuManifold>())
-            + u64::from(MAX_MANIFOLD_POINTS) * size(std::mem::size_of::<GpuContact>());
-        let per_touching =
-            size(std::mem::size_of::<GpuTouching>()) + size(std::mem::size_of::<GpuManifold>());
-        let aabb_bytes = u64::from(self.body_count) * size(std::mem::size_of::<GpuAabb>());
+        let (n, t, pts) = (u64::from(pairs), u64::from(touching), u64::from(points));
+        let aabbs = bytes_of::<GpuAabb>(u64::from(self.body_count));
+        let pair_points = n * u64::from(MAX_MANIFOLD_POINTS);
+        let per_pair = bytes_of::<[u32; 2]>(1) + bytes_of::<GpuManifold>(1);
+        let per_touching = bytes_of::<GpuTouching>(1) + bytes_of::<GpuManifold>(1);
         // Each region is padded to 8 bytes: 64 covers the padding of every region.
         let bytes = 64
-            + u64::from(pairs) * per_pair
-            + u64::from(touching) * per_touching
-            + u64::from(points) * size(std::mem::size_of::<GpuContact>())
-            + aabb_bytes
+            + n * per_pair
+            + bytes_of::<GpuContact>(pair_points)
+            + t * per_touching
+            + bytes_of::<GpuContact>(pts)
+            + aabbs
             + 64;
         let slot = self.readback.begin(bytes)?;
         let mut regions = Vec::new();
         let pool = &self.pool;
         let rb = &mut self.readback;
-        let mut copy = |name: &'static str, element: usize, count: u64| {
-            regions.push(rb.copy(encoder, slot, pool.get(name), 0, count * element as u64));
+        let mut copy = |name: &'static str, bytes: u64| {
+            regions.push(rb.copy(encoder, slot, pool.get(name), 0, bytes));
         };
-        copy(PAIR_WORK[parity], std::mem::size_of::<WorkList>(), 1);
-        let n = u64::from(pairs);
+        copy(PAIR_WORK[parity], bytes_of::<WorkList>(1));
         if request.pairs {
-            copy(PAIR_A[parity][PAIR_RESULT_COPY], 4, n);
-            copy(PAIR_B[parity][PAIR_RESULT_COPY], 4, n);
+            copy(PAIR_A[parity][PAIR_RESULT_COPY], bytes_of::<u32>(n));
+            copy(PAIR_B[parity][PAIR_RESULT_COPY], bytes_of::<u32>(n));
         }
         if request.manifolds {
-            copy(MANIFOLDS[parity], std::mem::size_of::<GpuManifold>(), n);
-            copy(
-                CONTACTS[parity],
-                std::mem::size_of::<GpuContact>(),
-                n * u64::from(MAX_MANIFOLD_POINTS),
-            );
+            copy(MANIFOLDS[parity], bytes_of::<GpuManifold>(n));
+            copy(CONTACTS[parity], bytes_of::<GpuContact>(pair_points));
         }
         if request.aabbs {
-            copy(
-                AABBS,
-                std::mem::size_of::<GpuAabb>(),
-                u64::from(self.body_count),
-            );
+            copy(AABBS, aabbs);
         }
         if request.touching {
-            copy(TOUCHING_COUNTS, std::mem::size_of::<TouchingCounts>(), 1);
-            copy(
-                TOUCHING,
-                std::mem::size_of::<GpuTouching>(),
-                u64::from(touching),
-            );
-            copy(
-                TOUCHING_MANIFOLDS,
-                std::mem::size_of::<GpuManifold>(),
-                u64::from(touching),
-            );
-            copy(
-                TOUCHING_POINTS,
-                std::mem::size_of::<GpuContact>(),
-                u64::from(points),
-            );
+            copy(TOUCHING_COUNTS, bytes_of::<TouchingCounts>(1));
+            copy(TOUCHING, bytes_of::<GpuTouching>(t));
+            copy(TOUCHING_MANIFOLDS, bytes_of::<GpuManifold>(t));
+            copy(TOUCHING_POINTS, bytes_of::<GpuContact>(pts));
         }
         Ok(ReadbackPlan {
             slot,
@@ -135,7 +112,7 @@ impl GpuCollision {
     /// Waits for a readback and returns its snapshot.
     pub fn receive(&mut self, pending: PendingReadback) -> Result<CollisionSnapshot, GpuError> {
         let snap = {
-            let mapped = self.readback.wait_mapped(pending.ticket)?;
+            let mapped = self.readback.wait_mapped(&pending.ticket)?;
             decode(&pending.plan, &mapped)?
         };
         self.finish_decode(&pending.plan, snap)
@@ -181,25 +158,27 @@ impl GpuCollision {
         snap: &mut CollisionSnapshot,
     ) -> Result<(), GpuError> {
         let t = snap.touching_counts;
-        let pool = &self.pool;
         let (from, to) = (u64::from(plan.copied_touching), u64::from(t.manifolds));
-        if to > from {
-            let list: Vec<GpuTouching> =
-                self.ctx.read_buffer(pool.get(TOUCHING), from, to - from)?;
-            snap.touching.touching.extend(list);
-            let m: Vec<GpuManifold> =
-                self.ctx
-                    .read_buffer(pool.get(TOUCHING_MANIFOLDS), from, to - from)?;
-            snap.touching.manifolds.extend(m);
-        }
+        let list = &mut snap.touching;
+        list.touching
+            .append(&mut self.read_range(TOUCHING, from, to)?);
+        list.manifolds
+            .append(&mut self.read_range(TOUCHING_MANIFOLDS, from, to)?);
         let (from, to) = (u64::from(plan.copied_points), u64::from(t.points));
-        if to > from {
-            let p: Vec<GpuContact> =
-                self.ctx
-                    .read_buffer(pool.get(TOUCHING_POINTS), from, to - from)?;
-            snap.touching.points.extend(p);
-        }
+        list.points
+            .append(&mut self.read_range(TOUCHING_POINTS, from, to)?);
         Ok(())
+    }
+
+    /// Blocking read of elements `from..to` of buffer `name` (none when `to <= from`).
+    fn read_range<T: bytemuck::Pod>(
+        &self,
+        name: &'static str,
+        from: u64,
+        to: u64,
+    ) -> Result<Vec<T>, GpuError> {
+        self.ctx
+            .read_buffer(self.pool.get(name), from, to.saturating_sub(from))
     }
 
     /// Writes impulses given in the dense point order of the last `touching` readback (a CPU
@@ -248,15 +227,11 @@ impl GpuCollision {
                 name => self.pool.get(name),
             });
         let mut encoder = self.ctx.encoder("collision step");
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("scatter_impulses"),
-                timestamp_writes: None,
-            });
-            self.kernels
-                .scatter_impulses
-                .dispatch(&mut pass, &group, t.manifolds);
-        }
+        let mut timer = StageTimer::disabled(&self.ctx);
+        let mut pass = timer.begin_pass(&mut encoder, "scatter_impulses");
+        let kernel = &self.kernels.scatter_impulses;
+        kernel.dispatch(&mut pass, &group, t.manifolds);
+        drop(pass);
         self.ctx.submit(encoder)?;
         Ok(())
     }
@@ -276,26 +251,17 @@ impl GpuCollision {
         }
         let (from, to) = (u64::from(plan.copied_pairs), u64::from(snap.work.count));
         let p = plan.parity;
-        let pool = &self.pool;
         if plan.request.pairs {
-            let a: Vec<u32> =
-                self.ctx
-                    .read_buffer(pool.get(PAIR_A[p][PAIR_RESULT_COPY]), from, to - from)?;
-            let b: Vec<u32> =
-                self.ctx
-                    .read_buffer(pool.get(PAIR_B[p][PAIR_RESULT_COPY]), from, to - from)?;
+            let a: Vec<u32> = self.read_range(PAIR_A[p][PAIR_RESULT_COPY], from, to)?;
+            let b: Vec<u32> = self.read_range(PAIR_B[p][PAIR_RESULT_COPY], from, to)?;
             snap.pairs.extend(a.into_iter().zip(b));
         }
         if plan.request.manifolds {
-            let m: Vec<GpuManifold> =
-                self.ctx
-                    .read_buffer(pool.get(MANIFOLDS[p]), from, to - from)?;
-            snap.manifolds.extend(m);
+            snap.manifolds
+                .append(&mut self.read_range(MANIFOLDS[p], from, to)?);
             let per = u64::from(MAX_MANIFOLD_POINTS);
-            let c: Vec<GpuContact> =
-                self.ctx
-                    .read_buffer(pool.get(CONTACTS[p]), from * per, (to - from) * per)?;
-            snap.contacts.extend(c);
+            let mut contacts = self.read_range(CONTACTS[p], from * per, to * per)?;
+            snap.contacts.append(&mut contacts);
         }
         Ok(())
     }
@@ -368,21 +334,15 @@ impl GpuCollision {
     /// Blocking read of the last step's manifolds in their body A's frame, one per pair (tests
     /// and tools; meaningful where the manifold has points).
     pub fn read_local_manifolds(&self) -> Result<Vec<GpuLocalManifold>, GpuError> {
-        let count: Vec<WorkList> =
-            self.ctx
-                .read_buffer(self.pool.get(PAIR_WORK[self.last_parity()]), 0, 1)?;
+        let p = self.last_parity();
+        let count: Vec<WorkList> = self.read_range(PAIR_WORK[p], 0, 1)?;
         let n = count.first().map_or(0, |w| w.count.min(self.pair_capacity));
-        self.ctx.read_buffer(
-            self.pool.get(LOCAL_MANIFOLDS[self.last_parity()]),
-            0,
-            u64::from(n),
-        )
+        self.read_range(LOCAL_MANIFOLDS[p], 0, u64::from(n))
     }
 
     /// Blocking read of the last step's AABBs (tests and tools).
     pub fn read_aabbs(&self) -> Result<Vec<GpuAabb>, GpuError> {
-        self.ctx
-            .read_buffer(self.pool.get(AABBS), 0, u64::from(self.body_count))
+        self.read_range(AABBS, 0, u64::from(self.body_count))
     }
 
     /// Blocking read of the last step's sweep axis (tests and tools).
@@ -392,18 +352,15 @@ impl GpuCollision {
 
     /// Blocking read of the last step's boxes in sweep order (tests and tools).
     pub fn read_sweep_boxes(&self) -> Result<Vec<GpuSweepBox>, GpuError> {
-        self.ctx
-            .read_buffer(self.pool.get(SWEEP_BOXES), 0, u64::from(self.body_count))
+        self.read_range(SWEEP_BOXES, 0, u64::from(self.body_count))
     }
 
     /// Blocking read of the last step's body order along the sweep axis (tests and tools).
     pub fn read_sorted_bodies(&self) -> Result<(Vec<u32>, Vec<u32>), GpuError> {
         let n = u64::from(self.body_count);
         Ok((
-            self.ctx
-                .read_buffer(self.pool.get(SORT_KEYS[BODY_RESULT_COPY]), 0, n)?,
-            self.ctx
-                .read_buffer(self.pool.get(SORT_BODIES[BODY_RESULT_COPY]), 0, n)?,
+            self.read_range(SORT_KEYS[BODY_RESULT_COPY], 0, n)?,
+            self.read_range(SORT_BODIES[BODY_RESULT_COPY], 0, n)?,
         ))
     }
 }

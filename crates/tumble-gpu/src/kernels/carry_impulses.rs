@@ -9,6 +9,7 @@ use crate::constants::{NO_PREVIOUS, PERSIST_DISTANCE};
 use crate::kernel::kernel;
 use crate::layout::{GpuContact, GpuLocalManifold, GpuManifold, GpuPose};
 use crate::solver::constants::PERSIST_NORMAL_COS;
+use crate::solver::convert::{vec3, vec4};
 
 kernel! {
     /// Buffers of [`CARRY_IMPULSES`].
@@ -54,25 +55,15 @@ fn rotate_inverse(q: [f32; 4], v: Vec3) -> Vec3 {
     v + q[3] * t + axis.cross(&t)
 }
 
-fn xyz(v: [f32; 4]) -> Vec3 {
-    Vec3::new(v[0], v[1], v[2])
-}
-
-fn padded(v: Vec3) -> [f32; 4] {
-    [v.x, v.y, v.z, 0.0]
-}
-
 /// Manifold `m` (points `points`) in the frame of body A at pose `a`.
 fn local_manifold(m: &GpuManifold, points: &[GpuContact], a: &GpuPose) -> GpuLocalManifold {
     let mut out = GpuLocalManifold {
-        normal: padded(rotate_inverse(a.rotation, xyz(m.normal))),
+        normal: vec4(&rotate_inverse(a.rotation, vec3(&m.normal)), 0.0),
         ..Default::default()
     };
     for (slot, p) in out.points.iter_mut().zip(points) {
-        *slot = padded(rotate_inverse(
-            a.rotation,
-            xyz(p.position) - xyz(a.position),
-        ));
+        let local = rotate_inverse(a.rotation, vec3(&p.position) - vec3(&a.position));
+        *slot = vec4(&local, 0.0);
     }
     out
 }
@@ -102,7 +93,7 @@ fn carry_manifold(
             }
         }
     }
-    if xyz(here.normal).dot(&xyz(old_local.normal)) < PERSIST_NORMAL_COS {
+    if vec3(&here.normal).dot(&vec3(&old_local.normal)) < PERSIST_NORMAL_COS {
         return;
     }
     let limit = PERSIST_DISTANCE * PERSIST_DISTANCE;
@@ -110,10 +101,10 @@ fn carry_manifold(
         if matched[i] {
             continue;
         }
-        let local = xyz(here.points[i]);
+        let local = vec3(&here.points[i]);
         let nearest = (0..before.len())
             .filter(|&j| !claimed[j])
-            .map(|j| (j, (xyz(old_local.points[j]) - local).norm_squared()))
+            .map(|j| (j, (vec3(&old_local.points[j]) - local).norm_squared()))
             .min_by(|a, b| a.1.total_cmp(&b.1));
         if let Some((j, d2)) = nearest
             && d2 <= limit

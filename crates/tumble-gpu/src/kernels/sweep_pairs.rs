@@ -51,26 +51,10 @@ pub fn long_extent(shapes: &[GpuShape]) -> f32 {
 
 /// The CPU twin of [`SWEEP_PAIRS`] followed by the canonical sort: every overlapping pair
 /// that is not static-static, as `(smaller, larger)`, ascending, from the boxes in sweep
-/// order (closed intervals; the sweep axis is implied by the order).
+/// order (closed intervals; the sweep axis is implied by the order). It is
+/// [`split_sweep_pairs_cpu`] with no box long.
 pub fn sweep_pairs_cpu(boxes: &[GpuSweepBox]) -> Vec<(u32, u32)> {
-    let mut pairs = Vec::new();
-    for (p, me) in boxes.iter().enumerate() {
-        for other in &boxes[p + 1..] {
-            if other.lo_0 > me.hi_0 {
-                break;
-            }
-            let overlaps = other.lo_1 <= me.hi_1
-                && me.lo_1 <= other.hi_1
-                && other.lo_2 <= me.hi_2
-                && me.lo_2 <= other.hi_2;
-            let both_static = me.flags & other.flags & BODY_STATIC != 0;
-            if overlaps && !both_static {
-                pairs.push((me.body.min(other.body), me.body.max(other.body)));
-            }
-        }
-    }
-    pairs.sort_unstable();
-    pairs
+    split_sweep_pairs_cpu(boxes, f32::INFINITY)
 }
 
 /// The CPU twin of `gather_sweep_boxes`' long box list, [`SWEEP_PAIRS`] and [`LONG_PAIRS`]

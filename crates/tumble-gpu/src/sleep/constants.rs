@@ -21,15 +21,12 @@ pub const ISLAND_ROUNDS: u32 = 16;
 
 /// The override values of the sleep kernels, by WGSL name.
 pub fn sleep_constants() -> Vec<(&'static str, f64)> {
-    vec![
-        ("TIME_TO_SLEEP", f64::from(TIME_TO_SLEEP)),
-        ("LINEAR_SLEEP_TOLERANCE", f64::from(LINEAR_SLEEP_TOLERANCE)),
-        (
-            "ANGULAR_SLEEP_TOLERANCE",
-            f64::from(ANGULAR_SLEEP_TOLERANCE),
-        ),
-        ("AWAKE", f64::from(AWAKE)),
-        ("REST_UNSET", f64::from(REST_UNSET)),
+    crate::constants::override_values![
+        TIME_TO_SLEEP,
+        LINEAR_SLEEP_TOLERANCE,
+        ANGULAR_SLEEP_TOLERANCE,
+        AWAKE,
+        REST_UNSET,
     ]
 }
 

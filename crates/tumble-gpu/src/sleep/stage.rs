@@ -121,26 +121,24 @@ impl GpuSleep {
         let per_body = u64::from(n.max(1)) * 4;
         let body_bytes = std::mem::size_of_val(awake_bodies) as u64;
         let pool = &mut self.pool;
-        pool.ensure(
-            PARAMS,
-            std::mem::size_of::<SleepParams>() as u64,
-            UNIFORM_USAGE,
-        )?;
-        pool.ensure(AWAKE_BODIES, body_bytes, STORAGE_USAGE)?;
-        for name in [ISLAND, REST_TIME, LABELS, SHORTEST_REST, WAKE] {
-            pool.ensure(name, per_body, STORAGE_USAGE)?;
-        }
-        for name in NEXT_LABELS {
-            pool.ensure(name, per_body, STORAGE_USAGE)?;
-        }
-        pool.ensure(UNFINISHED, 4, STORAGE_USAGE)?;
-        pool.ensure(READY, 4, STORAGE_USAGE)?;
-        pool.ensure(ACTIVE, 4, STORAGE_USAGE)?;
-        pool.ensure(
-            SEARCH_GROUPS,
-            2 * std::mem::size_of::<DispatchArgs>() as u64,
-            STORAGE_USAGE,
-        )?;
+        let params = std::mem::size_of::<SleepParams>() as u64;
+        pool.ensure(PARAMS, params, UNIFORM_USAGE)?;
+        let search_groups = 2 * std::mem::size_of::<DispatchArgs>() as u64;
+        let sizes = [
+            (AWAKE_BODIES, body_bytes),
+            (ISLAND, per_body),
+            (REST_TIME, per_body),
+            (LABELS, per_body),
+            (SHORTEST_REST, per_body),
+            (WAKE, per_body),
+            (NEXT_LABELS[0], per_body),
+            (NEXT_LABELS[1], per_body),
+            (UNFINISHED, 4),
+            (READY, 4),
+            (ACTIVE, 4),
+            (SEARCH_GROUPS, search_groups),
+        ];
+        pool.ensure_all(&sizes, STORAGE_USAGE)?;
         let kinematic: Vec<u32> = (0..n)
             .filter(|&i| awake_bodies[i as usize].kind == BODY_KINEMATIC)
             .collect();

@@ -91,47 +91,34 @@ pub const PASS_RESTITUTION: u32 = 3;
 /// Every solver override value, by WGSL name (the shared ones of
 /// [`crate::constants::shader_constants`] come on top).
 pub fn solver_constants() -> Vec<(&'static str, f64)> {
-    vec![
-        ("GRAPH_COLOR_COUNT", f64::from(GRAPH_COLOR_COUNT)),
-        (
-            "FUSED_SHARED_BODIES",
-            f64::from(super::fused::FUSED_SHARED_BODIES),
-        ),
-        (
-            "COLOR_PASS_WORKGROUP_SIZE",
-            f64::from(COLOR_PASS_WORKGROUP_SIZE),
-        ),
-        ("OVERFLOW_COLOR", f64::from(OVERFLOW_COLOR)),
-        ("TALLY_UNDECIDED", f64::from(TALLY_UNDECIDED)),
-        ("TALLY_COUNTS", f64::from(TALLY_COUNTS)),
-        ("CONSTRAINT_ROWS", f64::from(CONSTRAINT_ROWS)),
-        ("CONSTRAINT_HEADER_ROWS", f64::from(CONSTRAINT_HEADER_ROWS)),
-        ("CONSTRAINT_POINT_ROWS", f64::from(CONSTRAINT_POINT_ROWS)),
-        ("NO_COLOR", f64::from(NO_COLOR)),
-        ("COLOR_ROUNDS", f64::from(COLOR_ROUNDS)),
-        ("EMPTY_COLOR", f64::from(EMPTY_COLOR)),
-        ("BODY_FIXED", f64::from(BODY_FIXED)),
-        ("BODY_DYNAMIC", f64::from(BODY_DYNAMIC)),
-        ("BODY_KINEMATIC", f64::from(BODY_KINEMATIC)),
-        ("LOCK_ROTATION_SHIFT", f64::from(LOCK_ROTATION_SHIFT)),
-        ("CONSTRAINT_DYNAMIC_A", f64::from(CONSTRAINT_DYNAMIC_A)),
-        ("CONSTRAINT_DYNAMIC_B", f64::from(CONSTRAINT_DYNAMIC_B)),
-        (
-            "MAX_ROTATION_PER_SUBSTEP",
-            f64::from(tumble_solver::MAX_ROTATION_PER_SUBSTEP),
-        ),
-        (
-            "MAX_LINEAR_SPEED",
-            f64::from(tumble_solver::MAX_LINEAR_SPEED),
-        ),
-        ("PERSIST_NORMAL_COS", f64::from(PERSIST_NORMAL_COS)),
-        ("PASS_WARM_START", f64::from(PASS_WARM_START)),
-        ("PASS_SOLVE", f64::from(PASS_SOLVE)),
-        ("PASS_RELAX", f64::from(PASS_RELAX)),
-        ("PASS_RESTITUTION", f64::from(PASS_RESTITUTION)),
-        (
-            "GYROSCOPIC_NEWTON_ITERATIONS",
-            tumble_solver::GYROSCOPIC_NEWTON_ITERATIONS as f64,
-        ),
+    use super::fused::FUSED_SHARED_BODIES;
+    use tumble_solver::{MAX_LINEAR_SPEED, MAX_ROTATION_PER_SUBSTEP};
+    crate::constants::override_values![
+        GRAPH_COLOR_COUNT,
+        FUSED_SHARED_BODIES,
+        COLOR_PASS_WORKGROUP_SIZE,
+        OVERFLOW_COLOR,
+        TALLY_UNDECIDED,
+        TALLY_COUNTS,
+        CONSTRAINT_ROWS,
+        CONSTRAINT_HEADER_ROWS,
+        CONSTRAINT_POINT_ROWS,
+        NO_COLOR,
+        COLOR_ROUNDS,
+        EMPTY_COLOR,
+        BODY_FIXED,
+        BODY_DYNAMIC,
+        BODY_KINEMATIC,
+        LOCK_ROTATION_SHIFT,
+        CONSTRAINT_DYNAMIC_A,
+        CONSTRAINT_DYNAMIC_B,
+        MAX_ROTATION_PER_SUBSTEP,
+        MAX_LINEAR_SPEED,
+        PERSIST_NORMAL_COS,
+        PASS_WARM_START,
+        PASS_SOLVE,
+        PASS_RELAX,
+        PASS_RESTITUTION,
+        GYROSCOPIC_NEWTON_ITERATIONS = tumble_solver::GYROSCOPIC_NEWTON_ITERATIONS as u32,
     ]
 }

@@ -6,19 +6,21 @@ use tumble_geometry::{MAX_MANIFOLD_POINTS, Pose, Rot, Vec3};
 use tumble_solver::{Body, BodyKind, BodyState, Contact, ContactConstraint, Locks};
 
 use crate::kernels::collide_cuboids::kind_code as manifold_kind_code;
-use crate::layout::{BODY_STATIC, GpuContact, GpuManifold, GpuPose, GpuShape, GpuVelocity};
+use crate::layout::{GpuContact, GpuManifold, GpuPose, GpuShape, GpuVelocity};
 
 use super::constants::{
     BODY_DYNAMIC, BODY_FIXED, BODY_KINEMATIC, CONSTRAINT_DYNAMIC_A, CONSTRAINT_DYNAMIC_B,
     LOCK_ROTATION_SHIFT,
 };
-use super::layout::{GpuBody, GpuConstraint, GpuConstraintPoint, GpuSolverBody, GpuTilt};
+use super::layout::{GpuBody, GpuConstraint, GpuConstraintPoint, GpuTilt};
 
-fn vec4(v: &Vec3, w: f32) -> [f32; 4] {
+/// `v` as a WGSL `vec4<f32>` with `w`.
+pub(crate) fn vec4(v: &Vec3, w: f32) -> [f32; 4] {
     [v.x, v.y, v.z, w]
 }
 
-fn vec3(v: &[f32; 4]) -> Vec3 {
+/// The `xyz` of a WGSL `vec4<f32>`.
+pub(crate) fn vec3(v: &[f32; 4]) -> Vec3 {
     Vec3::new(v[0], v[1], v[2])
 }
 
@@ -62,22 +64,7 @@ pub fn gpu_body(body: &Body) -> GpuBody {
 /// A body's shape for the collision stages; bodies contacts cannot move are flagged static
 /// (two of them never pair).
 pub fn gpu_shape(body: &Body) -> GpuShape {
-    let h = body.shape.half_extents;
-    GpuShape {
-        hx: h.x,
-        hy: h.y,
-        hz: h.z,
-        flags: if body.is_dynamic() { 0 } else { BODY_STATIC },
-    }
-}
-
-/// A pose in GPU layout (quaternion `(x, y, z, w)` as nalgebra stores it).
-pub fn gpu_pose(pose: &Pose) -> GpuPose {
-    let q = pose.rotation.coords;
-    GpuPose {
-        position: vec4(&pose.translation.vector, 0.0),
-        rotation: [q.x, q.y, q.z, q.w],
-    }
+    GpuShape::cuboid(&body.shape, !body.is_dynamic())
 }
 
 /// The host form of a GPU pose (the quaternion is taken as stored; the GPU keeps it unit).
@@ -92,21 +79,7 @@ pub fn pose_from_gpu(p: &GpuPose) -> Pose {
 
 /// A body's velocities in GPU layout.
 pub fn gpu_velocity(state: &BodyState) -> GpuVelocity {
-    GpuVelocity {
-        linear: vec4(&state.linear_velocity, 0.0),
-        angular: vec4(&state.angular_velocity, 0.0),
-    }
-}
-
-/// The state of a body from its GPU velocity and solver state.
-pub fn state_from_gpu(velocity: &GpuVelocity, solver: &GpuSolverBody) -> BodyState {
-    let [i, j, k, w] = solver.delta_rotation;
-    BodyState {
-        linear_velocity: vec3(&velocity.linear),
-        angular_velocity: vec3(&velocity.angular),
-        delta_position: vec3(&solver.delta_position),
-        delta_rotation: Rot::new_unchecked(Quaternion::new(w, i, j, k)),
-    }
+    GpuVelocity::new(state.linear_velocity, state.angular_velocity)
 }
 
 /// A CPU contact in the collision stages' layout: its manifold (with `previous`, the pair's

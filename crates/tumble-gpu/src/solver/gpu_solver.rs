@@ -242,8 +242,8 @@ impl GpuSolver {
     /// Grows the solver's buffers for `bodies` bodies and `capacity` contacts.
     fn ensure(&mut self, bodies: u32, capacity: u32) -> Result<(), GpuError> {
         let (n, cap) = (u64::from(bodies.max(1)), u64::from(capacity.max(1)));
-        let u32_bytes = 4u64;
-        let sizes: [(&'static str, u64); 11] = [
+        let sort_tiles = self.radix.tile_count_len(capacity.max(1));
+        let sizes = [
             (TILTS[0], bytes_of::<GpuTilt>(cap)),
             (TILTS[1], bytes_of::<GpuTilt>(cap)),
             (SOLVER_BODIES, bytes_of::<GpuSolverBody>(n)),
@@ -259,18 +259,13 @@ impl GpuSolver {
             (COLOR_TALLY, bytes_of::<u32>(u64::from(COLOR_TALLY_LEN))),
             (COLOR_OFFSETS, bytes_of::<u32>(u64::from(COLOR_OFFSETS_LEN))),
             (COLOR_ARGS, bytes_of::<DispatchArgs>(u64::from(COLOR_SLOTS))),
+            (SORT_KEYS[0], bytes_of::<u32>(cap)),
+            (SORT_KEYS[1], bytes_of::<u32>(cap)),
+            (SORT_VALUES[0], bytes_of::<u32>(cap)),
+            (SORT_VALUES[1], bytes_of::<u32>(cap)),
+            (SORT_TILES, bytes_of::<u32>(sort_tiles)),
         ];
-        for (name, bytes) in sizes {
-            self.pool.ensure(name, bytes, STORAGE_USAGE)?;
-        }
-        for name in SORT_KEYS.into_iter().chain(SORT_VALUES) {
-            self.pool.ensure(name, cap * u32_bytes, STORAGE_USAGE)?;
-        }
-        self.pool.ensure(
-            SORT_TILES,
-            self.radix.tile_count_len(capacity.max(1)) * u32_bytes,
-            STORAGE_USAGE,
-        )?;
+        self.pool.ensure_all(&sizes, STORAGE_USAGE)?;
         Ok(())
     }
 

@@ -8,7 +8,7 @@ use crate::kernels::contact_events::{
     CONTACT_BEGINS, CONTACT_ENDS, ContactBeginsArgs, ContactEndsArgs, ContactEventList,
 };
 use crate::layout::GpuContactEvent;
-use crate::{GpuContext, GpuError};
+use crate::{GpuContext, GpuError, StageTimer};
 
 /// Bytes of the append counters (`EventCounts`: events, touching, two pads).
 const COUNTS_BYTES: u64 = 16;
@@ -117,10 +117,7 @@ impl EventStage {
                 events: &b.events,
             },
         );
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("contact events"),
-            timestamp_writes: None,
-        });
+        let mut pass = StageTimer::disabled(ctx).begin_pass(encoder, "contact events");
         begins.dispatch_work(&mut pass, &begin_group, current[0]);
         ends.dispatch_work(&mut pass, &end_group, previous[0]);
     }

@@ -19,7 +19,7 @@ use crate::sleep::GpuSleep;
 use crate::sleep::constants::AWAKE;
 use crate::solver::apply_impulses::ApplyImpulsesArgs;
 use crate::solver::constants::GRAPH_COLOR_COUNT;
-use crate::solver::convert::{gpu_body, gpu_manifold, gpu_pose, gpu_shape, gpu_tilt, gpu_velocity};
+use crate::solver::convert::{gpu_body, gpu_manifold, gpu_shape, gpu_tilt, gpu_velocity};
 use crate::solver::layout::{GpuBody, GpuImpulse, GpuTilt};
 use crate::solver::{Effects, GpuSolver, SolvePath, SolverInputs, StepParams};
 use crate::{GpuContext, GpuError, MAX_MANIFOLD_POINTS, StageTimer};
@@ -180,11 +180,6 @@ impl GpuWorld {
             sleep: self.sleep.is_enabled(),
             ..self.solver.effects()
         }
-    }
-
-    /// The sleep stage (for tests and tools: its island labels and rest times).
-    pub fn sleep_stage(&self) -> &GpuSleep {
-        &self.sleep
     }
 
     /// The device.

@@ -11,8 +11,8 @@ use tumble_solver::{Body, BodyState, Contact, PERSIST_NORMAL_COS};
 
 use crate::collision::{CollisionConfig, CollisionSnapshot, GpuCollision, ReadbackRequest};
 use crate::constants::NO_PREVIOUS;
-use crate::layout::{GpuCollisionGroups, GpuContact};
-use crate::solver::convert::{gpu_pose, gpu_shape, gpu_velocity};
+use crate::layout::{GpuCollisionGroups, GpuContact, GpuPose};
+use crate::solver::convert::{gpu_shape, gpu_velocity};
 use crate::{GpuContext, GpuError, MAX_MANIFOLD_POINTS, StageTimer};
 
 /// Pair slots added on overflow: a quarter on top of what the step asked for, so a pile that
@@ -77,7 +77,7 @@ impl HybridCollision {
             self.last_tilts.clear();
             return Ok(Vec::new());
         }
-        let poses: Vec<_> = bodies.iter().map(|b| gpu_pose(&b.pose)).collect();
+        let poses: Vec<_> = bodies.iter().map(|b| GpuPose::from_pose(&b.pose)).collect();
         let velocities: Vec<_> = states.iter().map(gpu_velocity).collect();
         if self.shapes_uploaded && self.collision.body_count() as usize == bodies.len() {
             self.collision.set_motion(&poses, &velocities)?;
@@ -131,8 +131,7 @@ impl HybridCollision {
     }
 
     /// Records the collision stages and a readback of their manifolds, submits, and waits for
-    /// the copy. The wait polls until the map callback has run: another user of the device
-    /// may be running it in its own poll when a plain wait returns.
+    /// the copy ([`GpuCollision::receive`] polls until the map callback has run).
     fn run_once(&mut self) -> Result<CollisionSnapshot, GpuError> {
         let mut encoder = self.ctx.encoder("hybrid collision");
         self.collision
@@ -142,18 +141,7 @@ impl HybridCollision {
             .record_readback(&mut encoder, ReadbackRequest::CONTACTS)?;
         self.ctx.submit(encoder)?;
         let pending = self.collision.submit_readback(plan);
-        let deadline = std::time::Instant::now() + crate::readback::READ_TIMEOUT;
-        loop {
-            if let Some(snapshot) = self.collision.try_receive(&pending) {
-                return snapshot;
-            }
-            if std::time::Instant::now() > deadline {
-                return Err(GpuError::Device(
-                    "collision readback was not mapped in time".into(),
-                ));
-            }
-            self.ctx.wait_idle()?;
-        }
+        self.collision.receive(pending)
     }
 
     /// Writes the CPU solver's impulses of the last [`Self::collide`] back to the GPU, where

@@ -1,11 +1,12 @@
 //! What a GPU world reads back on request: poses, velocities, and the manifolds with their
 //! solved impulses, converted to the CPU's types on demand.
 
-use tumble_geometry::{ContactPoint, Manifold, Point3, Pose, Vec3};
+use tumble_geometry::Pose;
 use tumble_solver::{BodyState, Contact};
 
 use crate::MAX_MANIFOLD_POINTS;
-use crate::kernels::collide_cuboids::kind_from_code;
+use crate::collision::snapshot::to_manifold;
+use crate::kernels::velocity_from_gpu;
 use crate::layout::{GpuContact, GpuManifold, GpuPose, GpuVelocity, WorkList};
 use crate::solver::convert::{pose_from_gpu, read_impulses};
 use crate::solver::layout::GpuTilt;
@@ -63,19 +64,7 @@ impl ContactSnapshot {
         }
         let per = MAX_MANIFOLD_POINTS as usize;
         let points = &self.points[k * per..(k + 1) * per];
-        let mut manifold = Manifold {
-            normal: Vec3::new(m.normal[0], m.normal[1], m.normal[2]),
-            kind: kind_from_code(m.kind),
-            feature: m.feature,
-            ..Default::default()
-        };
-        for p in &points[..(m.len as usize).min(per)] {
-            manifold.push(ContactPoint {
-                position: Point3::new(p.position[0], p.position[1], p.position[2]),
-                depth: p.depth,
-                id: p.id,
-            });
-        }
+        let manifold = to_manifold(m, &points[..(m.len as usize).min(per)]);
         let mut contact = Contact::new(m.body_a, m.body_b, manifold);
         read_impulses(points, &self.tilts[k], &mut contact);
         Some(contact)
@@ -127,10 +116,7 @@ impl Snapshot {
 
     /// Body `i`'s velocities as a solver state (no in-step deltas).
     pub fn state(&self, i: usize) -> BodyState {
-        let v = &self.velocities[i];
-        BodyState::moving(
-            Vec3::new(v.linear[0], v.linear[1], v.linear[2]),
-            Vec3::new(v.angular[0], v.angular[1], v.angular[2]),
-        )
+        let (linear, angular) = velocity_from_gpu(&self.velocities[i]);
+        BodyState::moving(linear, angular)
     }
 }

@@ -32,7 +32,7 @@ impl GpuWorld {
         self.known_manifolds = None;
         let gpu: Vec<GpuBody> = bodies.iter().map(gpu_body).collect();
         if !bodies.is_empty() {
-            let poses: Vec<GpuPose> = bodies.iter().map(|b| gpu_pose(&b.pose)).collect();
+            let poses: Vec<GpuPose> = bodies.iter().map(|b| GpuPose::from_pose(&b.pose)).collect();
             let velocities: Vec<GpuVelocity> = states.iter().map(gpu_velocity).collect();
             let shapes: Vec<_> = bodies.iter().map(gpu_shape).collect();
             self.collision.set_bodies(&poses, &velocities, &shapes)?;
@@ -115,7 +115,7 @@ impl GpuWorld {
         if !finite {
             return Err(invalid("pose", pose));
         }
-        self.write_body(i, |b| b.poses, &gpu_pose(pose))
+        self.write_body(i, |b| b.poses, &GpuPose::from_pose(pose))
     }
 
     /// Sets body `i`'s linear and angular velocity. Takes effect before the next step.

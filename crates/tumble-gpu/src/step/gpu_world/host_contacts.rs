@@ -4,6 +4,7 @@
 use tumble_solver::{Body, Contact};
 
 use super::*;
+use crate::buffer_pool::bytes_of;
 
 impl GpuWorld {
     /// One step of the solver stages on manifolds made by the host (the CPU narrow phase):
@@ -71,21 +72,15 @@ impl GpuWorld {
             points.extend_from_slice(&pts);
         }
         let cap = u64::from(capacity);
-        self.pool.ensure(
-            HOST_MANIFOLDS,
-            cap * std::mem::size_of::<GpuManifold>() as u64,
-            STORAGE_USAGE,
-        )?;
-        self.pool.ensure(
-            HOST_POINTS,
-            cap * u64::from(MAX_MANIFOLD_POINTS) * std::mem::size_of::<GpuContact>() as u64,
-            STORAGE_USAGE,
-        )?;
-        self.pool.ensure(
-            HOST_WORK,
-            std::mem::size_of::<WorkList>() as u64,
-            STORAGE_USAGE,
-        )?;
+        let sizes = [
+            (HOST_MANIFOLDS, bytes_of::<GpuManifold>(cap)),
+            (
+                HOST_POINTS,
+                bytes_of::<GpuContact>(cap * u64::from(MAX_MANIFOLD_POINTS)),
+            ),
+            (HOST_WORK, bytes_of::<WorkList>(1)),
+        ];
+        self.pool.ensure_all(&sizes, STORAGE_USAGE)?;
         let queue = &self.ctx.queue;
         queue.write_buffer(
             self.pool.get(HOST_MANIFOLDS),

@@ -67,18 +67,10 @@ impl GpuWorld {
         let Some(last) = self.pending.pop_front() else {
             return Ok(None);
         };
-        // Polls until the map callback has run: another user of the device may be running it
-        // in its own poll when a plain wait returns.
-        let deadline = std::time::Instant::now() + crate::readback::READ_TIMEOUT;
-        loop {
-            if let Some(bytes) = self.readback.try_read(&last.ticket, &last.regions) {
-                return Ok(Some(decode(&last, self.bodies.len(), bytes?)));
-            }
-            if std::time::Instant::now() > deadline {
-                return Err(GpuError::Device("readback was not mapped in time".into()));
-            }
-            self.ctx.wait_idle()?;
-        }
+        // `wait` polls until the map callback has run: another user of the device may be
+        // running it in its own poll when a plain wait returns.
+        let bytes = self.readback.wait(&last.ticket, &last.regions)?;
+        Ok(Some(decode(&last, self.bodies.len(), bytes)))
     }
 
     /// Reads `request` from the current state now, blocking (queued impulses are applied

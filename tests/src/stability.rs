@@ -5,6 +5,7 @@
 //! physical property with a threshold whose reason is stated beside it. Every check also
 //! asserts that no body ever has a non-finite pose or velocity.
 
+use tumble::EffectOverrides;
 use tumble::prelude::*;
 use tumble::scenes::{self, CheckReport, CheckTracker, Scene};
 
@@ -28,6 +29,8 @@ pub fn world_config(backend: Backend, solver: SolverConfig) -> WorldConfig {
     WorldConfig {
         backend,
         solver,
+        // The suite judges the solver: every body keeps integrating, none is put to sleep.
+        effects: EffectOverrides::NO_SLEEP,
         ..Default::default()
     }
 }

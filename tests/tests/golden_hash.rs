@@ -22,7 +22,7 @@
 //!
 //! To print the current hashes: `cargo test -p tumble-tests --test golden_hash -- --nocapture`.
 
-use tumble::{Backend, World, WorldConfig};
+use tumble::{Backend, EffectOverrides, World, WorldConfig};
 use tumble_gpu::GpuContext;
 use tumble_scenes::{Scene, dominoes, friction_ramp, pyramid, wall, wide_on_small};
 
@@ -110,6 +110,9 @@ fn run(scene: &Scene, backend: Backend) -> u64 {
         scene,
         WorldConfig {
             backend,
+            // The committed hashes guard the step's arithmetic with every body integrated;
+            // sleep has its own tests (sleep.rs, gpu_sleep).
+            effects: EffectOverrides::NO_SLEEP,
             ..Default::default()
         },
     )

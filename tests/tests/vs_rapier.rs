@@ -50,9 +50,12 @@ fn sag(scene: &Scene, positions: &[[f32; 3]]) -> f32 {
         .fold(0.0, f32::max)
 }
 
-/// Tumble's default configuration: soft step, 6 substeps, CPU.
+/// Tumble's default configuration (soft step, 6 substeps, CPU) with every body awake.
 fn tumble_config() -> WorldConfig {
-    WorldConfig::default()
+    WorldConfig {
+        effects: tumble::EffectOverrides::NO_SLEEP,
+        ..WorldConfig::default()
+    }
 }
 
 /// Rapier with as many solver iterations (substeps of its soft-step solver) as Tumble's

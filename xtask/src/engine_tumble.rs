@@ -3,7 +3,9 @@
 use std::time::Duration;
 
 use tumble::scenes::Scene;
-use tumble::{Backend, BodyHandle, SolverConfig, SolverKind, World, WorldConfig};
+use tumble::{
+    Backend, BodyHandle, EffectOverrides, SolverConfig, SolverKind, World, WorldConfig,
+};
 
 use crate::engine::{BodyState, Engine, StageTime};
 use crate::grid::{BackendChoice, Solver, TumbleSetting};
@@ -71,6 +73,9 @@ impl TumbleEngine {
         let config = WorldConfig {
             solver: solver_config(setting),
             backend: backend(setting.backend),
+            // Drift and cost of the solver itself: no body is put to sleep (nor is any of
+            // rapier's, see engine_rapier).
+            effects: EffectOverrides::NO_SLEEP,
             ..Default::default()
         };
         let (world, handles) = World::from_scene(scene, config).map_err(|e| e.to_string())?;

@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use clap::{Args, ValueEnum};
 use tumble::prelude::*;
-use tumble::{BodyHandle, World};
+use tumble::{BodyHandle, EffectOverrides, World};
 
 /// Arguments of `cargo xtask soak`.
 #[derive(Args)]
@@ -202,6 +202,8 @@ fn soak_pyramid(args: &SoakArgs, backend: SoakBackend, steps: u64) -> Result<Soa
     let scene = tumble::scenes::pyramid(args.pyramid);
     let config = WorldConfig {
         backend: backend.backend(),
+        // A sleeping pyramid would soak nothing: every box is integrated every step.
+        effects: EffectOverrides::NO_SLEEP,
         ..Default::default()
     };
     let (mut world, handles) = World::from_scene(&scene, config).map_err(|e| e.to_string())?;

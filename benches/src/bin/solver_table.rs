@@ -22,6 +22,7 @@
 use std::time::Instant;
 
 use clap::Parser;
+use tumble::EffectOverrides;
 use tumble::prelude::*;
 use tumble_benches::cli::SceneName;
 use tumble_scenes::{RapierOptions, Scene, SceneCheck, build_rapier_with};
@@ -237,6 +238,8 @@ fn run_setting(scene: &Scene, setting: Setting, steps: u32) -> Row {
     };
     let config = WorldConfig {
         solver,
+        // The solver's own drift and cost: no body is put to sleep.
+        effects: EffectOverrides::NO_SLEEP,
         ..WorldConfig::default()
     };
     let (world, handles) = World::from_scene(scene, config).expect("canonical scenes are valid");

@@ -16,6 +16,7 @@
 use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
+use tumble::EffectOverrides;
 use tumble::prelude::*;
 use tumble_benches::cli::{SceneName, count};
 use tumble_scenes::{RapierOptions, Scene, build_rapier_with};
@@ -113,6 +114,8 @@ fn run_tumble(scene: &Scene, backend: Backend, substeps: u32, steps: usize) -> R
     let config = WorldConfig {
         backend,
         solver,
+        // The full step's cost: no body is put to sleep.
+        effects: EffectOverrides::NO_SLEEP,
         ..WorldConfig::default()
     };
     let (mut world, handles) = World::from_scene(scene, config)?;

@@ -40,8 +40,8 @@ pub struct WorldConfig {
     /// Base speculative margin, m: AABBs grow by it and the narrow phase reports points this
     /// far apart. Each pair adds its relative speed times `dt` on top.
     pub margin: Real,
-    /// Effects forced on or off; by default each runs when the scene needs it, and sleep
-    /// is off.
+    /// Effects forced on or off; by default each runs when the scene needs it, and resting
+    /// islands sleep (`effects.sleep = EffectSwitch::Off` keeps every body awake).
     pub effects: EffectOverrides,
 }
 

@@ -10,7 +10,9 @@ use crate::World;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum EffectSwitch {
-    /// On when the scene needs it (sleep: off, since sleeping changes results).
+    /// On when the scene needs it. For sleep: on whenever the world has a dynamic body, as in
+    /// rapier, Box2D, PhysX and Jolt (a resting island stops being stepped until something
+    /// touches or changes it); `Off` keeps every body integrating.
     #[default]
     Auto,
     /// Always run, needed or not (the general step).
@@ -43,7 +45,8 @@ pub struct EffectOverrides {
     pub rotation: EffectSwitch,
     /// Kinematic-body handling.
     pub kinematic: EffectSwitch,
-    /// Islands and sleep (`Auto` means off: ask for it with `On`).
+    /// Islands and sleep (`Auto` means on when the world has a dynamic body; `Off` turns
+    /// sleep off, so that every body is integrated every step).
     pub sleep: EffectSwitch,
     /// What a GPU step copies back for the host; see [`ReadbackOverrides`].
     pub readback: ReadbackOverrides,
@@ -92,6 +95,24 @@ impl ReadbackOverrides {
 }
 
 impl EffectOverrides {
+    /// The defaults (`Auto` everywhere) with sleep off: every body is integrated every step.
+    /// What measurements of the solver use (drift, energy, step time against engines whose
+    /// bodies all stay awake), and the setting of the committed golden hashes.
+    pub const NO_SLEEP: Self = Self {
+        gravity: EffectSwitch::Auto,
+        friction: EffectSwitch::Auto,
+        restitution: EffectSwitch::Auto,
+        rotation: EffectSwitch::Auto,
+        kinematic: EffectSwitch::Auto,
+        sleep: EffectSwitch::Off,
+        readback: ReadbackOverrides {
+            poses: EffectSwitch::Auto,
+            velocities: EffectSwitch::Auto,
+            contacts: EffectSwitch::Auto,
+            sleeping: EffectSwitch::Auto,
+        },
+    };
+
     /// Every effect forced on: the general step, whatever the scene.
     pub const ALL_ON: Self = Self {
         gravity: EffectSwitch::On,
@@ -118,8 +139,15 @@ impl EffectOverrides {
 
 impl World {
     /// The effects the next step runs: what the bodies need, with the config's overrides.
+    /// Sleep, which the solver layer never derives (it changes results), is on by default
+    /// here wherever a body can come to rest.
     pub fn effects(&self) -> Effects {
-        let derived = Effects::of_bodies(&self.host.bodies, &self.config.gravity);
+        let mut derived = Effects::of_bodies(&self.host.bodies, &self.config.gravity);
+        derived.sleep = self
+            .host
+            .bodies
+            .iter()
+            .any(|b| b.kind == tumble_solver::BodyKind::Dynamic);
         self.config.effects.resolve(derived)
     }
 }

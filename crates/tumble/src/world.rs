@@ -73,7 +73,11 @@ impl World {
         self.backend.step(&mut self.host, args)?;
         self.steps += 1;
         if self.events.enabled {
-            let (touching, events) = self.backend.touching_and_events(&self.host)?;
+            let (touching, events) = self.backend.touching_and_events(
+                &self.host,
+                &self.events.touching,
+                effects.sleep,
+            )?;
             self.events.update(touching, events);
         }
         Ok(())

@@ -95,12 +95,24 @@ fn kinematic_handling_skipped_without_kinematic_bodies() {
 #[test]
 fn sleep_forced_on_changes_nothing_while_nothing_rests() {
     // Boxes gliding on a frictionless floor never slow down, so no island ever sleeps; the
-    // islands are still built each step when sleep is on. Auto means off for sleep.
-    let gliding = unused!(sleep, |w| {
+    // islands are still built each step when sleep is on. Unlike the other effects, sleep is
+    // on by default wherever a body is dynamic (Auto runs it), so the row checks Auto, On and
+    // Off against each other rather than Auto against "not needed".
+    let build: fn(&mut World) = |w| {
         pile(w, 0.0, false);
         for &h in &w.handles().to_vec()[1..] {
             w.set_linear_velocity(h, Vec3::new(2.0, 0.0, 0.0)).unwrap();
         }
-    });
-    gliding.same_bits_on_and_off(WorldConfig::default());
+    };
+    let set: fn(&mut EffectOverrides, EffectSwitch) = |e, s| e.sleep = s;
+    let base = WorldConfig::default();
+    let (auto, auto_effects) = run(base, set, EffectSwitch::Auto, build);
+    assert!(auto_effects.sleep, "sleep: on by default with dynamic bodies");
+    let (on, on_effects) = run(base, set, EffectSwitch::On, build);
+    assert!(on_effects.sleep, "sleep: forced on");
+    let (off, off_effects) = run(base, set, EffectSwitch::Off, build);
+    assert!(!off_effects.sleep, "sleep: forced off");
+    assert!(!on.is_empty());
+    assert_eq!(on, off, "sleep: forced on and off differ while nothing rests");
+    assert_eq!(auto, off, "sleep: auto and off differ while nothing rests");
 }

@@ -121,6 +121,8 @@ pub(super) fn run_tumble(
             substeps,
             ..SolverConfig::default()
         },
+        // Every body awake, as in nexus and in the rapier3d rows.
+        effects: tumble::EffectOverrides::NO_SLEEP,
         ..WorldConfig::default()
     };
     let (mut world, handles) = World::from_scene(scene, config).map_err(|e| e.to_string())?;

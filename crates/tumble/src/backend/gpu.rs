@@ -131,6 +131,48 @@ impl GpuBackend {
         e
     }
 
+    /// The pairs of `previous` (the step before's touching pairs) missing from `touching`
+    /// whose two bodies are each asleep or not dynamic after the last step: the pairs at rest
+    /// in a sleeping island, which the GPU did not collide.
+    fn kept_asleep(
+        &self,
+        host: &Host,
+        previous: &[TouchingPair],
+        touching: &[TouchingPair],
+    ) -> Result<Vec<TouchingPair>, Error> {
+        let Some(unread) = self.unread.as_ref() else {
+            return Ok(Vec::new());
+        };
+        if previous.is_empty() || self.uploaded_last_step {
+            // Uploading every body again woke them all.
+            return Ok(Vec::new());
+        }
+        let asleep = unread.sleeping(&self.gpu).map_err(failed)?;
+        let dense: std::collections::HashMap<BodyHandle, usize> = self
+            .uploaded
+            .iter()
+            .enumerate()
+            .map(|(d, &h)| (h, d))
+            .collect();
+        let rests = |h: &BodyHandle| {
+            dense.get(h).is_some_and(|&d| {
+                asleep.get(d).copied().unwrap_or(false)
+                    || host
+                        .bodies
+                        .get(d)
+                        .is_some_and(|b| b.kind != BodyKind::Dynamic)
+            })
+        };
+        let now: std::collections::HashSet<(BodyHandle, BodyHandle)> =
+            touching.iter().map(|p| (p.body_a, p.body_b)).collect();
+        Ok(previous
+            .iter()
+            .filter(|p| !now.contains(&(p.body_a, p.body_b)))
+            .filter(|p| rests(&p.body_a) && rests(&p.body_b))
+            .copied()
+            .collect())
+    }
+
     /// The last step's results, when the host arrays do not hold its poses and velocities.
     fn unread_motion(&self) -> Option<&Unread> {
         self.unread.as_ref().filter(|u| !u.motion_in_host)
@@ -209,8 +251,12 @@ impl StepBackend for GpuBackend {
         gpu.set_contact_events(on).map_err(failed)
     }
 
-    fn touching_and_events(&self, host: &Host) -> Result<TouchingAndEvents, Error> {
-        let _ = host;
+    fn touching_and_events(
+        &self,
+        host: &Host,
+        previous: &[TouchingPair],
+        sleep: bool,
+    ) -> Result<TouchingAndEvents, Error> {
         let read = {
             let mut gpu = self.gpu.lock().map_err(|_| poisoned())?;
             gpu.read_contact_events().map_err(failed)?
@@ -241,6 +287,17 @@ impl StepBackend for GpuBackend {
                 })
             })
             .collect();
+        if sleep {
+            // The GPU forms no pairs between bodies that sleep (or a sleeping body and a fixed
+            // one), so a pair resting in an island that fell asleep is missing from its list
+            // and its comparison would end it, and begin it again when the island wakes. As
+            // on the CPU, whose sleeping islands keep their manifolds, such a pair still
+            // touches: it is carried from the step before, with that step's impulse and point,
+            // and the host compares the lists.
+            touching.extend(self.kept_asleep(host, previous, &touching)?);
+            touching.sort_unstable_by_key(|p| (p.body_a, p.body_b));
+            return Ok((touching, None));
+        }
         touching.sort_unstable_by_key(|p| (p.body_a, p.body_b));
         if !compared || self.uploaded_last_step {
             return Ok((touching, None));

@@ -97,9 +97,17 @@ pub(crate) trait StepBackend: fmt::Debug + Send + Sync {
 
     /// Last step's touching pairs, sorted by pair, and the begin and end events when the
     /// backend compared the step with the one before itself (`None`: the caller compares the
-    /// touching pairs with its own list). The default reads the pairs from
-    /// [`StepBackend::contacts`] and compares nothing.
-    fn touching_and_events(&self, host: &Host) -> Result<TouchingAndEvents, Error> {
+    /// touching pairs with its own list). `previous` is the caller's list of the step before
+    /// and `sleep` whether the sleep effect ran. The default reads the pairs from
+    /// [`StepBackend::contacts`] (which hold the sleeping islands' kept manifolds) and compares
+    /// nothing.
+    fn touching_and_events(
+        &self,
+        host: &Host,
+        previous: &[TouchingPair],
+        sleep: bool,
+    ) -> Result<TouchingAndEvents, Error> {
+        let _ = (previous, sleep);
         let (contacts, handles) = self.contacts(host);
         Ok((crate::events::touching_pairs(contacts, handles), None))
     }

@@ -24,16 +24,21 @@ fn have_gpu() -> bool {
     GpuContext::for_tests().is_some()
 }
 
-fn world(readback: ReadbackOverrides) -> (World, Vec<BodyHandle>) {
+/// A world on the GPU backend with `effects`, the rest default.
+fn gpu_world(effects: EffectOverrides) -> World {
     let config = WorldConfig {
         backend: Backend::Gpu,
-        effects: EffectOverrides {
-            readback,
-            ..Default::default()
-        },
+        effects,
         ..Default::default()
     };
-    let mut world = World::new(config).expect("GPU world");
+    World::new(config).expect("GPU world")
+}
+
+fn world(readback: ReadbackOverrides) -> (World, Vec<BodyHandle>) {
+    let mut world = gpu_world(EffectOverrides {
+        readback,
+        ..Default::default()
+    });
     let mut handles = vec![add_floor(&mut world, 10.0)];
     for (x, z) in [(-1.5, 0.0), (0.0, 0.0), (1.5, 0.0)] {
         for level in 0..3 {
@@ -260,15 +265,10 @@ fn sleep_on_the_gpu_is_read_through_the_facade() {
     if !have_gpu() {
         return;
     }
-    let config = WorldConfig {
-        backend: Backend::Gpu,
-        effects: EffectOverrides {
-            sleep: EffectSwitch::On,
-            ..Default::default()
-        },
+    let mut world = gpu_world(EffectOverrides {
+        sleep: EffectSwitch::On,
         ..Default::default()
-    };
-    let mut world = World::new(config).expect("GPU world");
+    });
     add_floor(&mut world, 10.0);
     let mut stacks = Vec::new();
     for x in [-2.0, 2.0] {

@@ -252,6 +252,26 @@ fn watch_wide(
     assert_eq!(world.last_path(), Some(SolvePath::Wide));
 }
 
+/// [`watch_wide`] under gravity `G` with the effect forced on, then off: each run starts a
+/// value with `start` and lets `watch` update it after every step; the two values.
+fn on_and_off<T>(
+    ctx: &GpuContext,
+    scene: &(Vec<Body>, Vec<BodyState>),
+    set: fn(&mut Effects, bool),
+    steps: usize,
+    start: impl Fn() -> T,
+    watch: impl Fn(&mut T, &Pose, &BodyState),
+) -> (T, T) {
+    let run = |on| {
+        let mut value = start();
+        watch_wide(ctx, G, scene, set, on, steps, |p, s| {
+            watch(&mut value, p, s)
+        });
+        value
+    };
+    (run(true), run(false))
+}
+
 #[test]
 fn wide_friction_forced_off_lets_a_thrown_cube_slide_on() {
     let Some(ctx) = GpuContext::for_tests() else {
@@ -265,21 +285,11 @@ fn wide_friction_forced_off_lets_a_thrown_cube_slide_on() {
             BodyState::moving(Vec3::new(3.0, 0.0, 0.0), Vec3::zeros()),
         ],
     );
-    let speed = |on| {
-        let mut v = Vec3::zeros();
-        watch_wide(
-            &ctx,
-            G,
-            &scene,
-            |e, s| e.friction = s,
-            on,
-            36,
-            |_, s| v = s.linear_velocity,
-        );
-        v.x
-    };
-    let (on, off) = (speed(true), speed(false));
-    assert_friction_stops_the_slide(on, off);
+    let set = |e: &mut Effects, s| e.friction = s;
+    let (on, off) = on_and_off(&ctx, &scene, set, 36, Vec3::zeros, |v, _, s| {
+        *v = s.linear_velocity;
+    });
+    assert_friction_stops_the_slide(on.x, off.x);
 }
 
 #[test]
@@ -296,21 +306,11 @@ fn wide_restitution_forced_off_stops_the_bounce() {
         vec![floor(ROUGH), cube],
         vec![BodyState::default(), BodyState::default()],
     );
-    let apex = |on| {
-        let mut apex = Apex::default();
-        watch_wide(
-            &ctx,
-            G,
-            &scene,
-            |e, s| e.restitution = s,
-            on,
-            45,
-            |p, s| apex.watch(p.translation.y - 0.5, s.linear_velocity.y),
-        );
-        apex.height
-    };
-    let (on, off) = (apex(true), apex(false));
-    assert_restitution_bounces(on, off);
+    let set = |e: &mut Effects, s| e.restitution = s;
+    let (on, off) = on_and_off(&ctx, &scene, set, 45, Apex::default, |apex, p, s| {
+        apex.watch(p.translation.y - 0.5, s.linear_velocity.y);
+    });
+    assert_restitution_bounces(on.height, off.height);
 }
 
 #[test]
@@ -324,25 +324,15 @@ fn wide_gravity_forced_off_leaves_a_cube_in_the_air() {
         vec![BodyState::default(), BodyState::default()],
     );
     let steps = 30;
-    let end = |on| {
-        let mut end = (start, BodyState::default());
-        watch_wide(
-            &ctx,
-            G,
-            &scene,
-            |e, s| e.gravity = s,
-            on,
-            steps,
-            |p, s| end = (*p, *s),
-        );
-        end
-    };
-    let (on, _) = end(true);
+    let set = |e: &mut Effects, s| e.gravity = s;
+    let at_rest = || (start, BodyState::default());
+    let ((on, _), (off, state)) = on_and_off(&ctx, &scene, set, steps, at_rest, |end, p, s| {
+        *end = (*p, *s);
+    });
     let config = GpuWorldConfig::default();
     let dropped = 5.0 - on.translation.y;
     assert_free_fall(dropped, G.y, config.dt, config.solver.substeps, steps);
     // Without it nothing acts on the cube: it stays exactly where it was, at rest.
-    let (off, state) = end(false);
     assert_eq!(
         off.translation, start.translation,
         "the cube moved without gravity"
@@ -362,20 +352,17 @@ fn wide_rotation_forced_off_keeps_a_tipped_cube_from_turning() {
         vec![floor(ROUGH), unit_cube(start, ROUGH)],
         vec![BodyState::default(), BodyState::default()],
     );
-    let turned = |on| {
-        let mut turned: Real = 0.0;
-        watch_wide(
-            &ctx,
-            G,
-            &scene,
-            |e, s| e.rotation = s,
-            on,
-            45,
-            |p, _| turned = turned.max(p.rotation.angle_to(&tilt)),
-        );
-        turned
-    };
-    let (on, off) = (turned(true), turned(false));
+    let set = |e: &mut Effects, s| e.rotation = s;
+    let (on, off) = on_and_off(
+        &ctx,
+        &scene,
+        set,
+        45,
+        || 0.0,
+        |turned: &mut Real, p, _| {
+            *turned = turned.max(p.rotation.angle_to(&tilt));
+        },
+    );
     assert_tipped_cube_turns(on, off);
 }
 

@@ -209,15 +209,22 @@ mod tests {
         ]
     }
 
+    /// The metrics of `steps` steps of the cube on the floor, starting at rest, where step `i`
+    /// (from 0) ends in `state_after(i)`.
+    fn record(steps: usize, mut state_after: impl FnMut(usize) -> Vec<BodyState>) -> RunMetrics {
+        let scene = cube_on_floor();
+        let start = states(Pose::translation(0.0, 0.5, 0.0), Vec3::zeros());
+        let mut rec = MetricsRecorder::new(&scene, &start, vec![false, true], steps);
+        for i in 0..steps {
+            rec.record(&state_after(i));
+        }
+        rec.finish()
+    }
+
     #[test]
     fn a_cube_that_never_moves_scores_zero_everywhere() {
-        let scene = cube_on_floor();
         let rest = states(Pose::translation(0.0, 0.5, 0.0), Vec3::zeros());
-        let mut rec = MetricsRecorder::new(&scene, &rest, vec![false, true], 120);
-        for _ in 0..120 {
-            rec.record(&rest);
-        }
-        let m = rec.finish();
+        let m = record(120, |_| rest.clone());
         assert_eq!(m.steps, 120);
         assert_eq!(m.max_penetration, 0.0);
         assert_eq!(m.max_drift, 0.0);
@@ -232,19 +239,16 @@ mod tests {
         // The cube slides 1 cm/step sideways for 30 steps while sinking 2 mm in, then stops.
         // Drift is the 30 cm slide; penetration the 2 mm; it rests after 30 steps = 0.5 s; its
         // potential energy fell by m g 0.002 = 0.02 J out of a scale of m g 0.5 = 5 J.
-        let scene = cube_on_floor();
-        let start = states(Pose::translation(0.0, 0.5, 0.0), Vec3::zeros());
-        let mut rec = MetricsRecorder::new(&scene, &start, vec![false, true], 120);
-        for step in 1..=120 {
+        let m = record(120, |i| {
+            let step = i + 1;
             let x = 0.01 * step.min(30) as f32;
             let v = if step <= 30 {
                 Vec3::new(0.6, 0.0, 0.0)
             } else {
                 Vec3::zeros()
             };
-            rec.record(&states(Pose::translation(x, 0.498, 0.0), v));
-        }
-        let m = rec.finish();
+            states(Pose::translation(x, 0.498, 0.0), v)
+        });
         // f32 positions near 0.5 m round at about 3e-8 m; 1e-6 is far above that.
         assert!((m.max_drift - 0.30).abs() < 1e-6, "{}", m.max_drift);
         assert!(
@@ -263,11 +267,8 @@ mod tests {
     fn jitter_is_the_rms_speed_over_the_last_second_only() {
         // A cube buzzing at 0.1 m/s on every other step of the final 60 steps has an RMS speed
         // of 0.1 / sqrt(2); a fast shake before the window must not count.
-        let scene = cube_on_floor();
         let rest_pose = Pose::translation(0.0, 0.5, 0.0);
-        let start = states(rest_pose, Vec3::zeros());
-        let mut rec = MetricsRecorder::new(&scene, &start, vec![false, true], 120);
-        for step in 0..120 {
+        let m = record(120, |step| {
             let v = if step < 60 {
                 Vec3::new(3.0, 0.0, 0.0)
             } else if step % 2 == 0 {
@@ -275,9 +276,8 @@ mod tests {
             } else {
                 Vec3::zeros()
             };
-            rec.record(&states(rest_pose, v));
-        }
-        let m = rec.finish();
+            states(rest_pose, v)
+        });
         let expected = 0.1 / 2f64.sqrt();
         let jitter = m.jitter_rms.expect("the cube should rest");
         assert!((jitter - expected).abs() < 1e-6, "{jitter}");
@@ -287,15 +287,7 @@ mod tests {
 
     #[test]
     fn a_body_that_turns_nan_is_counted_once() {
-        let scene = cube_on_floor();
-        let start = states(Pose::translation(0.0, 0.5, 0.0), Vec3::zeros());
-        let mut rec = MetricsRecorder::new(&scene, &start, vec![false, true], 10);
-        for _ in 0..10 {
-            rec.record(&states(
-                Pose::translation(f32::NAN, 0.5, 0.0),
-                Vec3::zeros(),
-            ));
-        }
-        assert_eq!(rec.finish().nan_bodies, 1);
+        let nan = Pose::translation(f32::NAN, 0.5, 0.0);
+        assert_eq!(record(10, |_| states(nan, Vec3::zeros())).nan_bodies, 1);
     }
 }

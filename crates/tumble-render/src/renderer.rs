@@ -235,27 +235,28 @@ impl Renderer {
         use wgpu::CompareFunction::{Always, Less};
         use wgpu::PrimitiveTopology::{LineList, TriangleList};
         let s = config.samples;
-        let box_pipeline = main.make(
-            "render boxes",
-            ("vs_box", Some("fs_box")),
-            TriangleList,
-            (true, Less),
-            s,
-        );
-        let dot_pipeline = main.make(
-            "render dots",
-            ("vs_dot", Some("fs_dot")),
-            TriangleList,
-            (false, Always),
-            s,
-        );
-        let normal_pipeline = main.make(
-            "render normals",
-            ("vs_normal", Some("fs_normal")),
-            LineList,
-            (false, Always),
-            s,
-        );
+        // The frame's pipelines: label, entry points, primitives, (depth write, depth test).
+        let [box_pipeline, dot_pipeline, normal_pipeline] = [
+            (
+                "render boxes",
+                ("vs_box", Some("fs_box")),
+                TriangleList,
+                (true, Less),
+            ),
+            (
+                "render dots",
+                ("vs_dot", Some("fs_dot")),
+                TriangleList,
+                (false, Always),
+            ),
+            (
+                "render normals",
+                ("vs_normal", Some("fs_normal")),
+                LineList,
+                (false, Always),
+            ),
+        ]
+        .map(|(label, entries, topology, depth)| main.make(label, entries, topology, depth, s));
         let shadow_pipeline = shadow_maker.make(
             "render shadow map",
             ("vs_shadow", None),

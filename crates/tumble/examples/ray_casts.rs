@@ -33,22 +33,14 @@ fn main() -> Result<(), tumble::Error> {
             None => println!("ray down at x = {x:5.2}: nothing"),
         }
     }
-    let center = world.cast_ray(
-        Point3::new(0.0, 5.0, 0.0),
-        down,
-        10.0,
-        QueryFilter::default(),
-    )?;
+    // The ray through the cube's centre: its nearest hit, then every hit along it.
+    let above = Point3::new(0.0, 5.0, 0.0);
+    let center = world.cast_ray(above, down, 10.0, QueryFilter::default())?;
     let center = center.expect("the cube is under the ray");
     // The cube rests on the floor: its top face at 1 m, within the contact's slop.
     assert_eq!(center.body, cube);
     assert!((center.point.y - 1.0).abs() < 0.01, "{center:?}");
-    let all = world.cast_ray_all(
-        Point3::new(0.0, 5.0, 0.0),
-        down,
-        10.0,
-        QueryFilter::default(),
-    )?;
+    let all = world.cast_ray_all(above, down, 10.0, QueryFilter::default())?;
     println!(
         "every hit straight down through the cube: {} bodies",
         all.len()

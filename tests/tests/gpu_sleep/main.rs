@@ -91,13 +91,18 @@ fn sleeping_world_with(ctx: &GpuContext, bodies: &[Body], config: GpuWorldConfig
     world
         .set_bodies(bodies, &vec![BodyState::default(); bodies.len()])
         .unwrap();
+    set_sleep(&mut world, true);
+    assert!(world.effects().sleep);
+    world
+}
+
+/// Turns sleep on or off in `world`, the other effects as they are.
+fn set_sleep(world: &mut GpuWorld, sleep: bool) {
     let effects = Effects {
-        sleep: true,
+        sleep,
         ..world.effects()
     };
     world.set_effects(effects).unwrap();
-    assert!(world.effects().sleep);
-    world
 }
 
 /// Steps until every dynamic body in `bodies` sleeps, at most `limit` steps; the snapshot

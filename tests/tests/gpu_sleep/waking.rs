@@ -189,11 +189,7 @@ fn sleep_on_steps_bit_for_bit_like_sleep_off_until_something_sleeps() {
     let run = |sleep: bool| {
         let mut world = GpuWorld::new(&ctx, GpuWorldConfig::default()).unwrap();
         world.set_bodies(&bodies, &states).unwrap();
-        let effects = Effects {
-            sleep,
-            ..world.effects()
-        };
-        world.set_effects(effects).unwrap();
+        set_sleep(&mut world, sleep);
         for _ in 0..steps {
             world.step().unwrap();
         }
@@ -220,11 +216,7 @@ fn turning_sleep_off_wakes_every_sleeping_body() {
     bodies.extend(pile(0.0, 0.0, 1, 2));
     let mut world = sleeping_world(&ctx, &bodies);
     step_until_asleep(&mut world, &[1, 2], SETTLE_STEPS);
-    let effects = Effects {
-        sleep: false,
-        ..world.effects()
-    };
-    world.set_effects(effects).unwrap();
+    set_sleep(&mut world, false);
     // Awake again, the top cube answers a velocity as a dynamic body: sent up at 1 m/s it
     // rises by about dt in one step (half of that is a safe floor).
     let before = world.read_now(STATE).unwrap().pose(2).translation.y;
@@ -258,11 +250,7 @@ fn a_moving_kinematic_box_wakes_the_sleeping_box_it_reaches_and_pushes_it() {
     states[2] = BodyState::moving(Vec3::new(speed, 0.0, 0.0), Vec3::zeros());
     let mut world = GpuWorld::new(&ctx, GpuWorldConfig::default()).unwrap();
     world.set_bodies(&bodies, &states).unwrap();
-    let effects = Effects {
-        sleep: true,
-        ..world.effects()
-    };
-    world.set_effects(effects).unwrap();
+    set_sleep(&mut world, true);
     let (asleep, steps) = step_until_asleep(&mut world, &[1], SETTLE_STEPS);
     let pusher_x = asleep.pose(2).translation.x;
     // The slab has not reached the cube yet when it sleeps (their faces are 2.25 m apart at

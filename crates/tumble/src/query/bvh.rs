@@ -249,6 +249,19 @@ mod tests {
         assert_eq!(tree.entries().len(), 1000);
     }
 
+    /// The dense indices of the tree's entries that `keep` accepts, sorted: what a traversal
+    /// must visit.
+    fn scan(tree: &Bvh, keep: impl Fn(&Aabb) -> bool) -> Vec<usize> {
+        let mut found: Vec<usize> = tree
+            .entries()
+            .iter()
+            .filter(|e| keep(&e.aabb))
+            .map(|e| e.dense)
+            .collect();
+        found.sort_unstable();
+        found
+    }
+
     #[test]
     fn traversals_visit_exactly_what_a_scan_finds() {
         let tree = grid();
@@ -260,14 +273,7 @@ mod tests {
         })
         .unwrap();
         found.sort_unstable();
-        let mut scan: Vec<usize> = tree
-            .entries()
-            .iter()
-            .filter(|e| e.aabb.intersects(&query))
-            .map(|e| e.dense)
-            .collect();
-        scan.sort_unstable();
-        assert_eq!(found, scan);
+        assert_eq!(found, scan(&tree, |b| b.intersects(&query)));
         assert!(!found.is_empty());
         // A diagonal ray: every box its segment reaches, and no other.
         let (o, d) = (Point3::new(-1.0, -0.9, -1.1), Vec3::new(1.0, 1.0, 1.0));
@@ -279,14 +285,7 @@ mod tests {
         })
         .unwrap();
         along.sort_unstable();
-        let mut scan: Vec<usize> = tree
-            .entries()
-            .iter()
-            .filter(|e| e.aabb.cast_ray(&o, &d, 20.0).is_some())
-            .map(|e| e.dense)
-            .collect();
-        scan.sort_unstable();
-        assert_eq!(along, scan);
+        assert_eq!(along, scan(&tree, |b| b.cast_ray(&o, &d, 20.0).is_some()));
         assert!(along.len() >= 10, "{along:?}");
     }
 

@@ -40,6 +40,20 @@ pub struct BodyDesc {
     pub user_data: u128,
 }
 
+/// Declares builder methods that each set one field to their argument and return the
+/// description: `name(arg: Type) => field.path;`, each with its doc comment.
+macro_rules! setters {
+    ($($(#[$meta:meta])* $name:ident($arg:ident: $ty:ty) => $($field:ident).+;)*) => {
+        $(
+            $(#[$meta])*
+            pub fn $name(mut self, $arg: $ty) -> Self {
+                self.$($field).+ = $arg;
+                self
+            }
+        )*
+    };
+}
+
 impl BodyDesc {
     fn new(kind: BodyKind) -> Self {
         Self {
@@ -74,16 +88,11 @@ impl BodyDesc {
         Self::new(BodyKind::Kinematic)
     }
 
-    /// The box's half extents.
-    pub fn cuboid(mut self, half_extents: Vec3) -> Self {
-        self.half_extents = half_extents;
-        self
-    }
-
-    /// The initial pose.
-    pub fn pose(mut self, pose: Pose) -> Self {
-        self.pose = pose;
-        self
+    setters! {
+        /// The box's half extents.
+        cuboid(half_extents: Vec3) => half_extents;
+        /// The initial pose.
+        pose(pose: Pose) => pose;
     }
 
     /// The initial position (keeps the rotation).
@@ -92,34 +101,17 @@ impl BodyDesc {
         self
     }
 
-    /// Density in kg/m^3.
-    pub fn density(mut self, density: Real) -> Self {
-        self.density = density;
-        self
-    }
-
-    /// Coulomb friction coefficient.
-    pub fn friction(mut self, friction: Real) -> Self {
-        self.material.friction = friction;
-        self
-    }
-
-    /// Coefficient of restitution in `[0, 1]`.
-    pub fn restitution(mut self, restitution: Real) -> Self {
-        self.material.restitution = restitution;
-        self
-    }
-
-    /// Initial linear velocity.
-    pub fn linear_velocity(mut self, v: Vec3) -> Self {
-        self.linear_velocity = v;
-        self
-    }
-
-    /// Initial angular velocity (world axes).
-    pub fn angular_velocity(mut self, w: Vec3) -> Self {
-        self.angular_velocity = w;
-        self
+    setters! {
+        /// Density in kg/m^3.
+        density(density: Real) => density;
+        /// Coulomb friction coefficient.
+        friction(friction: Real) => material.friction;
+        /// Coefficient of restitution in `[0, 1]`.
+        restitution(restitution: Real) => material.restitution;
+        /// Initial linear velocity.
+        linear_velocity(v: Vec3) => linear_velocity;
+        /// Initial angular velocity (world axes).
+        angular_velocity(w: Vec3) => angular_velocity;
     }
 
     /// Locks rotation about all three axes.
@@ -128,49 +120,24 @@ impl BodyDesc {
         self
     }
 
-    /// Locks rotation about the world axes flagged `true`.
-    pub fn lock_rotation_axes(mut self, axes: [bool; 3]) -> Self {
-        self.locks.rotation = axes;
-        self
-    }
-
-    /// Locks translation along the world axes flagged `true`.
-    pub fn lock_translations(mut self, axes: [bool; 3]) -> Self {
-        self.locks.translation = axes;
-        self
-    }
-
-    /// Linear damping rate, 1/s.
-    pub fn linear_damping(mut self, rate: Real) -> Self {
-        self.linear_damping = rate;
-        self
-    }
-
-    /// Angular damping rate, 1/s.
-    pub fn angular_damping(mut self, rate: Real) -> Self {
-        self.angular_damping = rate;
-        self
-    }
-
-    /// Which bodies this one may collide with: see [`CollisionGroups`] (two bodies collide
-    /// only when each one's memberships meet the other's filter).
-    pub fn collision_groups(mut self, groups: CollisionGroups) -> Self {
-        self.collision_groups = groups;
-        self
-    }
-
-    /// The multiple of the world's gravity acting on the body: 0 floats, 2 falls twice as
-    /// fast, -1 rises; within `[-10, 10]` (`bounds::MAX_GRAVITY_SCALE`).
-    pub fn gravity_scale(mut self, scale: Real) -> Self {
-        self.gravity_scale = scale;
-        self
-    }
-
-    /// A value kept with the body for the caller, never read by the physics
-    /// ([`crate::World::user_data`]).
-    pub fn user_data(mut self, data: u128) -> Self {
-        self.user_data = data;
-        self
+    setters! {
+        /// Locks rotation about the world axes flagged `true`.
+        lock_rotation_axes(axes: [bool; 3]) => locks.rotation;
+        /// Locks translation along the world axes flagged `true`.
+        lock_translations(axes: [bool; 3]) => locks.translation;
+        /// Linear damping rate, 1/s.
+        linear_damping(rate: Real) => linear_damping;
+        /// Angular damping rate, 1/s.
+        angular_damping(rate: Real) => angular_damping;
+        /// Which bodies this one may collide with: see [`CollisionGroups`] (two bodies collide
+        /// only when each one's memberships meet the other's filter).
+        collision_groups(groups: CollisionGroups) => collision_groups;
+        /// The multiple of the world's gravity acting on the body: 0 floats, 2 falls twice as
+        /// fast, -1 rises; within `[-10, 10]` (`bounds::MAX_GRAVITY_SCALE`).
+        gravity_scale(scale: Real) => gravity_scale;
+        /// A value kept with the body for the caller, never read by the physics
+        /// ([`crate::World::user_data`]).
+        user_data(data: u128) => user_data;
     }
 
     /// Validates every field against its range (`tumble_solver::bounds`; the angular speed

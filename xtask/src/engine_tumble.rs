@@ -3,9 +3,7 @@
 use std::time::Duration;
 
 use tumble::scenes::Scene;
-use tumble::{
-    Backend, BodyHandle, EffectOverrides, SolverConfig, SolverKind, World, WorldConfig,
-};
+use tumble::{Backend, BodyHandle, EffectOverrides, SolverConfig, SolverKind, World, WorldConfig};
 
 use crate::engine::{BodyState, Engine, StageTime};
 use crate::grid::{BackendChoice, Solver, TumbleSetting};

@@ -107,12 +107,18 @@ fn sleep_forced_on_changes_nothing_while_nothing_rests() {
     let set: fn(&mut EffectOverrides, EffectSwitch) = |e, s| e.sleep = s;
     let base = WorldConfig::default();
     let (auto, auto_effects) = run(base, set, EffectSwitch::Auto, build);
-    assert!(auto_effects.sleep, "sleep: on by default with dynamic bodies");
+    assert!(
+        auto_effects.sleep,
+        "sleep: on by default with dynamic bodies"
+    );
     let (on, on_effects) = run(base, set, EffectSwitch::On, build);
     assert!(on_effects.sleep, "sleep: forced on");
     let (off, off_effects) = run(base, set, EffectSwitch::Off, build);
     assert!(!off_effects.sleep, "sleep: forced off");
     assert!(!on.is_empty());
-    assert_eq!(on, off, "sleep: forced on and off differ while nothing rests");
+    assert_eq!(
+        on, off,
+        "sleep: forced on and off differ while nothing rests"
+    );
     assert_eq!(auto, off, "sleep: auto and off differ while nothing rests");
 }

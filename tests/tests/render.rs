@@ -204,3 +204,210 @@ fn gpu_world_is_drawn_from_its_buffers_like_the_cpu_world() {
     // The GPU's manifolds, drawn from its buffers, have dots where the CPU's points are.
     check_contact_dots(&gpu_dots, &cpu_world, cpu_handles[1]);
 }
+
+/// One sample per pixel: the overlays' lines are one pixel wide, and a line that covers part
+/// of a pixel's samples would resolve to a blend of its colour and what lies below.
+fn overlay_config() -> RenderConfig {
+    RenderConfig {
+        samples: 1,
+        ..config()
+    }
+}
+
+/// Whether a pixel within one of where `point` projects has `colour`: a one-pixel line
+/// passes within a pixel of each of its points, whichever way the rasterizer rounds.
+fn drawn_near(image: &Image, camera: &Camera, point: Point3, colour: [f32; 3]) -> bool {
+    let [x, y, _] = camera.project(point, WIDTH, HEIGHT).expect("in front");
+    let (x, y) = (x as i64, y as i64);
+    (-1..=1).any(|dy| {
+        (-1..=1).any(|dx| {
+            let (px, py) = (x + dx, y + dy);
+            (0..WIDTH as i64).contains(&px)
+                && (0..HEIGHT as i64).contains(&py)
+                && near(image.pixel(px as u32, py as u32), colour)
+        })
+    })
+}
+
+fn count_near(image: &Image, colour: [f32; 3]) -> usize {
+    (0..HEIGHT)
+        .flat_map(|y| (0..WIDTH).map(move |x| (x, y)))
+        .filter(|&(x, y)| near(image.pixel(x, y), colour))
+        .count()
+}
+
+fn centre(world: &World, h: BodyHandle) -> Point3 {
+    Point3::from(world.pose(h).unwrap().translation.vector)
+}
+
+/// The midpoints of the 12 edges of `h`'s world bounds.
+fn aabb_edge_midpoints(world: &World, h: BodyHandle) -> Vec<Point3> {
+    let pose = world.pose(h).unwrap();
+    let r = pose.rotation.to_rotation_matrix();
+    let half = r.matrix().abs() * world.half_extents(h).unwrap();
+    let c = pose.translation.vector;
+    let mut mids = Vec::new();
+    for axis in 0..3 {
+        for corner in 0..4 {
+            let mut p = Vec3::zeros();
+            p[(axis + 1) % 3] = if corner & 1 == 0 { -1.0 } else { 1.0 };
+            p[(axis + 2) % 3] = if corner & 2 == 0 { -1.0 } else { 1.0 };
+            mids.push(Point3::from(c + p.component_mul(&half)));
+        }
+    }
+    mids
+}
+
+/// AABB outlines run through the midpoint of each edge of the cube's and the turned slab's
+/// world bounds, and pair lines along the floor-cube and floor-slab segments, on the host
+/// and the GPU world alike; the fixed floor and the kinematic cube, which no step pairs,
+/// have no line between them. Neither colour appears in the picture without its overlay.
+#[test]
+fn aabb_and_pair_overlays_draw_where_the_bounds_and_pairs_project() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let palette = Palette::DEFAULT;
+    let cam = camera();
+    for backend in [Backend::Cpu, Backend::Gpu] {
+        let (world, [floor, cube, slab, kinematic]) = world(backend);
+        let ctx = world.gpu_context().unwrap_or_else(|| ctx.clone());
+        let mut renderer = Renderer::new(&ctx, overlay_config()).expect("renderer");
+        let plain = renderer.render(&world, &cam, &Overlay::NONE).unwrap();
+        assert_eq!(count_near(&plain, palette.aabb), 0, "{backend:?}");
+        assert_eq!(count_near(&plain, palette.pair), 0, "{backend:?}");
+
+        let aabbs = Overlay {
+            aabbs: true,
+            ..Overlay::NONE
+        };
+        let image = renderer.render(&world, &cam, &aabbs).unwrap();
+        for h in [cube, slab] {
+            for mid in aabb_edge_midpoints(&world, h) {
+                assert!(
+                    drawn_near(&image, &cam, mid, palette.aabb),
+                    "{backend:?}: no AABB line at {mid}"
+                );
+            }
+        }
+        // Four outlines of 12 edges, each tens of pixels long: hundreds of pixels at least.
+        let outline = count_near(&image, palette.aabb);
+        assert!(outline > 300, "{backend:?}: {outline} AABB pixels");
+
+        let pairs = Overlay {
+            pairs: true,
+            ..Overlay::NONE
+        };
+        let image = renderer.render(&world, &cam, &pairs).unwrap();
+        let along = |a: Point3, b: Point3, t: f32| a + (b - a) * t;
+        for body in [cube, slab] {
+            let (a, b) = (centre(&world, floor), centre(&world, body));
+            for t in [0.25, 0.5, 0.75] {
+                assert!(
+                    drawn_near(&image, &cam, along(a, b, t), palette.pair),
+                    "{backend:?}: no pair line at {t} of floor-{body:?}"
+                );
+            }
+        }
+        let unpaired = along(centre(&world, floor), centre(&world, kinematic), 0.5);
+        assert!(
+            !drawn_near(&image, &cam, unpaired, palette.pair),
+            "{backend:?}: a line between the floor and the kinematic cube"
+        );
+    }
+}
+
+/// A cube on the floor and a smaller one on it: the two manifolds share the dynamic lower
+/// cube, so the solver gives them different graph colours, and every dot of a manifold is
+/// filled with its manifold's colour. On `Backend::Cpu` the colours are
+/// `World::contact_colors`' (checked against `graph_colour`); on `Backend::Gpu` they come
+/// from the solver's buffer, which the host does not read: the dots of each manifold share
+/// one colour of the table, not the plain dot colour, and the two manifolds' differ.
+#[test]
+fn colour_overlay_fills_each_manifolds_dots_with_its_graph_colour() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let cam = Camera::looking_at(Point3::new(3.0, 3.0, 4.5), Point3::new(0.0, 0.6, 0.0));
+    let colours = Overlay {
+        colors: true,
+        ..Overlay::NONE
+    };
+    let table: Vec<[f32; 3]> = (0..tumble_render::GRAPH_COLOUR_SLOTS as u32)
+        .map(|c| tumble_render::graph_colour(c).unwrap())
+        .collect();
+    let stack = |backend| {
+        let mut world = World::new(WorldConfig {
+            gravity: Vec3::zeros(),
+            backend,
+            ..Default::default()
+        })
+        .expect("world");
+        let floor = BodyDesc::fixed()
+            .cuboid(Vec3::new(3.0, 0.5, 3.0))
+            .translation(0.0, -0.5, 0.0);
+        let lower = BodyDesc::dynamic()
+            .cuboid(Vec3::repeat(0.5))
+            .translation(0.0, 0.5, 0.0);
+        let upper = BodyDesc::dynamic()
+            .cuboid(Vec3::repeat(0.3))
+            .translation(0.0, 1.3, 0.0);
+        for d in [floor, lower, upper] {
+            world.add_body(d).expect("body");
+        }
+        world.step().expect("step");
+        world
+    };
+    let cpu = stack(Backend::Cpu);
+    let reports = cpu.contacts();
+    assert_eq!(reports.len(), 2, "floor-lower and lower-upper");
+    let cpu_colours = cpu.contact_colors();
+    assert_eq!(cpu_colours.len(), 2);
+    let mut renderer = Renderer::new(&ctx, overlay_config()).expect("renderer");
+    let image = renderer.render(&cpu, &cam, &colours).unwrap();
+    let [x, y] = [cpu_colours[0], cpu_colours[1]].map(|c| c.expect("a colored manifold"));
+    assert_ne!(x, y, "the manifolds share the lower cube");
+    for (report, c) in reports.iter().zip([x, y]) {
+        let want = tumble_render::graph_colour(c).unwrap();
+        for p in &report.points {
+            let px = pixel_at_with(&image, &cam, p.position);
+            assert!(
+                near(px, want),
+                "CPU dot at {}: {px:?}, colour {c}",
+                p.position
+            );
+        }
+    }
+
+    let gpu = stack(Backend::Gpu);
+    let gpu_ctx = gpu.gpu_context().expect("a GPU world has a device");
+    let mut renderer = Renderer::new(&gpu_ctx, overlay_config()).expect("renderer");
+    let image = renderer.render(&gpu, &cam, &colours).unwrap();
+    assert_eq!(renderer.last_source(), Some(Source::WorldBuffers));
+    // The GPU's points are the CPU's up to round-off: each lands in the same pixel.
+    let manifold_colour = |report: &tumble::ContactReport| {
+        let found: Vec<usize> = report
+            .points
+            .iter()
+            .map(|p| {
+                let px = pixel_at_with(&image, &cam, p.position);
+                table.iter().position(|&t| near(px, t)).unwrap_or_else(|| {
+                    panic!("GPU dot at {}: {px:?} in no graph colour", p.position)
+                })
+            })
+            .collect();
+        assert!(
+            found.windows(2).all(|w| w[0] == w[1]),
+            "one colour per manifold: {found:?}"
+        );
+        found[0]
+    };
+    let (a, b) = (manifold_colour(&reports[0]), manifold_colour(&reports[1]));
+    assert_ne!(a, b, "the GPU's manifolds share the lower cube");
+}
+
+/// The pixel `point` projects into through `camera`.
+fn pixel_at_with(image: &Image, camera: &Camera, point: Point3) -> [u8; 4] {
+    let [x, y, _] = camera.project(point, WIDTH, HEIGHT).expect("in front");
+    image.pixel(x as u32, y as u32)
+}

@@ -1,10 +1,13 @@
 //! What a frame draws from: the world's own GPU buffers on `Backend::Gpu`, or the renderer's
 //! buffers filled from the host (one upload of every pose per frame) elsewhere.
 
+use std::collections::HashMap;
+
 use tumble::gpu::GpuContext;
 use tumble::gpu::layout::{BODY_STATIC, GpuContact, GpuManifold, GpuPose, GpuShape};
 use tumble::gpu::step::DrawBuffers;
-use tumble::{BodyKind, World};
+use tumble::solver::{EMPTY_COLOR, NO_COLOR};
+use tumble::{BodyHandle, BodyKind, World};
 
 use crate::RenderError;
 
@@ -82,6 +85,10 @@ pub(crate) struct FrameBuffers {
     pub work: wgpu::Buffer,
     pub manifolds: wgpu::Buffer,
     pub contacts: wgpu::Buffer,
+    /// `array<ColorSlot>` by manifold slot: the solver's graph colours.
+    pub colors: wgpu::Buffer,
+    /// Whether `colors` holds this frame's colours (not before the first step on the GPU).
+    pub has_colors: bool,
 }
 
 /// The renderer's own buffers, and what it last uploaded of the kinds.
@@ -93,6 +100,7 @@ pub(crate) struct BodyBuffers {
     work: Grown,
     manifolds: Grown,
     contacts: Grown,
+    colors: Grown,
     uploaded_kinds: Option<Vec<u32>>,
 }
 
@@ -105,6 +113,7 @@ impl BodyBuffers {
             work: Grown::new(ctx, "render contact count"),
             manifolds: Grown::new(ctx, "render manifolds"),
             contacts: Grown::new(ctx, "render contact points"),
+            colors: Grown::new(ctx, "render graph colours"),
             uploaded_kinds: None,
         }
     }
@@ -133,6 +142,8 @@ impl BodyBuffers {
     ) -> Result<FrameBuffers, RenderError> {
         self.write_kinds(ctx, world)?;
         if let Some(draw) = world_buffers(ctx, world) {
+            let gpu_colors = world.gpu_contact_colors();
+            let has_colors = gpu_colors.is_some();
             return Ok(FrameBuffers {
                 source: Source::WorldBuffers,
                 bodies: draw.body_count,
@@ -143,6 +154,8 @@ impl BodyBuffers {
                 work: draw.contact_work,
                 manifolds: draw.manifolds,
                 contacts: draw.contacts,
+                colors: gpu_colors.unwrap_or_else(|| self.colors.buffer.clone()),
+                has_colors,
             });
         }
         let failed = |e: tumble::Error| RenderError::World(e.to_string());
@@ -165,22 +178,35 @@ impl BodyBuffers {
         self.shapes.write(ctx, &shapes);
         let mut slots = 0;
         if contacts {
+            let dense: HashMap<BodyHandle, u32> = (0u32..)
+                .zip(world.handles())
+                .map(|(i, &h)| (h, i))
+                .collect();
             let reports = world.contacts();
+            let colours = world.contact_colors();
             let mut manifolds = vec![GpuManifold::default(); reports.len()];
             let mut points = vec![GpuContact::default(); reports.len() * MAX_POINTS];
+            let mut colors = vec![[EMPTY_COLOR, NO_COLOR]; reports.len()];
             for (k, report) in reports.iter().enumerate() {
                 let n = report.normal;
                 manifolds[k].normal = [n.x, n.y, n.z, 0.0];
                 manifolds[k].len = report.points.len().min(MAX_POINTS) as u32;
+                // A body removed since the step has no index: its pair is drawn at body 0.
+                manifolds[k].body_a = dense.get(&report.body_a).copied().unwrap_or(0);
+                manifolds[k].body_b = dense.get(&report.body_b).copied().unwrap_or(0);
                 for (p, point) in report.points.iter().take(MAX_POINTS).enumerate() {
                     let q = point.position;
                     points[k * MAX_POINTS + p].position = [q.x, q.y, q.z, 0.0];
                     points[k * MAX_POINTS + p].depth = point.depth;
                 }
+                if let Some(Some(c)) = colours.get(k) {
+                    colors[k][0] = *c;
+                }
             }
             slots = reports.len() as u32;
             self.manifolds.write(ctx, &manifolds);
             self.contacts.write(ctx, &points);
+            self.colors.write(ctx, &colors);
         }
         self.work.write(ctx, &[slots, 0, 0, 0]);
         Ok(FrameBuffers {
@@ -193,6 +219,8 @@ impl BodyBuffers {
             work: self.work.buffer.clone(),
             manifolds: self.manifolds.buffer.clone(),
             contacts: self.contacts.buffer.clone(),
+            colors: self.colors.buffer.clone(),
+            has_colors: true,
         })
     }
 }

@@ -62,6 +62,19 @@ pub struct Overlay {
     pub contacts: bool,
     /// A line from each contact point along its manifold's normal.
     pub normals: bool,
+    /// The outline of each body's axis-aligned bounding box (the box's world bounds, without
+    /// the broad phase's speculative margin and sweep).
+    pub aabbs: bool,
+    /// A line between the centres of the two bodies of each pair: on `Backend::Gpu` every
+    /// manifold slot in use, which is every candidate pair of the broad phase; elsewhere
+    /// every manifold of [`tumble::World::contacts`] (the candidate pairs the narrow phase
+    /// kept: the host backends do not keep the broad phase's list).
+    pub pairs: bool,
+    /// Contact dots filled with their manifold's graph colour ([`crate::graph_colour`]),
+    /// drawn with or without `contacts`: from the solver's colour buffer on `Backend::Gpu`,
+    /// from [`tumble::World::contact_colors`] elsewhere. Manifolds without a colour keep the
+    /// palette's contact colour.
+    pub colors: bool,
     /// Radius of the contact dots, pixels.
     pub dot_radius: f32,
     /// Length of the normal lines, m.
@@ -73,6 +86,9 @@ impl Overlay {
     pub const NONE: Overlay = Overlay {
         contacts: false,
         normals: false,
+        aabbs: false,
+        pairs: false,
+        colors: false,
         dot_radius: 3.0,
         normal_length: 0.25,
     };
@@ -82,10 +98,60 @@ impl Overlay {
         contacts: true,
         ..Overlay::NONE
     };
+
+    /// The names [`Overlay::from_names`] takes, each the field it turns on.
+    pub const NAMES: [&'static str; 5] = ["contacts", "normals", "aabbs", "pairs", "colors"];
+
+    /// The overlay with each named part on (names of [`Overlay::NAMES`], empty ones
+    /// ignored); errs naming the first unknown one.
+    pub fn from_names<S: AsRef<str>>(names: &[S]) -> Result<Overlay, RenderError> {
+        let mut overlay = Overlay::NONE;
+        for name in names {
+            let flag = match name.as_ref().trim() {
+                "" => continue,
+                "contacts" => &mut overlay.contacts,
+                "normals" => &mut overlay.normals,
+                "aabbs" => &mut overlay.aabbs,
+                "pairs" => &mut overlay.pairs,
+                "colors" => &mut overlay.colors,
+                other => {
+                    return Err(RenderError::InvalidConfig {
+                        field: "overlay",
+                        value: format!("{other} (one of {})", Overlay::NAMES.join(", ")),
+                    });
+                }
+            };
+            *flag = true;
+        }
+        Ok(overlay)
+    }
+
+    /// Whether a part that reads the manifolds is on.
+    pub(crate) fn reads_manifolds(&self) -> bool {
+        self.contacts || self.normals || self.pairs || self.colors
+    }
 }
 
 impl Default for Overlay {
     fn default() -> Self {
         Self::NONE
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn overlay_names_turn_on_their_field_and_unknown_names_are_refused() {
+        let o = Overlay::from_names(&["aabbs", " pairs", "colors", ""]).unwrap();
+        assert!(o.aabbs && o.pairs && o.colors && !o.contacts && !o.normals);
+        let all = Overlay::from_names(&Overlay::NAMES).unwrap();
+        assert!(all.contacts && all.normals && all.aabbs && all.pairs && all.colors);
+        let e = Overlay::from_names(&["contacts", "dots"]).unwrap_err();
+        assert!(
+            e.to_string().contains("overlay") && e.to_string().contains("dots"),
+            "{e}"
+        );
     }
 }

@@ -12,9 +12,11 @@
 //!
 //! Lambert and ambient light from a fixed direction, a shadow map from that light, and dark
 //! edge lines make depth readable; fixed, dynamic, kinematic and sleeping bodies have the
-//! colours of [`Palette`]. The optional [`Overlay`] draws a dot at each contact point and a
-//! line along each manifold normal, from the manifold buffers on `Backend::Gpu` and from
-//! [`World::contacts`] elsewhere. The picture comes back as an [`Image`], written as PNG with
+//! colours of [`Palette`]. The optional [`Overlay`] draws a dot at each contact point, a
+//! line along each manifold normal, each body's AABB outline, a line between the bodies of
+//! each pair and dots filled with their manifold's graph colour ([`graph_colour`]), from the
+//! manifold and colour buffers on `Backend::Gpu` and from [`World::contacts`] and
+//! [`World::contact_colors`] elsewhere. The picture comes back as an [`Image`], written as PNG with
 //! [`Image::write_png`].
 //!
 //! A picture of a cube at rest on the origin, seen from above and to the side:
@@ -48,12 +50,14 @@
 //!
 //! [`World::gpu_draw_buffers`]: tumble::World::gpu_draw_buffers
 //! [`World::contacts`]: tumble::World::contacts
+//! [`World::contact_colors`]: tumble::World::contact_colors
 #![warn(missing_docs)]
 
 mod bodies;
 pub mod camera;
 mod config;
 mod image;
+mod pipelines;
 mod renderer;
 
 pub use camera::Camera;
@@ -75,11 +79,16 @@ pub struct Palette {
     pub sleeping: [f32; 3],
     /// Contact point dots (outlined in near black).
     pub contact: [f32; 3],
+    /// AABB outlines.
+    pub aabb: [f32; 3],
+    /// Lines between the bodies of a pair.
+    pub pair: [f32; 3],
 }
 
 impl Palette {
     /// The default colours: fixed grey, dynamic orange, kinematic blue, sleeping a dimmed
-    /// brown, magenta contact dots, on a pale blue-grey background.
+    /// brown, magenta contact dots, teal AABBs, violet pair lines, on a pale blue-grey
+    /// background.
     pub const DEFAULT: Palette = Palette {
         background: [0.90, 0.92, 0.95],
         fixed: [0.56, 0.57, 0.60],
@@ -87,6 +96,8 @@ impl Palette {
         kinematic: [0.22, 0.50, 0.96],
         sleeping: [0.62, 0.50, 0.40],
         contact: [0.95, 0.05, 0.75],
+        aabb: [0.05, 0.55, 0.45],
+        pair: [0.35, 0.20, 0.85],
     };
 
     /// `colour` as the 8-bit RGBA of the picture (opaque).
@@ -97,12 +108,14 @@ impl Palette {
 
     /// The shader's override constants for these colours.
     pub(crate) fn constants(&self) -> Vec<(&'static str, f64)> {
-        const NAMES: [[&str; 3]; 5] = [
+        const NAMES: [[&str; 3]; 7] = [
             ["fixed_r", "fixed_g", "fixed_b"],
             ["dynamic_r", "dynamic_g", "dynamic_b"],
             ["kinematic_r", "kinematic_g", "kinematic_b"],
             ["sleeping_r", "sleeping_g", "sleeping_b"],
             ["dot_r", "dot_g", "dot_b"],
+            ["aabb_r", "aabb_g", "aabb_b"],
+            ["pair_r", "pair_g", "pair_b"],
         ];
         let colours = [
             self.fixed,
@@ -110,6 +123,8 @@ impl Palette {
             self.kinematic,
             self.sleeping,
             self.contact,
+            self.aabb,
+            self.pair,
         ];
         NAMES
             .iter()
@@ -117,6 +132,34 @@ impl Palette {
             .flat_map(|(names, c)| names.iter().copied().zip(c.map(f64::from)))
             .collect()
     }
+}
+
+/// Slots of the graph colour table: the solver's graph colours, then the overflow set.
+pub const GRAPH_COLOUR_SLOTS: usize = tumble::solver::GRAPH_COLOR_COUNT + 1;
+
+/// The fill of the contact dots of a manifold of graph colour `color` ([`Overlay::colors`]):
+/// hues a golden angle apart, so that neighbouring colours differ most, at one saturation
+/// and value; white for [`tumble::solver::OVERFLOW_COLOR`]. `None` past the overflow set.
+pub fn graph_colour(color: u32) -> Option<[f32; 3]> {
+    let c = color as usize;
+    if c + 1 == GRAPH_COLOUR_SLOTS {
+        return Some([1.0; 3]);
+    }
+    if c >= GRAPH_COLOUR_SLOTS {
+        return None;
+    }
+    let hue = (c as f32 * 0.381_966).fract() * 6.0;
+    let (s, v) = (0.8, 0.92);
+    let x = 1.0 - (hue % 2.0 - 1.0).abs();
+    let [r, g, b] = match hue as u32 {
+        0 => [1.0, x, 0.0],
+        1 => [x, 1.0, 0.0],
+        2 => [0.0, 1.0, x],
+        3 => [0.0, x, 1.0],
+        4 => [x, 0.0, 1.0],
+        _ => [1.0, 0.0, x],
+    };
+    Some([r, g, b].map(|k| v * (1.0 - s + s * k)))
 }
 
 impl Default for Palette {
@@ -159,3 +202,24 @@ pub enum RenderError {
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]
 pub struct ReadmeDoctests;
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn graph_colours_are_distinct_and_the_overflow_set_is_white() {
+        let colours: Vec<[u8; 4]> = (0..super::GRAPH_COLOUR_SLOTS as u32)
+            .map(|c| super::Palette::rgba8(super::graph_colour(c).unwrap()))
+            .collect();
+        for (i, a) in colours.iter().enumerate() {
+            for b in &colours[i + 1..] {
+                // Far enough apart to tell in a picture: more than 3 of 255 in some channel.
+                assert!(
+                    a.iter().zip(b).any(|(x, y)| x.abs_diff(*y) > 3),
+                    "{a:?} {b:?}"
+                );
+            }
+        }
+        assert_eq!(colours.last(), Some(&[255; 4]));
+        assert!(super::graph_colour(super::GRAPH_COLOUR_SLOTS as u32).is_none());
+    }
+}

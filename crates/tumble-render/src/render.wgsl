@@ -1,7 +1,8 @@
-// tumble-render: boxes instanced from the body buffers, a shadow map, contact dots and
-// normals. The renderer composes this file after shaders/common/layout.wgsl (and what it
+// tumble-render: boxes instanced from the body buffers, a shadow map, contact dots (filled
+// with their graph colour on request), normals, AABB outlines and pair lines. The renderer composes this file after shaders/common/layout.wgsl (and what it
 // requires), so the storage structs (GpuPose, GpuShape, GpuManifold, GpuContact) and
-// BODY_STATIC and MAX_MANIFOLD_POINTS are the physics step's own, read as the step left them.
+// BODY_STATIC and MAX_MANIFOLD_POINTS are the physics step's own, read as the step left them;
+// it also prepends GRAPH_COLOUR_SLOTS (the solver's graph colours and the overflow set).
 
 struct Frame {
     // World to clip space of the camera (depth 0..1).
@@ -12,6 +13,8 @@ struct Frame {
     light_dir: vec4<f32>,
     // Width, height (pixels), contact dot radius (pixels), normal length (m).
     viewport: vec4<f32>,
+    // x: 1 to fill the contact dots with their manifold's graph colour.
+    flags: vec4<u32>,
 }
 
 // Body kind codes: tumble-gpu's GpuBody.kind values (solver/constants.rs), supplied at
@@ -36,6 +39,12 @@ override sleeping_b: f32 = 0.40;
 override dot_r: f32 = 0.95;
 override dot_g: f32 = 0.05;
 override dot_b: f32 = 0.75;
+override aabb_r: f32 = 0.05;
+override aabb_g: f32 = 0.55;
+override aabb_b: f32 = 0.45;
+override pair_r: f32 = 0.35;
+override pair_g: f32 = 0.20;
+override pair_b: f32 = 0.85;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> poses: array<GpuPose>;
@@ -44,6 +53,10 @@ override dot_b: f32 = 0.75;
 @group(0) @binding(4) var<storage, read> work: array<u32>;
 @group(0) @binding(5) var<storage, read> manifolds: array<GpuManifold>;
 @group(0) @binding(6) var<storage, read> contacts: array<GpuContact>;
+// The solver's ColorSlot per manifold slot: x the colour, y a proposal nothing here reads.
+@group(0) @binding(7) var<storage, read> colors: array<vec2<u32>>;
+// The dot fill of each graph colour, then of the overflow set.
+@group(0) @binding(8) var<uniform> graph_colours: array<vec4<f32>, GRAPH_COLOUR_SLOTS>;
 
 @group(1) @binding(0) var shadow_map: texture_depth_2d;
 @group(1) @binding(1) var shadow_sampler: sampler_comparison;
@@ -174,6 +187,19 @@ fn fs_box(in: BoxOut) -> @location(0) vec4<f32> {
 struct DotOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) offset: vec2<f32>,
+    @location(1) @interpolate(flat) fill: vec3<f32>,
+}
+
+// The fill of the dots of manifold slot `k`: its graph colour when asked for and known, the
+// palette's contact colour otherwise.
+fn dot_fill(k: u32) -> vec3<f32> {
+    if frame.flags.x != 0u && k < arrayLength(&colors) {
+        let c = colors[k].x;
+        if c < GRAPH_COLOUR_SLOTS {
+            return graph_colours[c].rgb;
+        }
+    }
+    return vec3(dot_r, dot_g, dot_b);
 }
 
 // Contact point `p` of manifold slot `k`, instance `k * MAX_MANIFOLD_POINTS + p`; false past the
@@ -215,6 +241,7 @@ fn vs_dot(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> Dot
     let pixels = 2.0 / frame.viewport.xy;
     out.clip = vec4(clip.xy + c * radius * pixels * clip.w, 0.0, clip.w);
     out.offset = c * radius;
+    out.fill = dot_fill(i / MAX_MANIFOLD_POINTS);
     return out;
 }
 
@@ -227,7 +254,7 @@ fn fs_dot(in: DotOut) -> @location(0) vec4<f32> {
     if r > frame.viewport.z - 0.5 {
         return vec4(0.1, 0.1, 0.1, 1.0);
     }
-    return vec4(dot_r, dot_g, dot_b, 1.0);
+    return vec4(in.fill, 1.0);
 }
 
 @vertex
@@ -245,4 +272,50 @@ fn vs_normal(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> 
 @fragment
 fn fs_normal() -> @location(0) vec4<f32> {
     return vec4(0.1, 0.75, 0.2, 1.0);
+}
+
+// Vertex `v` (0..24) of the outline of body `i`'s world bounds: edge v / 2 runs along axis
+// (v / 2) / 4, at the corner (v / 2) % 4 of the other two axes, from its low end (v even) to
+// its high end.
+@vertex
+fn vs_aabb(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> @builtin(position) vec4<f32> {
+    let s = shapes[i];
+    let q = poses[i].rotation;
+    // Half extents of the rotated box along the world axes: the sum of its axes' extents.
+    let half = abs(rotate(q, vec3(s.hx, 0.0, 0.0))) + abs(rotate(q, vec3(0.0, s.hy, 0.0)))
+        + abs(rotate(q, vec3(0.0, 0.0, s.hz)));
+    let e = v / 2u;
+    let axis = e / 4u;
+    var corner = vec3<f32>(0.0);
+    corner[axis] = select(-1.0, 1.0, v % 2u == 1u);
+    corner[(axis + 1u) % 3u] = select(-1.0, 1.0, (e & 1u) != 0u);
+    corner[(axis + 2u) % 3u] = select(-1.0, 1.0, (e & 2u) != 0u);
+    let world = poses[i].position.xyz + corner * half;
+    let clip = frame.view_proj * vec4(world, 1.0);
+    return vec4(clip.xy, 0.0, clip.w);
+}
+
+@fragment
+fn fs_aabb() -> @location(0) vec4<f32> {
+    return vec4(aabb_r, aabb_g, aabb_b, 1.0);
+}
+
+// End `v` (0 or 1) of the line between the centres of manifold slot `k`'s two bodies; off
+// screen past the slots in use.
+@vertex
+fn vs_pair(@builtin(vertex_index) v: u32, @builtin(instance_index) k: u32) -> @builtin(position) vec4<f32> {
+    if k >= work[0] {
+        return OFF_SCREEN;
+    }
+    let body = select(manifolds[k].body_a, manifolds[k].body_b, v == 1u);
+    if body >= arrayLength(&poses) {
+        return OFF_SCREEN;
+    }
+    let clip = frame.view_proj * vec4(poses[body].position.xyz, 1.0);
+    return vec4(clip.xy, 0.0, clip.w);
+}
+
+@fragment
+fn fs_pair() -> @location(0) vec4<f32> {
+    return vec4(pair_r, pair_g, pair_b, 1.0);
 }

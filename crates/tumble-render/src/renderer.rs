@@ -7,14 +7,17 @@ use tumble::{Point3, Vec3};
 
 use crate::bodies::{BodyBuffers, FrameBuffers, MAX_POINTS};
 pub use crate::config::{Overlay, RenderConfig};
-use crate::{Camera, Image, RenderError};
+use crate::pipelines::{
+    COLOUR_FORMAT, DEPTH_FORMAT, PipelineMaker, padded_row, render_source, storage_entry, texture,
+};
+use crate::{Camera, GRAPH_COLOUR_SLOTS, Image, RenderError, graph_colour};
 
 pub use crate::bodies::Source;
 
-const COLOUR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
-const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Vertices of one box: 6 faces of 2 triangles.
 const BOX_VERTICES: u32 = 36;
+/// Vertices of one AABB outline: 12 edges of 2 ends.
+const AABB_VERTICES: u32 = 24;
 /// Direction towards the light: above, front left.
 const LIGHT_DIRECTION: [f32; 3] = [-0.35, 1.0, 0.45];
 
@@ -26,6 +29,7 @@ struct FrameUniform {
     light_view_proj: [f32; 16],
     light_dir: [f32; 4],
     viewport: [f32; 4],
+    flags: [u32; 4],
 }
 
 fn matrix(m: &Matrix4<f32>) -> [f32; 16] {
@@ -45,6 +49,10 @@ pub struct Renderer {
     shadow_pipeline: wgpu::RenderPipeline,
     dot_pipeline: wgpu::RenderPipeline,
     normal_pipeline: wgpu::RenderPipeline,
+    aabb_pipeline: wgpu::RenderPipeline,
+    pair_pipeline: wgpu::RenderPipeline,
+    /// The fill of each graph colour's dots (`GRAPH_COLOUR_SLOTS` `vec4`s).
+    graph_colours: wgpu::Buffer,
     /// The multisampled target (with more than one sample), resolved into `colour`.
     msaa: Option<wgpu::TextureView>,
     colour: wgpu::Texture,
@@ -54,113 +62,6 @@ pub struct Renderer {
     readback: wgpu::Buffer,
     bodies: BodyBuffers,
     last_source: Option<Source>,
-}
-
-fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: true },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-fn texture(
-    ctx: &GpuContext,
-    label: &str,
-    (width, height): (u32, u32),
-    samples: u32,
-    format: wgpu::TextureFormat,
-    usage: wgpu::TextureUsages,
-) -> wgpu::Texture {
-    ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: samples,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage,
-        view_formats: &[],
-    })
-}
-
-/// Bytes per row of the readback buffer: the picture's row, padded as copies require.
-fn padded_row(width: u32) -> u32 {
-    let align = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-    (width * 4).div_ceil(align) * align
-}
-
-/// The pipelines of one module, sharing a layout and the palette's constants.
-struct PipelineMaker<'a> {
-    ctx: &'a GpuContext,
-    module: wgpu::ShaderModule,
-    layout: wgpu::PipelineLayout,
-    constants: Vec<(&'static str, f64)>,
-}
-
-impl PipelineMaker<'_> {
-    fn make(
-        &self,
-        label: &str,
-        (vs, fs): (&str, Option<&str>),
-        topology: wgpu::PrimitiveTopology,
-        depth: (bool, wgpu::CompareFunction),
-        samples: u32,
-    ) -> wgpu::RenderPipeline {
-        let options = wgpu::PipelineCompilationOptions {
-            constants: &self.constants,
-            zero_initialize_workgroup_memory: false,
-        };
-        let targets = [Some(wgpu::ColorTargetState {
-            format: COLOUR_FORMAT,
-            blend: None,
-            write_mask: wgpu::ColorWrites::ALL,
-        })];
-        self.ctx
-            .device
-            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(&self.layout),
-                vertex: wgpu::VertexState {
-                    module: &self.module,
-                    entry_point: Some(vs),
-                    compilation_options: options.clone(),
-                    buffers: &[],
-                },
-                primitive: wgpu::PrimitiveState {
-                    topology,
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(depth.0),
-                    depth_compare: Some(depth.1),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: wgpu::MultisampleState {
-                    count: samples,
-                    ..Default::default()
-                },
-                fragment: fs.map(|fs| wgpu::FragmentState {
-                    module: &self.module,
-                    entry_point: Some(fs),
-                    compilation_options: options,
-                    targets: &targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-    }
 }
 
 impl Renderer {
@@ -185,7 +86,11 @@ impl Renderer {
             },
             count: None,
         }];
-        entries.extend((1..=6).map(storage_entry));
+        entries.extend((1..=7).map(storage_entry));
+        entries.push(wgpu::BindGroupLayoutEntry {
+            binding: 8,
+            ..entries[0]
+        });
         let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("render frame"),
             entries: &entries,
@@ -236,7 +141,13 @@ impl Renderer {
         use wgpu::PrimitiveTopology::{LineList, TriangleList};
         let s = config.samples;
         // The frame's pipelines: label, entry points, primitives, (depth write, depth test).
-        let [box_pipeline, dot_pipeline, normal_pipeline] = [
+        let [
+            box_pipeline,
+            dot_pipeline,
+            normal_pipeline,
+            aabb_pipeline,
+            pair_pipeline,
+        ] = [
             (
                 "render boxes",
                 ("vs_box", Some("fs_box")),
@@ -252,6 +163,18 @@ impl Renderer {
             (
                 "render normals",
                 ("vs_normal", Some("fs_normal")),
+                LineList,
+                (false, Always),
+            ),
+            (
+                "render aabbs",
+                ("vs_aabb", Some("fs_aabb")),
+                LineList,
+                (false, Always),
+            ),
+            (
+                "render pairs",
+                ("vs_pair", Some("fs_pair")),
                 LineList,
                 (false, Always),
             ),
@@ -332,6 +255,20 @@ impl Renderer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let table: Vec<[f32; 4]> = (0..GRAPH_COLOUR_SLOTS as u32)
+            .map(|c| {
+                let [r, g, b] = graph_colour(c).unwrap_or([0.0; 3]);
+                [r, g, b, 1.0]
+            })
+            .collect();
+        let graph_colours = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("render graph colour table"),
+            size: std::mem::size_of_val(&table[..]) as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        ctx.queue
+            .write_buffer(&graph_colours, 0, bytemuck::cast_slice(&table));
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("render readback"),
             size: u64::from(padded_row(config.width)) * u64::from(config.height),
@@ -347,6 +284,9 @@ impl Renderer {
             shadow_pipeline,
             dot_pipeline,
             normal_pipeline,
+            aabb_pipeline,
+            pair_pipeline,
+            graph_colours,
             msaa,
             colour,
             depth,
@@ -412,6 +352,8 @@ impl Renderer {
             &b.work,
             &b.manifolds,
             &b.contacts,
+            &b.colors,
+            &self.graph_colours,
         ];
         let entries: Vec<wgpu::BindGroupEntry> = buffers
             .iter()
@@ -439,8 +381,9 @@ impl Renderer {
         camera: &Camera,
         overlay: &Overlay,
     ) -> Result<Image, RenderError> {
-        let wants_contacts = overlay.contacts || overlay.normals;
-        let buffers = self.bodies.prepare(&self.ctx, world, wants_contacts)?;
+        let buffers = self
+            .bodies
+            .prepare(&self.ctx, world, overlay.reads_manifolds())?;
         self.last_source = Some(buffers.source);
         let shadows = self.config.shadow_map_size > 0;
         let dir = Vec3::from(LIGHT_DIRECTION).normalize();
@@ -454,6 +397,7 @@ impl Renderer {
                 overlay.dot_radius,
                 overlay.normal_length,
             ],
+            flags: [u32::from(overlay.colors && buffers.has_colors), 0, 0, 0],
         };
         self.ctx
             .queue
@@ -506,12 +450,20 @@ impl Renderer {
                 pass.set_pipeline(&self.box_pipeline);
                 pass.draw(0..BOX_VERTICES, 0..buffers.bodies);
             }
+            if overlay.aabbs && buffers.bodies > 0 {
+                pass.set_pipeline(&self.aabb_pipeline);
+                pass.draw(0..AABB_VERTICES, 0..buffers.bodies);
+            }
+            if overlay.pairs && buffers.manifold_slots > 0 {
+                pass.set_pipeline(&self.pair_pipeline);
+                pass.draw(0..2, 0..buffers.manifold_slots);
+            }
             let points = buffers.manifold_slots * MAX_POINTS as u32;
             if overlay.normals && points > 0 {
                 pass.set_pipeline(&self.normal_pipeline);
                 pass.draw(0..2, 0..points);
             }
-            if overlay.contacts && points > 0 {
+            if (overlay.contacts || overlay.colors) && points > 0 {
                 pass.set_pipeline(&self.dot_pipeline);
                 pass.draw(0..6, 0..points);
             }
@@ -558,23 +510,4 @@ impl Renderer {
             pixels,
         })
     }
-}
-
-/// Pipeline `override` values by name.
-type Overrides = Vec<(&'static str, f64)>;
-
-/// render.wgsl after shaders/common/layout.wgsl and what it requires, and the values of the
-/// tumble-gpu `override` constants the whole declares (the shared ones and the body kinds),
-/// defined once in tumble-gpu as for every kernel.
-fn render_source() -> Result<(String, Overrides), RenderError> {
-    let layout = tumble::gpu::shader::ShaderSource::of_path("common/layout.wgsl")
-        .map_err(|e| RenderError::Gpu(e.to_string()))?
-        .compose();
-    let source = format!("{layout}\n{}", include_str!("render.wgsl"));
-    let shared = tumble::gpu::constants::shader_constants()
-        .into_iter()
-        .chain(tumble::gpu::solver::constants::solver_constants())
-        .filter(|(name, _)| source.contains(&format!("override {name}:")))
-        .collect();
-    Ok((source, shared))
 }

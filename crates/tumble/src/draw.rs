@@ -23,4 +23,14 @@ impl World {
     pub fn gpu_context(&self) -> Option<GpuContext> {
         self.backend.gpu_context()
     }
+
+    /// On `Backend::Gpu`: the buffer of last step's graph colors, one `ColorSlot` (8 bytes:
+    /// the color, then a proposal nothing outside the step reads) per manifold slot of
+    /// [`World::gpu_draw_buffers`]' `manifolds`. A color below
+    /// [`crate::solver::GRAPH_COLOR_COUNT`] is a graph color, [`crate::solver::OVERFLOW_COLOR`]
+    /// the overflow set; other values mark slots without points. `None` on the other
+    /// backends ([`World::contact_colors`] holds theirs) and before the first step.
+    pub fn gpu_contact_colors(&self) -> Option<crate::gpu::wgpu::Buffer> {
+        self.backend.color_buffer()
+    }
 }

@@ -250,6 +250,7 @@ impl World {
             user_data: snapshot.user_data.clone(),
             contacts: snapshot.contacts.clone(),
             contact_handles: snapshot.contact_handles.clone(),
+            contact_colors: Vec::new(),
             sleep: snapshot.sleep.clone(),
             stats: StepStats {
                 bodies: snapshot.bodies.len(),

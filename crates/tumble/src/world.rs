@@ -162,6 +162,17 @@ impl World {
             .collect()
     }
 
+    /// The solver's graph color of each manifold of [`World::contacts`], in its order:
+    /// `Some(c)` with `c` below [`crate::solver::GRAPH_COLOR_COUNT`], or
+    /// [`crate::solver::OVERFLOW_COLOR`] for the overflow set; `None` for a manifold the step
+    /// did not color (a sleeping island's kept one). Empty when the last step colored nothing
+    /// (`SolveOrder` sequential) and on `Backend::Gpu`, whose colors stay on the device
+    /// (`World::gpu_contact_colors`).
+    pub fn contact_colors(&self) -> Vec<Option<u32>> {
+        let colored = |&c: &u32| (c <= crate::solver::OVERFLOW_COLOR).then_some(c);
+        self.host.contact_colors.iter().map(colored).collect()
+    }
+
     /// The deepest overlap among last step's manifolds, m (0 when nothing overlaps).
     pub fn max_penetration(&self) -> Real {
         self.stats().max_penetration
@@ -195,6 +206,8 @@ impl World {
         host.contacts.retain(|_| *k.next().unwrap_or(&false));
         let mut k = keep.iter();
         host.contact_handles.retain(|_| *k.next().unwrap_or(&false));
+        let mut k = keep.iter();
+        host.contact_colors.retain(|_| *k.next().unwrap_or(&false));
         self.backend.forget_body(removed.to_bits());
     }
 }

@@ -476,4 +476,10 @@ impl StepBackend for GpuBackend {
     fn gpu_context(&self) -> Option<tumble_gpu::GpuContext> {
         Some(self.gpu.lock().ok()?.context().clone())
     }
+
+    fn color_buffer(&self) -> Option<tumble_gpu::wgpu::Buffer> {
+        let gpu = self.gpu.lock().ok()?;
+        gpu.draw_buffers()?;
+        Some(gpu.solver().colors().clone())
+    }
 }

@@ -41,6 +41,10 @@ pub(crate) struct Host {
     pub contacts: Vec<Contact>,
     /// The body handles of each of last step's manifolds.
     pub contact_handles: Vec<(BodyHandle, BodyHandle)>,
+    /// The solver's graph color of each of last step's manifolds (`tumble_solver::Coloring`
+    /// values; `NO_COLOR` for the sleeping islands' kept ones), empty when the step colored
+    /// nothing (sequential order) or ran on the GPU.
+    pub contact_colors: Vec<u32>,
     /// Rest timers, sleeping islands and their contacts (the CPU sleep stage's state).
     pub sleep: SleepState,
     /// Last step's counts and times.
@@ -198,6 +202,13 @@ pub(crate) trait StepBackend: fmt::Debug + Send + Sync {
     /// The device holding the bodies' state, when it lives on a GPU.
     #[cfg(feature = "gpu")]
     fn gpu_context(&self) -> Option<tumble_gpu::GpuContext> {
+        None
+    }
+
+    /// The buffer of last step's graph colors on the GPU (see
+    /// [`crate::World::gpu_contact_colors`]).
+    #[cfg(feature = "gpu")]
+    fn color_buffer(&self) -> Option<tumble_gpu::wgpu::Buffer> {
         None
     }
 }

@@ -95,6 +95,7 @@ pub(crate) fn step(
             let (contacts, _): (Vec<Contact>, Vec<PairKey>) =
                 host.sleep.sleeping_contacts(dense).unzip();
             set_contacts(host, contacts, all_handles);
+            host.contact_colors.clear();
             host.stats = StepStats {
                 bodies: host.bodies.len(),
                 ..Default::default()
@@ -191,6 +192,12 @@ pub(crate) fn step(
 
     let max_penetration = max_penetration(&contacts);
     set_contacts(host, contacts, all_handles);
+    // The solved manifolds come first, in the coloring's order; the kept ones have none.
+    host.contact_colors.clone_from(&coloring.colors);
+    if !host.contact_colors.is_empty() {
+        let n = host.contacts.len();
+        host.contact_colors.resize(n, tumble_solver::NO_COLOR);
+    }
     for d in to_wake {
         host.sleep.wake(d);
     }

@@ -6,9 +6,10 @@ use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
+use clap::builder::PossibleValuesParser;
 use indicatif::{ProgressBar, ProgressStyle};
 use tumble::scenes::Scene;
-use tumble::{Backend, World, WorldConfig};
+use tumble::{Backend, Point3, World, WorldConfig};
 use tumble_render::{Camera, Image, Overlay, RenderConfig, Renderer};
 
 use crate::scene_set::{file_stem, full_scenes, load_scene_files};
@@ -28,14 +29,52 @@ pub struct RenderArgs {
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
     /// Where the step runs: cpu or gpu (gpu draws from the world's own buffers).
-    #[arg(long, default_value = "cpu")]
+    #[arg(long, default_value = "cpu", value_parser = PossibleValuesParser::new(["cpu", "gpu"]))]
     backend: String,
-    /// Overlays, comma-separated: contacts (a dot per contact point), normals.
-    #[arg(long, value_delimiter = ',', value_name = "LIST")]
+    /// Overlays, comma-separated: contacts (a dot per contact point), normals (along each
+    /// manifold normal), aabbs (box outlines), pairs (a line between the bodies of each
+    /// pair), colors (contact dots in their manifold's graph colour).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "LIST",
+        value_parser = PossibleValuesParser::new(Overlay::NAMES)
+    )]
     overlay: Vec<String>,
     /// Picture size, WIDTHxHEIGHT.
-    #[arg(long, default_value = "480x320", value_name = "WxH")]
-    size: String,
+    #[arg(long, default_value = "480x320", value_name = "WxH", value_parser = parse_size)]
+    size: (u32, u32),
+    /// The camera's eye and target, EX,EY,EZ:TX,TY,TZ in metres (e.g. 10,6,10:0,2,0)
+    /// [default: framing the moving bodies of the first frame].
+    #[arg(long, value_name = "EYE:TARGET", value_parser = parse_camera)]
+    camera: Option<Camera>,
+}
+
+/// `X,Y,Z`, three finite numbers.
+fn parse_point(text: &str) -> Result<Point3, String> {
+    let numbers: Vec<&str> = text.split(',').collect();
+    let [x, y, z] = numbers[..] else {
+        return Err(format!("{text:?} has {} numbers, not 3", numbers.len()));
+    };
+    let number = |t: &str| match t.trim().parse::<f32>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err(format!("{t:?} is not a finite number")),
+    };
+    Ok(Point3::new(number(x)?, number(y)?, number(z)?))
+}
+
+/// `EX,EY,EZ:TX,TY,TZ`: a camera at the eye looking at the target.
+fn parse_camera(text: &str) -> Result<Camera, String> {
+    let usage = "expected EX,EY,EZ:TX,TY,TZ, e.g. 10,6,10:0,2,0";
+    let (eye, target) = text
+        .split_once(':')
+        .ok_or_else(|| format!("no ':' between eye and target; {usage}"))?;
+    let eye = parse_point(eye).map_err(|e| format!("eye {e}; {usage}"))?;
+    let target = parse_point(target).map_err(|e| format!("target {e}; {usage}"))?;
+    if (eye - target).norm() < 1e-3 {
+        return Err("the eye is at the target: it looks nowhere".into());
+    }
+    Ok(Camera::looking_at(eye, target))
 }
 
 /// The scene named `arg` in the validation set, or read from the file `arg`.
@@ -53,29 +92,16 @@ fn resolve_scene(arg: &str) -> Result<Scene, String> {
         .ok_or_else(|| format!("no scene named {arg}; the scenes: {}", names.join(", ")))
 }
 
-/// `WIDTHxHEIGHT`.
+/// `WIDTHxHEIGHT`, each 1 to 65535 (the GIF's limit).
 fn parse_size(text: &str) -> Result<(u32, u32), String> {
-    let bad = || format!("--size {text}: expected WIDTHxHEIGHT, e.g. 480x320");
+    let bad = || "expected WIDTHxHEIGHT, each 1 to 65535, e.g. 480x320".to_string();
     let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
     let w: u32 = w.trim().parse().map_err(|_| bad())?;
     let h: u32 = h.trim().parse().map_err(|_| bad())?;
-    if w == 0 || h == 0 {
+    if w == 0 || h == 0 || w > u32::from(u16::MAX) || h > u32::from(u16::MAX) {
         return Err(bad());
     }
     Ok((w, h))
-}
-
-fn parse_overlay(list: &[String]) -> Result<Overlay, String> {
-    let mut overlay = Overlay::NONE;
-    for item in list {
-        match item.trim() {
-            "contacts" => overlay.contacts = true,
-            "normals" => overlay.normals = true,
-            "" => {}
-            other => return Err(format!("--overlay {other}: expected contacts or normals")),
-        }
-    }
-    Ok(overlay)
 }
 
 fn parse_backend(name: &str) -> Result<Backend, String> {
@@ -110,15 +136,9 @@ fn write_gif(path: &Path, frames: &mut [Image], delay: u16) -> Result<(), String
 /// Runs the task: the frames `frame_0000.png`... and `animation.gif` in the output folder.
 pub fn render(args: &RenderArgs, workspace: &Path) -> Result<bool, String> {
     let scene = resolve_scene(&args.scene)?;
-    let (width, height) = parse_size(&args.size)?;
-    let overlay = parse_overlay(&args.overlay)?;
+    let (width, height) = args.size;
+    let overlay = Overlay::from_names(&args.overlay).map_err(|e| e.to_string())?;
     let backend = parse_backend(&args.backend)?;
-    if width > u32::from(u16::MAX) || height > u32::from(u16::MAX) {
-        return Err(format!(
-            "--size {}: at most 65535 each for the GIF",
-            args.size
-        ));
-    }
     let out = args.out.clone().unwrap_or_else(|| {
         workspace
             .join("target")
@@ -137,7 +157,9 @@ pub fn render(args: &RenderArgs, workspace: &Path) -> Result<bool, String> {
         ..Default::default()
     };
     let mut renderer = Renderer::for_world(&world, render_config).map_err(|e| e.to_string())?;
-    let camera = Camera::frame_world(&world, renderer.aspect());
+    let camera = args
+        .camera
+        .unwrap_or_else(|| Camera::frame_world(&world, renderer.aspect()));
     eprintln!(
         "{}: {} bodies, {} frames of {} step(s) on {:?}, drawn on {}",
         scene.name,
@@ -182,17 +204,69 @@ mod tests {
     use super::*;
 
     #[test]
-    fn sizes_overlays_and_scene_names_parse_or_name_their_error() {
+    fn sizes_cameras_and_scene_names_parse_or_name_their_error() {
         assert_eq!(parse_size("480x320"), Ok((480, 320)));
         assert!(parse_size("480").is_err() && parse_size("0x3").is_err());
-        let o = parse_overlay(&["contacts".into(), "normals".into()]).unwrap();
-        assert!(o.contacts && o.normals);
-        assert!(parse_overlay(&["dots".into()]).is_err());
+        assert!(parse_size("70000x10").is_err());
+        let cam = parse_camera("10,6,10:0,2,0").unwrap();
+        assert_eq!(cam.eye, Point3::new(10.0, 6.0, 10.0));
+        assert_eq!(cam.target, Point3::new(0.0, 2.0, 0.0));
+        for (bad, says) in [
+            ("10,6,10", "no ':'"),
+            ("10,6:0,2,0", "eye"),
+            ("10,6,10:0,x,0", "target"),
+            ("1,1,1:1,1,1", "looks nowhere"),
+            ("1,inf,1:0,0,0", "finite"),
+        ] {
+            let e = parse_camera(bad).unwrap_err();
+            assert!(e.contains(says), "{bad}: {e}");
+        }
         assert_eq!(resolve_scene("pyramid_12").unwrap().name, "pyramid_12");
         assert!(
             resolve_scene("no_such_scene")
                 .unwrap_err()
                 .contains("pyramid_12")
         );
+    }
+
+    #[derive(clap::Parser)]
+    struct Cli {
+        #[command(flatten)]
+        args: RenderArgs,
+    }
+
+    /// The command line as clap reads it: bad values are refused with the option's name.
+    #[test]
+    fn the_command_line_takes_camera_and_overlays_and_refuses_bad_values() {
+        use clap::Parser;
+        let cli = Cli::try_parse_from([
+            "render",
+            "pyramid_12",
+            "--camera",
+            "10,6,10:0,2,0",
+            "--overlay",
+            "contacts,aabbs,pairs,colors",
+        ])
+        .unwrap();
+        let overlay = Overlay::from_names(&cli.args.overlay).unwrap();
+        assert!(overlay.contacts && overlay.aabbs && overlay.pairs && overlay.colors);
+        assert!(!overlay.normals);
+        assert_eq!(cli.args.camera.unwrap().eye, Point3::new(10.0, 6.0, 10.0));
+        // The error names the option and the value it refused.
+        for (option, value, refused) in [
+            ("--overlay", "contacts,dots", "'dots'"),
+            ("--camera", "1,2,3", "'1,2,3'"),
+            ("--size", "big", "'big'"),
+            ("--backend", "tpu", "'tpu'"),
+        ] {
+            let e = Cli::try_parse_from(["render", "pyramid_12", option, value])
+                .err()
+                .unwrap_or_else(|| panic!("{option} {value} accepted"))
+                .to_string();
+            assert!(
+                e.contains(option) && e.contains(refused),
+                "{option} {value}: {e}"
+            );
+        }
     }
 }

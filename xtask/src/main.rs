@@ -1,6 +1,6 @@
 //! Project tasks, run as `cargo xtask <task>`:
 //! - `validate`: every scene under every solver configuration and backend, beside rapier3d,
-//!   measured (docs/validation.md), tabled and plotted;
+//!   measured (docs/validation.md), tabled and plotted, with each scene's last frame;
 //! - `bench`: the criterion benches;
 //! - `bench-gpu`: Tumble's GPU step beside rapier3d (and nexus, from its peer script's CSV);
 //! - `render`: a scene's frames as PNG pictures and a GIF animation (tumble-render);
@@ -19,6 +19,7 @@ mod engine_rapier;
 mod engine_tumble;
 mod fonts;
 mod grid;
+mod last_frames;
 mod layers;
 mod metrics;
 mod penetration;

@@ -7,6 +7,7 @@ use tumble::scenes::Scene;
 
 use crate::backends::BackendPlan;
 use crate::grid::{BackendChoice, GridSize, RunConfig, Solver};
+use crate::last_frames::LastFrames;
 use crate::plot::{PlotPoint, plot_scene};
 use crate::results::{ResultRow, STAGES, csv_header, csv_line};
 use crate::scene_set::file_stem;
@@ -26,6 +27,8 @@ pub struct ReportContext<'a> {
     pub elapsed_s: f64,
     /// Step cap of quick grid points.
     pub quick_max_steps: u32,
+    /// The last frame of each scene's verdict run, beside the report.
+    pub frames: &'a LastFrames,
 }
 
 /// The plotted points of one scene: grid runs that finished without error.
@@ -109,6 +112,15 @@ fn markdown(ctx: &ReportContext<'_>, rows: &[ResultRow]) -> String {
     for (b, why) in &ctx.plan.skipped {
         let _ = writeln!(md, "- **SKIPPED backend `{}`**: {why}", b.name());
     }
+    if let Some(adapter) = &ctx.frames.adapter {
+        let _ = writeln!(
+            md,
+            "- last frames: each scene's verdict run at its last step, drawn by tumble-render on {adapter}"
+        );
+    }
+    for note in &ctx.frames.notes {
+        let _ = writeln!(md, "- **last frames**: {note}");
+    }
 
     let _ = writeln!(
         md,
@@ -156,6 +168,9 @@ fn markdown(ctx: &ReportContext<'_>, rows: &[ResultRow]) -> String {
             let _ = writeln!(md, "{stages}\n");
         }
         let stem = file_stem(&scene.name);
+        if let Some(frame) = ctx.frames.frame_of(&scene.name) {
+            let _ = writeln!(md, "![{}, last frame]({frame})\n", scene.name);
+        }
         let _ = writeln!(md, "![{}](plots/{stem}.png)\n", scene.name);
         let cells: Vec<Vec<String>> = rows
             .iter()

@@ -11,6 +11,7 @@ use crate::engine::{BodyState, Engine};
 use crate::engine_rapier::RapierEngine;
 use crate::engine_tumble::{TumbleEngine, default_setting};
 use crate::grid::{BackendChoice, GridSize, RunConfig, build_grid};
+use crate::last_frames::draw_last_frames;
 use crate::report::{ReportContext, write_report};
 use crate::results::ResultRow;
 use crate::run::{RunOutcome, run_engine};
@@ -60,8 +61,10 @@ fn to_scene_state(s: &BodyState) -> SceneState {
     }
 }
 
-/// Runs one job and judges it with the scene's check.
-fn run_job(scene: &Scene, job: &Job) -> ResultRow {
+/// Runs one job and judges it with the scene's check; `last` ends with the states after the
+/// last step (empty when the engine could not be built).
+fn run_job(scene: &Scene, job: &Job, last: &mut Vec<BodyState>) -> ResultRow {
+    last.clear();
     let info = scene_info(scene);
     let built: Result<Box<dyn Engine>, String> = match &job.config {
         RunConfig::Tumble(setting) => {
@@ -81,6 +84,8 @@ fn run_job(scene: &Scene, job: &Job) -> ResultRow {
                 &mut |states| {
                     scratch.clear();
                     scratch.extend(states.iter().map(to_scene_state));
+                    last.clear();
+                    last.extend_from_slice(states);
                     // The lengths always match (one state per scene body), so this cannot fail.
                     let _ = tracker.observe(&scratch);
                 },
@@ -173,13 +178,23 @@ pub fn validate(args: &ValidateArgs) -> Result<bool, String> {
             .progress_chars("=> "),
     );
     let mut rows = Vec::with_capacity(jobs.len());
+    // The verdict runs' final states, for the report's last frame of each scene.
+    let mut finals = Vec::new();
+    let mut last = Vec::new();
     for job in &jobs {
         let scene = &scenes[job.scene];
         bar.set_message(format!("{} / {}", scene.name, job.config));
-        rows.push(run_job(scene, job));
+        rows.push(run_job(scene, job, &mut last));
+        if job.verdict_run && !last.is_empty() {
+            finals.push((scene.name.clone(), std::mem::take(&mut last)));
+        }
         bar.inc(1);
     }
     bar.finish_and_clear();
+    let frames = draw_last_frames(&args.out, &scenes, &finals);
+    for note in &frames.notes {
+        eprintln!("{note}");
+    }
 
     for scene in &scenes {
         let cells: Vec<Vec<String>> = rows
@@ -206,6 +221,7 @@ pub fn validate(args: &ValidateArgs) -> Result<bool, String> {
         grid_len: grid.len(),
         elapsed_s: started.elapsed().as_secs_f64(),
         quick_max_steps: QUICK_MAX_STEPS,
+        frames: &frames,
     };
     write_report(&args.out, &context, &rows)?;
     println!();
@@ -273,6 +289,7 @@ mod tests {
                 verdict_run: true,
                 in_grid: true,
             },
+            &mut Vec::new(),
         );
         assert_eq!(tumble.passed(), Some(true), "{:?}", tumble.check);
         assert_eq!(tumble.outcome.metrics.steps, 60);
@@ -289,6 +306,7 @@ mod tests {
                 verdict_run: false,
                 in_grid: true,
             },
+            &mut Vec::new(),
         );
         assert_eq!(rapier.passed(), Some(true), "{:?}", rapier.check);
         assert!(rapier.outcome.metrics.max_penetration < 0.01);

@@ -6,8 +6,10 @@
 //! returns them. Needs a GPU (or lavapipe): without one it prints a loud "skipped" unless
 //! `TUMBLE_REQUIRE_GPU=1`.
 
+use std::time::{Duration, Instant};
+
 use tumble_gpu::step::{GpuWorld, GpuWorldConfig, ReadRequest};
-use tumble_gpu::{GpuContext, GpuError, GpuOptions, wgpu};
+use tumble_gpu::{GpuContext, GpuError, GpuOptions, Readback, wgpu};
 use tumble_tests::scene_support::gpu_world_of;
 
 /// The adapter the shared test device was opened on, with its limits.
@@ -175,4 +177,107 @@ fn an_uncaught_error_is_returned_once_and_a_lost_device_from_then_on() {
             "a read after the loss must be DeviceLost"
         );
     }
+}
+
+/// Workgroups of [`LONG_KERNEL`]: 2 to 4 s on lavapipe with two threads, far past the 100 ms
+/// read timeout of the test, and a fraction of a second on a GPU.
+const LONG_WORKGROUPS: u32 = 25_000;
+
+/// Steps of the generator per workgroup of [`LONG_KERNEL`].
+const LONG_STEPS: u32 = 60_000;
+
+/// A kernel whose every workgroup runs one thread through [`LONG_STEPS`] dependent steps of a
+/// linear congruential generator, its result kept: bounded, and not foldable. The length
+/// comes from the workgroup count because llvmpipe stops any one invocation's loops after
+/// 65,535 iterations in all.
+const LONG_KERNEL: &str = "
+@group(0) @binding(0) var<storage, read_write> data: array<u32>;
+@compute @workgroup_size(1)
+fn main(@builtin(workgroup_id) id: vec3<u32>) {
+    var x = data[id.x];
+    for (var i = 0u; i < 60000u; i++) {
+        x = x * 1664525u + 1013904223u;
+    }
+    data[id.x] = x;
+}";
+
+#[test]
+fn a_read_behind_work_longer_than_the_read_timeout_errs_in_time_and_succeeds_after() {
+    if GpuContext::for_tests().is_none() {
+        return;
+    }
+    // A device of its own: the timeout and the long kernel must not reach other tests.
+    let ctx = GpuContext::new().expect("device");
+    let refused = ctx.set_read_timeout(Duration::ZERO).unwrap_err();
+    assert!(refused.to_string().contains("read_timeout"), "{refused}");
+    let module = ctx
+        .device
+        .create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("long"),
+            source: wgpu::ShaderSource::Wgsl(LONG_KERNEL.into()),
+        });
+    let pipeline = ctx
+        .device
+        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("long"),
+            layout: None,
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+    let data = ctx.storage_buffer("long", &vec![1u32; LONG_WORKGROUPS as usize]);
+    let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("long"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: data.as_entire_binding(),
+        }],
+    });
+    // The kernel and the copy of its results in one submission, as a step records them: on
+    // lavapipe a second submission would block in `submit` until the first is done.
+    let mut readback = Readback::new(&ctx);
+    let bytes = data.size();
+    let slot = readback.begin(bytes).expect("staging");
+    let mut encoder = ctx.encoder("long");
+    let mut pass = encoder.begin_compute_pass(&Default::default());
+    pass.set_pipeline(&pipeline);
+    pass.set_bind_group(0, &group, &[]);
+    pass.dispatch_workgroups(LONG_WORKGROUPS, 1, 1);
+    drop(pass);
+    let region = readback.copy(&mut encoder, slot, &data, 0, bytes);
+    let timeout = Duration::from_millis(100);
+    ctx.set_read_timeout(timeout).expect("a positive timeout");
+    let start = Instant::now();
+    ctx.submit(encoder).expect("submit");
+    let ticket = readback.submitted(slot);
+    let err = readback
+        .wait(&ticket, &[region])
+        .expect_err("the read times out");
+    let failed_after = start.elapsed();
+    assert!(
+        matches!(err, GpuError::TimedOut { after } if after == timeout),
+        "{err}"
+    );
+    ctx.set_read_timeout(Duration::from_secs(60)).unwrap();
+    let read = readback
+        .wait(&ticket, &[region])
+        .expect("the same read succeeds once the work is done");
+    let finished_after = start.elapsed();
+    // Without the timeout the read would have returned at `finished_after` at the earliest:
+    // it gave up within a second (slack for a loaded machine), while the work ran on for
+    // more than twice as long.
+    assert!(
+        failed_after < Duration::from_secs(1) && finished_after > failed_after * 2,
+        "the read failed after {failed_after:?}, the work finished after {finished_after:?}"
+    );
+    // Every workgroup ran all its steps.
+    let expected = (0..LONG_STEPS).fold(1u32, |x, _| {
+        x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223)
+    });
+    let words = read[0]
+        .chunks_exact(4)
+        .map(|w| u32::from_le_bytes(w.try_into().unwrap()));
+    assert!(words.eq(std::iter::repeat_n(expected, LONG_WORKGROUPS as usize)));
 }

@@ -113,7 +113,7 @@ fn workgroup_size_comes_from_the_host_constant() {
 
 #[test]
 fn every_argument_struct_names_its_shaders_bindings_in_order() {
-    for &spec in KERNELS {
+    for &spec in KERNELS.iter() {
         let module = spec.check().unwrap_or_else(|e| panic!("{e}"));
         let bindings = reflect_bindings(&module);
         let names: Vec<&str> = bindings.iter().map(|b| b.name.as_str()).collect();

@@ -1,6 +1,8 @@
 //! The device every kernel runs on: adapter choice, device limits and optional features.
 
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
+use std::time::{Duration, Instant};
 
 use crate::GpuError;
 
@@ -26,6 +28,10 @@ pub fn require_gpu_value(value: Option<&str>) -> bool {
 /// Storage buffers a single kernel may bind. The narrow phase binds the most (bodies, pairs,
 /// last step's pairs and manifolds, and its outputs); WebGPU's default of 8 is too few.
 pub const REQUIRED_STORAGE_BUFFERS_PER_STAGE: u32 = 10;
+
+/// The read timeout a context starts with ([`GpuContext::set_read_timeout`]): far beyond any
+/// step, so reaching it means a hung or lost device, not a slow one.
+pub const DEFAULT_READ_TIMEOUT: Duration = Duration::from_secs(60);
 
 /// Options for [`GpuContext::with_options`].
 #[derive(Clone, Debug, Default)]
@@ -72,6 +78,8 @@ pub struct GpuContext {
     pub(crate) pipelines: crate::kernel::PipelineCache,
     /// Device loss and uncaptured errors, as the device's callbacks reported them.
     health: Arc<Health>,
+    /// The longest blocking wait, in nanoseconds, shared by every clone.
+    read_timeout: Arc<AtomicU64>,
 }
 
 /// The instance settings: wgpu's defaults without indirect-call validation, then whatever the
@@ -220,6 +228,7 @@ impl GpuContext {
             has_timestamps,
             pipelines: Default::default(),
             health,
+            read_timeout: Arc::new(AtomicU64::new(DEFAULT_READ_TIMEOUT.as_nanos() as u64)),
         })
     }
 
@@ -301,14 +310,61 @@ impl GpuContext {
         Ok(())
     }
 
-    /// Blocks until all submitted work is done.
+    /// The longest any blocking wait on this device (a read, [`Self::wait_idle`]) lasts before
+    /// it returns [`GpuError::TimedOut`].
+    pub fn read_timeout(&self) -> Duration {
+        Duration::from_nanos(self.read_timeout.load(Ordering::Relaxed))
+    }
+
+    /// Sets [`Self::read_timeout`] for this context and every clone of it (they share the
+    /// device, and a world keeps clones). A hung device then fails a read instead of blocking
+    /// it forever. Zero is refused: no wait could ever succeed.
+    pub fn set_read_timeout(&self, timeout: Duration) -> Result<(), GpuError> {
+        if timeout.is_zero() {
+            return Err(crate::error::invalid("read_timeout", timeout));
+        }
+        let nanos = u64::try_from(timeout.as_nanos()).unwrap_or(u64::MAX);
+        self.read_timeout.store(nanos, Ordering::Relaxed);
+        Ok(())
+    }
+
+    /// Blocks until all submitted work is done, at most [`Self::read_timeout`].
     pub fn wait_idle(&self) -> Result<(), GpuError> {
-        self.check_health()?;
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map(|_| ())
-            .map_err(|e| GpuError::Device(e.to_string()))?;
-        self.check_health()
+        self.wait_until(None, || true)
+    }
+
+    /// Waits for submission `index` (all submitted work when `None`), then polls until `done`
+    /// holds, all within [`Self::read_timeout`]. `done` is what the caller waits on, typically
+    /// a map callback having run: when another thread shares the device, its own poll may
+    /// have collected the callback and not yet run it when ours returns.
+    pub(crate) fn wait_until(
+        &self,
+        index: Option<wgpu::SubmissionIndex>,
+        done: impl Fn() -> bool,
+    ) -> Result<(), GpuError> {
+        let timeout = self.read_timeout();
+        let deadline = Instant::now() + timeout;
+        loop {
+            self.check_health()?;
+            let left = deadline.saturating_duration_since(Instant::now());
+            self.device
+                .poll(wgpu::PollType::Wait {
+                    submission_index: index.clone(),
+                    timeout: Some(left),
+                })
+                .map_err(|e| match e {
+                    wgpu::PollError::Timeout => GpuError::TimedOut { after: timeout },
+                    e => GpuError::Device(e.to_string()),
+                })?;
+            self.check_health()?;
+            if done() {
+                return Ok(());
+            }
+            if Instant::now() >= deadline {
+                return Err(GpuError::TimedOut { after: timeout });
+            }
+            std::thread::yield_now();
+        }
     }
 }
 

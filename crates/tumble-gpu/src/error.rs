@@ -62,6 +62,14 @@ pub enum GpuError {
         /// The reason wgpu gave, with its message.
         reason: String,
     },
+    /// A blocking wait (a read, `GpuContext::wait_idle`) passed the context's read timeout
+    /// (`GpuContext::set_read_timeout`): the device is hung, or runs work far longer than a
+    /// step. The work may still finish; a later read can succeed.
+    #[error("the GPU did not finish within the read timeout: timed out after {after:?}")]
+    TimedOut {
+        /// The read timeout that passed.
+        after: std::time::Duration,
+    },
     /// Mapping a readback buffer or waiting on the device failed, or the device reported an
     /// error that no error scope caught (a validation or out-of-memory error).
     #[error("GPU device error: {0}")]

@@ -36,7 +36,8 @@
 //! [`KernelSpec::check`] fails unless the struct's field names, in order, are the names of the
 //! shader's group-0 bindings in binding order. One block may declare several kernels taking
 //! the same buffers. A kernel is then built with [`Kernel::new`] (or [`Kernel::specialized`]
-//! for extra `override` values) and listed in [`crate::registry::KERNELS`] for the checks.
+//! for extra `override` values); a field of a [`pipelines!`] struct is in
+//! [`crate::registry::KERNELS`] for the checks.
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
@@ -116,6 +117,9 @@ macro_rules! pipelines {
         }
 
         impl $name {
+            /// The spec of every kernel, in field order.
+            pub const SPECS: &'static [&'static $crate::kernel::KernelSpec] = &[$(&$spec),*];
+
             /// Every kernel, each from `kernel`.
             pub fn build(
                 mut kernel: impl FnMut(
@@ -260,15 +264,19 @@ impl KernelSpec {
     /// Parses and validates the shader and checks that its buffer bindings are group 0,
     /// numbered from 0, with the names of [`Self::buffers`] in binding order.
     pub fn check(&self) -> Result<naga::Module, GpuError> {
+        self.checked().map(|(module, _)| module)
+    }
+
+    /// [`Self::check`] with the validator's module info.
+    fn checked(&self) -> Result<(naga::Module, naga::valid::ModuleInfo), GpuError> {
         let source = self.source()?;
         let module = source.parse(self.name)?;
-        let mut validator = naga::valid::Validator::new(
+        let info = naga::valid::Validator::new(
             naga::valid::ValidationFlags::all(),
             crate::validation_capabilities(),
-        );
-        validator
-            .validate(&module)
-            .map_err(|e| self.error(e.emit_to_string(&source.compose())))?;
+        )
+        .validate(&module)
+        .map_err(|e| self.error(e.emit_to_string(&source.compose())))?;
         let found = reflect_bindings(&module);
         let numbered = found
             .iter()
@@ -286,7 +294,7 @@ impl KernelSpec {
                 self.buffers
             )));
         }
-        Ok(module)
+        Ok((module, info))
     }
 
     /// The checked module's bindings and override names, computed on first use.
@@ -356,13 +364,7 @@ impl KernelSpec {
         &self,
         extra: &[(&'static str, f64)],
     ) -> Result<(naga::Module, naga::valid::ModuleInfo), GpuError> {
-        let module = self.check()?;
-        let info = naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            crate::validation_capabilities(),
-        )
-        .validate(&module)
-        .map_err(|e| self.error(e.to_string()))?;
+        let (module, info) = self.checked()?;
         let mut constants = naga::back::PipelineConstants::default();
         for (name, value) in self.override_values(extra)? {
             constants.insert(name.to_string(), value);

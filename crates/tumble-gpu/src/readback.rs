@@ -9,10 +9,6 @@ use std::sync::{Arc, Mutex};
 
 use crate::{GpuContext, GpuError};
 
-/// Longest wait for a readback before reporting a device error: far beyond any step (a lost
-/// device, not a slow one).
-pub const READ_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(60);
-
 /// Where a copied region landed in a staging buffer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Region {
@@ -22,8 +18,8 @@ pub struct Region {
     pub len: u64,
 }
 
-/// What the map callback reported.
-type MapResult = Arc<Mutex<Option<Result<(), String>>>>;
+/// What a map callback reported.
+pub(crate) type MapResult = Arc<Mutex<Option<Result<(), String>>>>;
 
 #[derive(Debug)]
 struct Slot {
@@ -156,24 +152,14 @@ impl Readback {
         self.is_mapped(ticket).then(|| self.take(ticket))
     }
 
-    /// Waits for the map and returns the mapped staging buffer.
-    ///
-    /// An idle device is not enough: when another thread shares the device, its own poll may
-    /// have collected this map's callback and not yet run it when ours returns, so this polls
-    /// until the callback has run (or [`READ_TIMEOUT`] passes).
+    /// Waits for the map (at most the context's read timeout) and returns the mapped staging
+    /// buffer.
     pub fn wait_mapped(&mut self, ticket: &Ticket) -> Result<Mapped<'_>, GpuError> {
-        let deadline = std::time::Instant::now() + READ_TIMEOUT;
-        loop {
-            self.ctx.wait_idle()?;
-            // A slot with no map pending fails at once in `take`.
-            if self.slots[ticket.slot].mapped.is_none() || self.is_mapped(ticket) {
-                return self.take(ticket);
-            }
-            if std::time::Instant::now() > deadline {
-                return Err(GpuError::Device("readback was not mapped in time".into()));
-            }
-            std::thread::yield_now();
-        }
+        // A slot with no map pending fails at once in `take`.
+        let slot = &self.slots[ticket.slot];
+        self.ctx
+            .wait_until(None, || slot.mapped.is_none() || self.is_mapped(ticket))?;
+        self.take(ticket)
     }
 
     /// Whether the map of `ticket`'s slot has completed (its callback has run).

@@ -1,64 +1,36 @@
 //! Everything the crate's shaders are made of, in one place, for the checks that need no GPU
 //! (`tests/tests/gpu_layout.rs`): every kernel with the override values it is checked with,
-//! every shared WGSL file, and every struct shared with the host. A new kernel is listed in
-//! [`KERNELS`], or the layout test fails naming its file.
+//! every shared WGSL file, and every struct shared with the host. A new kernel is a field of
+//! a stage's pipelines (or listed in [`KERNELS`]), or the layout test fails naming its file.
 
+use std::sync::LazyLock;
+
+use crate::collision::kernels::CollisionKernels;
 use crate::kernel::KernelSpec;
 use crate::layout::{StructLayout, shared_struct_layouts};
 use crate::shader::{ShaderSource, WgslFile};
 use crate::solver::{Effects, effect_overrides};
 use crate::{kernels, sleep, solver};
 
-/// Every kernel of the crate: the collision stages, the solver, the sleep stage.
-pub static KERNELS: &[&KernelSpec] = &[
-    &kernels::update_aabbs::UPDATE_AABBS,
-    &kernels::choose_axis::CHOOSE_AXIS,
-    &kernels::write_sort_keys::WRITE_SORT_KEYS,
-    &kernels::radix_sort::RADIX_HISTOGRAM,
-    &kernels::radix_sort::RADIX_SCAN,
-    &kernels::radix_sort::RADIX_SCATTER,
-    &kernels::rank_sort::RANK_SORT,
-    &kernels::gather_sweep_boxes::GATHER_SWEEP_BOXES,
-    &kernels::sweep_pairs::SWEEP_PAIRS,
-    &kernels::sweep_pairs::LONG_PAIRS,
-    &kernels::plan_dispatch::PLAN_DISPATCH,
-    &kernels::match_pairs::MATCH_PAIRS,
-    &kernels::collide_cuboids::COLLIDE_CUBOIDS,
-    &kernels::carry_impulses::CARRY_IMPULSES,
-    &kernels::compact_touching::COUNT_TOUCHING,
-    &kernels::compact_touching::SCAN_TOUCHING,
-    &kernels::compact_touching::WRITE_TOUCHING,
-    &kernels::compact_touching::SCATTER_IMPULSES,
-    &kernels::contact_events::CONTACT_BEGINS,
-    &kernels::contact_events::CONTACT_ENDS,
-    &solver::apply_impulses::APPLY_IMPULSES,
-    &solver::color::COLOR_PROPOSE,
-    &solver::color::COLOR_RESOLVE,
-    &solver::color::COLOR_WITHDRAW,
-    &solver::color::COLOR_FINISH,
-    &solver::color::COLOR_COUNT,
-    &solver::color::COLOR_PLAN,
-    &solver::prepare::PREPARE_BODIES,
-    &solver::prepare::PREPARE_CONTACTS,
-    &solver::integrate::INTEGRATE_VELOCITIES,
-    &solver::integrate::INTEGRATE_POSITIONS,
-    &solver::integrate::FINALIZE_BODIES,
-    &solver::solve_color::SOLVE_COLOR,
-    &solver::store::STORE_IMPULSES,
-    &solver::fused::SOLVE_FUSED,
-    &solver::fused::SOLVE_FUSED_SHARED,
-    &sleep::wake::WAKE_BODIES,
-    &sleep::wake::WAKE_ISLANDS,
-    &sleep::rest::UPDATE_REST,
-    &sleep::touch::TOUCH_SLEEPERS,
-    &sleep::kinematic::KINEMATIC_WAKE,
-    &sleep::plan_search::PLAN_SEARCH,
-    &sleep::islands::HOOK_LABELS,
-    &sleep::islands::JUMP_LABELS,
-    &sleep::islands::CHECK_LABELS,
-    &sleep::rest::ISLAND_REST,
-    &sleep::rest::FALL_ASLEEP,
-];
+/// Every kernel of the crate: the pipeline sets of the collision stages, the solver and the
+/// sleep stage, then the kernels built on their own.
+pub static KERNELS: LazyLock<Vec<&'static KernelSpec>> = LazyLock::new(|| {
+    let own: &[&KernelSpec] = &[
+        &kernels::radix_sort::RADIX_HISTOGRAM,
+        &kernels::radix_sort::RADIX_SCAN,
+        &kernels::radix_sort::RADIX_SCATTER,
+        &kernels::contact_events::CONTACT_BEGINS,
+        &kernels::contact_events::CONTACT_ENDS,
+        &solver::solve_color::SOLVE_COLOR,
+    ];
+    [
+        CollisionKernels::SPECS,
+        solver::pipelines::SolverPipelines::SPECS,
+        sleep::pipelines::SleepPipelines::SPECS,
+        own,
+    ]
+    .concat()
+});
 
 /// A kernel as the checks build it: its spec and the override values it needs beyond the
 /// host constants (for instance one effect specialization).

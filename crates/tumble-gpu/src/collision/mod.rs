@@ -225,7 +225,7 @@ impl GpuCollision {
         shapes: &[GpuShape],
     ) -> Result<(), GpuError> {
         let n = poses.len();
-        validate::check_count("velocities", velocities.len(), n)?;
+        validate::check_motion(poses, velocities, n)?;
         validate::check_count("shapes", shapes.len(), n)?;
         if n > MAX_BODIES as usize {
             return Err(GpuError::LimitExceeded {
@@ -236,8 +236,6 @@ impl GpuCollision {
             });
         }
         validate::check_shapes(shapes)?;
-        validate::check_poses(poses)?;
-        validate::check_velocities(velocities)?;
         let n = n as u32;
         // The per-body guess is only a guess: never ask for more than the device can bind
         // (an actual overflow still grows, and errs only if the real count does not fit).
@@ -248,14 +246,9 @@ impl GpuCollision {
             .max(self.pair_capacity);
         self.long_extent = crate::kernels::sweep_pairs::long_extent(shapes);
         self.allocate(n, wanted)?;
+        self.write_motion(poses, velocities);
         let queue = &self.ctx.queue;
         queue.write_buffer(self.pool.get(SHAPES), 0, bytemuck::cast_slice(shapes));
-        queue.write_buffer(self.pool.get(POSES), 0, bytemuck::cast_slice(poses));
-        queue.write_buffer(
-            self.pool.get(VELOCITIES),
-            0,
-            bytemuck::cast_slice(velocities),
-        );
         let groups = vec![GpuCollisionGroups::ALL; n as usize];
         queue.write_buffer(self.pool.get(GROUPS), 0, bytemuck::cast_slice(&groups));
         Ok(())
@@ -289,19 +282,16 @@ impl GpuCollision {
         poses: &[GpuPose],
         velocities: &[GpuVelocity],
     ) -> Result<(), GpuError> {
-        let n = self.body_count as usize;
-        validate::check_count("poses", poses.len(), n)?;
-        validate::check_count("velocities", velocities.len(), n)?;
-        validate::check_poses(poses)?;
-        validate::check_velocities(velocities)?;
+        validate::check_motion(poses, velocities, self.body_count as usize)?;
+        self.write_motion(poses, velocities);
+        Ok(())
+    }
+
+    fn write_motion(&self, poses: &[GpuPose], velocities: &[GpuVelocity]) {
         let queue = &self.ctx.queue;
         queue.write_buffer(self.pool.get(POSES), 0, bytemuck::cast_slice(poses));
-        queue.write_buffer(
-            self.pool.get(VELOCITIES),
-            0,
-            bytemuck::cast_slice(velocities),
-        );
-        Ok(())
+        let velocities = bytemuck::cast_slice(velocities);
+        queue.write_buffer(self.pool.get(VELOCITIES), 0, velocities);
     }
 
     /// Sizes every buffer for `bodies` bodies and `capacity` pairs and writes the parameters.

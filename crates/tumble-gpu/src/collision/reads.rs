@@ -97,18 +97,6 @@ impl GpuCollision {
         }
     }
 
-    /// The snapshot if the GPU has finished, without waiting.
-    pub fn try_receive(
-        &mut self,
-        pending: &PendingReadback,
-    ) -> Option<Result<CollisionSnapshot, GpuError>> {
-        let snap = {
-            let mapped = self.readback.try_mapped(&pending.ticket)?;
-            mapped.and_then(|m| decode(&pending.plan, &m))
-        };
-        Some(snap.and_then(|s| self.finish_decode(&pending.plan, s)))
-    }
-
     /// Waits for a readback and returns its snapshot.
     pub fn receive(&mut self, pending: PendingReadback) -> Result<CollisionSnapshot, GpuError> {
         let snap = {

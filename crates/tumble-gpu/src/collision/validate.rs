@@ -15,8 +15,15 @@ fn all_finite(v: &[f32]) -> bool {
     v.iter().all(|x| x.is_finite())
 }
 
-/// Errs on a non-finite position or a non-unit rotation.
-pub fn check_poses(poses: &[GpuPose]) -> Result<(), GpuError> {
+/// Errs unless there are `n` poses and `n` velocities, every position and velocity finite and
+/// every rotation a unit quaternion.
+pub fn check_motion(
+    poses: &[GpuPose],
+    velocities: &[GpuVelocity],
+    n: usize,
+) -> Result<(), GpuError> {
+    check_count("poses", poses.len(), n)?;
+    check_count("velocities", velocities.len(), n)?;
     for (i, p) in poses.iter().enumerate() {
         if !all_finite(&p.position[..3]) {
             return Err(invalid(format!("poses[{i}].position"), p.position));
@@ -28,17 +35,11 @@ pub fn check_poses(poses: &[GpuPose]) -> Result<(), GpuError> {
             return Err(invalid(format!("poses[{i}].rotation"), q));
         }
     }
-    Ok(())
-}
-
-/// Errs on a non-finite velocity.
-pub fn check_velocities(velocities: &[GpuVelocity]) -> Result<(), GpuError> {
     for (i, v) in velocities.iter().enumerate() {
-        if !all_finite(&v.linear[..3]) {
-            return Err(invalid(format!("velocities[{i}].linear"), v.linear));
-        }
-        if !all_finite(&v.angular[..3]) {
-            return Err(invalid(format!("velocities[{i}].angular"), v.angular));
+        for (part, value) in [("linear", v.linear), ("angular", v.angular)] {
+            if !all_finite(&value[..3]) {
+                return Err(invalid(format!("velocities[{i}].{part}"), value));
+            }
         }
     }
     Ok(())

@@ -221,27 +221,19 @@ impl RadixSort {
                     (buffers.second, buffers.first)
                 };
                 let params = &self.shift_params[(p.shift / self.digit_bits) as usize];
-                let histogram = self.histogram.bind(
-                    ctx,
-                    &RadixHistogramArgs {
-                        pass_params: params,
-                        work: buffers.work,
-                        keys: keys[p.source],
-                        tile_counts: buffers.tile_counts,
-                    },
-                );
-                let scatter = self.scatter.bind(
-                    ctx,
-                    &RadixScatterArgs {
-                        pass_params: params,
-                        work: buffers.work,
-                        keys_in: keys[p.source],
-                        values_in: values[p.source],
-                        tile_offsets: buffers.tile_counts,
-                        keys_out: keys[1 - p.source],
-                        values_out: values[1 - p.source],
-                    },
-                );
+                // The histogram's and the scatter's bindings, by name.
+                let buffer = |name: &str| match name {
+                    "pass_params" => params,
+                    "work" => buffers.work,
+                    "keys" | "keys_in" => keys[p.source],
+                    "values_in" => values[p.source],
+                    "tile_counts" | "tile_offsets" => buffers.tile_counts,
+                    "keys_out" => keys[1 - p.source],
+                    "values_out" => values[1 - p.source],
+                    _ => unreachable!("no radix binding {name}"),
+                };
+                let histogram = self.histogram.bind_named(ctx, buffer);
+                let scatter = self.scatter.bind_named(ctx, buffer);
                 (histogram, scatter)
             })
             .collect();

@@ -4,9 +4,7 @@
 
 use crate::collision::GpuCollision;
 use crate::kernel::Kernel;
-use crate::kernels::contact_events::{
-    CONTACT_BEGINS, CONTACT_ENDS, ContactBeginsArgs, ContactEndsArgs, ContactEventList,
-};
+use crate::kernels::contact_events::{CONTACT_BEGINS, CONTACT_ENDS, ContactEventList};
 use crate::layout::GpuContactEvent;
 use crate::{GpuContext, GpuError, StageTimer};
 
@@ -92,31 +90,22 @@ impl EventStage {
         let (begins, ends) = (&self.begins, &self.ends);
         encoder.clear_buffer(&b.kept, 0, None);
         encoder.clear_buffer(&b.counts, 0, None);
-        let begin_group = begins.bind(
-            ctx,
-            &ContactBeginsArgs {
-                work: current[0],
-                manifolds: current[1],
-                contacts: current[2],
-                previous_manifolds: previous[1],
-                previous_contacts: previous[2],
-                kept: &b.kept,
-                counts: &b.counts,
-                events: &b.events,
-                touching: &b.touching,
-            },
-        );
-        let end_group = ends.bind(
-            ctx,
-            &ContactEndsArgs {
-                previous_work: previous[0],
-                previous_manifolds: previous[1],
-                previous_contacts: previous[2],
-                kept: &b.kept,
-                counts: &b.counts,
-                events: &b.events,
-            },
-        );
+        // Both kernels' bindings, by name: this step's pair set, last step's, the outputs.
+        let buffer = |name: &str| match name {
+            "work" => current[0],
+            "manifolds" => current[1],
+            "contacts" => current[2],
+            "previous_work" => previous[0],
+            "previous_manifolds" => previous[1],
+            "previous_contacts" => previous[2],
+            "kept" => &b.kept,
+            "counts" => &b.counts,
+            "events" => &b.events,
+            "touching" => &b.touching,
+            _ => unreachable!("no contact event binding {name}"),
+        };
+        let begin_group = begins.bind_named(ctx, buffer);
+        let end_group = ends.bind_named(ctx, buffer);
         let mut pass = StageTimer::disabled(ctx).begin_pass(encoder, "contact events");
         begins.dispatch_work(&mut pass, &begin_group, current[0]);
         ends.dispatch_work(&mut pass, &end_group, previous[0]);

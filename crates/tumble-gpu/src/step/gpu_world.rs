@@ -27,7 +27,7 @@ use crate::{GpuContext, GpuError, MAX_MANIFOLD_POINTS, StageTimer};
 use super::config::{ColorDispatch, GpuWorldConfig, PathPolicy};
 use super::events::EventStage;
 use super::idle::IdleSteps;
-use super::read_plan::{PendingRead, ReadSizes, decode};
+use super::read_plan::{PendingRead, decode};
 use super::snapshot::{ContactSnapshot, ReadRequest, Snapshot};
 use super::stats_ring::{StatsRing, StatsSources};
 use crate::kernels::contact_events::ContactEventList;

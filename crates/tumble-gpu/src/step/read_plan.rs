@@ -1,8 +1,8 @@
-//! How a GPU world's asynchronous readback is laid out: the byte size of each requested part,
-//! and the snapshot decoded from the regions a step's copies filled, in recorded order.
+//! A GPU world's asynchronous readback: the snapshot decoded from the regions a step's copies
+//! filled, in recorded order.
 
 use crate::MAX_MANIFOLD_POINTS;
-use crate::layout::{GpuContact, GpuManifold, GpuPose, GpuVelocity, WorkList};
+use crate::layout::{GpuContact, GpuManifold, WorkList};
 use crate::readback::{Region, Ticket};
 use crate::sleep::constants::AWAKE;
 use crate::solver::layout::GpuTilt;
@@ -18,54 +18,6 @@ pub(super) struct PendingRead {
     pub(super) step: u64,
     /// True when the island labels were copied (sleep on); otherwise no body sleeps.
     pub(super) islands_copied: bool,
-}
-
-/// Byte sizes of the parts of a readback.
-pub(super) struct ReadSizes {
-    pub(super) poses: u64,
-    pub(super) velocities: u64,
-    pub(super) work: u64,
-    pub(super) manifolds: u64,
-    pub(super) points: u64,
-    pub(super) tilts: u64,
-    pub(super) islands: u64,
-}
-
-impl ReadSizes {
-    pub(super) fn new(bodies: u64, manifolds: u64) -> Self {
-        let size = |bytes: usize, count: u64| bytes as u64 * count;
-        Self {
-            poses: size(std::mem::size_of::<GpuPose>(), bodies),
-            velocities: size(std::mem::size_of::<GpuVelocity>(), bodies),
-            work: size(std::mem::size_of::<WorkList>(), 1),
-            manifolds: size(std::mem::size_of::<GpuManifold>(), manifolds),
-            points: size(
-                std::mem::size_of::<GpuContact>(),
-                manifolds * u64::from(MAX_MANIFOLD_POINTS),
-            ),
-            tilts: size(std::mem::size_of::<GpuTilt>(), manifolds),
-            islands: size(std::mem::size_of::<u32>(), bodies),
-        }
-    }
-
-    /// Staging bytes for `request`, with alignment slack per region.
-    pub(super) fn total(&self, request: &ReadRequest) -> u64 {
-        let slack = 2 * wgpu::MAP_ALIGNMENT;
-        let mut total = 0;
-        if request.poses {
-            total += self.poses + slack;
-        }
-        if request.velocities {
-            total += self.velocities + slack;
-        }
-        if request.contacts {
-            total += self.work + self.manifolds + self.points + self.tilts + 4 * slack;
-        }
-        if request.sleeping {
-            total += self.islands + slack;
-        }
-        total
-    }
 }
 
 /// The snapshot in the bytes of a readback's regions, in the order they were recorded, for

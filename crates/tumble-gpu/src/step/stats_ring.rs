@@ -7,6 +7,7 @@
 use std::sync::{Arc, Mutex};
 
 use crate::layout::WorkList;
+use crate::readback::MapResult;
 use crate::solver::constants::COLOR_SLOTS;
 use crate::{GpuContext, GpuError};
 
@@ -14,12 +15,6 @@ use crate::{GpuContext, GpuError};
 /// step `n` is recorded lets step `n - 1` run meanwhile, and the result (hence the path
 /// choice) does not depend on timing.
 pub const STATS_LAG: usize = 2;
-
-type MapResult = Arc<Mutex<Option<Result<(), String>>>>;
-
-/// Longest wait for a step's work list to be mapped before reporting a device error: far
-/// beyond any step (a lost device, not a slow one).
-const MAP_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(60);
 
 /// What a step's stats slot holds once read.
 #[derive(Clone, Copy, Debug)]
@@ -98,27 +93,9 @@ impl StatsRing {
         let Some((index, mapped)) = slot.pending.take() else {
             return Ok(None);
         };
-        // The map callback runs inside some thread's poll: ours, or another user's of the same
-        // device, which may still be inside it when our wait returns. Poll until it has run.
-        let deadline = std::time::Instant::now() + MAP_TIMEOUT;
-        let status = loop {
-            if let Some(status) = mapped.lock().expect("stats map lock").take() {
-                break status;
-            }
-            if std::time::Instant::now() > deadline {
-                return Err(GpuError::Device(
-                    "step stats were not mapped in time".into(),
-                ));
-            }
-            self.ctx
-                .device
-                .poll(wgpu::PollType::Wait {
-                    submission_index: Some(index.clone()),
-                    timeout: None,
-                })
-                .map_err(|e| GpuError::Device(e.to_string()))?;
-            std::thread::yield_now();
-        };
+        let map_lock = || mapped.lock().expect("stats map lock");
+        self.ctx.wait_until(Some(index), || map_lock().is_some())?;
+        let status = map_lock().take().expect("the map callback has run");
         status.map_err(GpuError::Device)?;
         let (work, active, counts) = {
             let view = slot

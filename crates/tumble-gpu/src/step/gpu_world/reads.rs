@@ -2,6 +2,7 @@
 //! without stalling the next step) and blocking reads of the current state.
 
 use super::*;
+use crate::buffer_pool::bytes_of;
 
 impl GpuWorld {
     /// Asks the next steps to copy `request` for reading (see [`Self::latest_snapshot`]).
@@ -19,27 +20,39 @@ impl GpuWorld {
         let n = self.bodies.len() as u64;
         let (manifold_buffer, point_buffer, work, capacity) = self.contact_buffers();
         let m = u64::from(manifolds.min(capacity));
-        let sizes = ReadSizes::new(n, m);
-        let slot = self.readback.begin(sizes.total(&request))?;
-        let mut regions = Vec::new();
         let buffers = self.collision.buffers(self.pool.get(BODIES));
-        let rb = &mut self.readback;
+        // What to copy, in the order `decode` reads it, with each copy's bytes.
+        let mut copies: Vec<(&wgpu::Buffer, u64)> = Vec::new();
         if request.poses {
-            regions.push(rb.copy(encoder, slot, buffers.poses, 0, sizes.poses));
+            copies.push((buffers.poses, bytes_of::<GpuPose>(n)));
         }
         if request.velocities {
-            regions.push(rb.copy(encoder, slot, buffers.velocities, 0, sizes.velocities));
+            copies.push((buffers.velocities, bytes_of::<GpuVelocity>(n)));
         }
         if request.contacts {
-            regions.push(rb.copy(encoder, slot, &work, 0, sizes.work));
-            regions.push(rb.copy(encoder, slot, &manifold_buffer, 0, sizes.manifolds));
-            regions.push(rb.copy(encoder, slot, &point_buffer, 0, sizes.points));
-            regions.push(rb.copy(encoder, slot, self.solver.tilts(), 0, sizes.tilts));
+            copies.extend([
+                (&work, bytes_of::<WorkList>(1)),
+                (&manifold_buffer, bytes_of::<GpuManifold>(m)),
+                (
+                    &point_buffer,
+                    bytes_of::<GpuContact>(m * u64::from(MAX_MANIFOLD_POINTS)),
+                ),
+                (self.solver.tilts(), bytes_of::<GpuTilt>(m)),
+            ]);
         }
         let islands = self.sleep.island_labels().filter(|_| request.sleeping);
         if let Some(islands) = islands {
-            regions.push(rb.copy(encoder, slot, islands, 0, sizes.islands));
+            copies.push((islands, bytes_of::<u32>(n)));
         }
+        // Alignment slack per region.
+        let slack = 2 * wgpu::MAP_ALIGNMENT;
+        let slot = self
+            .readback
+            .begin(copies.iter().map(|&(_, len)| len + slack).sum())?;
+        let regions: Vec<Region> = copies
+            .into_iter()
+            .map(|(buffer, len)| self.readback.copy(encoder, slot, buffer, 0, len))
+            .collect();
         self.bytes_read += regions.iter().map(|r| r.len).sum::<u64>();
         Ok((slot, regions, islands.is_some()))
     }

@@ -6,41 +6,52 @@ use bytemuck::{Pod, Zeroable};
 
 /// Declares structs shared with WGSL, each `#[repr(C)]` with the attributes and fields given,
 /// and a function listing their [`StructLayout`]s (sizes and field offsets, in declaration
-/// order) for the layout check: a shared struct is written once.
+/// order) for the layout check: a shared struct is written once. A field is either
+/// `pub name: Type` with its docs or `pad name, ...: Type`, padding fields as the WGSL struct
+/// has them (public, so that other crates can build the structs with `..Default::default()`).
 macro_rules! host_structs {
     (
         $(#[$fn_meta:meta])*
         pub fn $layouts:ident();
         $(
             $(#[$meta:meta])*
-            pub struct $name:ident {
-                $(
-                    $(#[$field_meta:meta])*
-                    pub $field:ident: $ty:ty
-                ),* $(,)?
-            }
+            pub struct $name:ident { $($body:tt)* }
         )+
     ) => {
-        $(
-            $(#[$meta])*
-            #[repr(C)]
-            pub struct $name {
-                $(
-                    $(#[$field_meta])*
-                    pub $field: $ty,
-                )*
-            }
-        )+
+        $($crate::layout::host_structs!(@fields [$(#[$meta])* $name] [] [] $($body)*);)+
 
         $(#[$fn_meta])*
         pub fn $layouts() -> Vec<$crate::layout::StructLayout> {
-            vec![$(
+            vec![$($name::host_layout()),+]
+        }
+    };
+    // Moves the next field, with its name, to the lists built so far.
+    (@fields $head:tt [$($fields:tt)*] [$($names:ident)*]
+        $(#[$m:meta])* pub $field:ident: $ty:ty $(, $($rest:tt)*)?) => {
+        $crate::layout::host_structs!(@fields $head [$($fields)* $(#[$m])* pub $field: $ty,]
+            [$($names)* $field] $($($rest)*)?);
+    };
+    (@fields $head:tt [$($fields:tt)*] [$($names:ident)*]
+        pad $($pad:ident),+: $ty:ty $(, $($rest:tt)*)?) => {
+        $crate::layout::host_structs!(@fields $head
+            [$($fields)* $(#[doc = "Padding."] pub $pad: $ty,)+] [$($names)* $($pad)+]
+            $($($rest)*)?);
+    };
+    (@fields [$(#[$meta:meta])* $name:ident] [$($fields:tt)*] [$($names:ident)*]) => {
+        $(#[$meta])*
+        #[repr(C)]
+        pub struct $name {
+            $($fields)*
+        }
+
+        impl $name {
+            fn host_layout() -> $crate::layout::StructLayout {
                 $crate::layout::StructLayout {
                     name: stringify!($name),
                     size: std::mem::size_of::<$name>(),
-                    fields: vec![$((stringify!($field), std::mem::offset_of!($name, $field))),*],
+                    fields: vec![$((stringify!($names), std::mem::offset_of!($name, $names))),*],
                 }
-            ),+]
+            }
         }
     };
 }
@@ -99,8 +110,7 @@ host_structs! {
             pub y: u32,
             /// Workgroups along z.
             pub z: u32,
-            /// Padding.
-            pub _pad: u32,
+            pad _pad: u32,
     }
 
     /// A GPU-side count of work items and the dispatch size covering it. 32 bytes.
@@ -112,8 +122,7 @@ host_structs! {
             pub requested: u32,
             /// Slots in the item buffer.
             pub capacity: u32,
-            /// Padding.
-            pub _pad: u32,
+            pad _pad: u32,
             /// Workgroups covering one thread per item, which is also one workgroup per tile of
             /// `WORKGROUP_SIZE` items (the radix sort's tiles).
             pub groups: DispatchArgs,
@@ -128,8 +137,7 @@ host_structs! {
             pub margin: f32,
             /// Time step (s): AABBs also sweep by velocity times `dt`.
             pub dt: f32,
-            /// Padding.
-            pub _pad: u32,
+            pad _pad: u32,
     }
 
     /// Parameters of one radix sort pass. 16 bytes.
@@ -137,12 +145,7 @@ host_structs! {
     pub struct RadixPassParams {
             /// Bit offset of the digit this pass sorts on.
             pub shift: u32,
-            /// Padding.
-            pub _pad0: u32,
-            /// Padding.
-            pub _pad1: u32,
-            /// Padding.
-            pub _pad2: u32,
+            pad _pad0, _pad1, _pad2: u32,
     }
 
     /// Parameters of `sweep_pairs`. 16 bytes.
@@ -155,8 +158,7 @@ host_structs! {
             /// Boxes longer than this on the sweep axis (m) are paired by `long_pairs` instead of
             /// the sweep (see `shaders/common/sweep.wgsl`).
             pub long_extent: f32,
-            /// Padding.
-            pub _pad1: u32,
+            pad _pad1: u32,
     }
 
     /// The sweep axis and the statistics it was chosen from. 32 bytes.
@@ -164,12 +166,7 @@ host_structs! {
     pub struct SweepAxis {
             /// 0, 1 or 2: the axis of largest centre variance.
             pub axis: u32,
-            /// Padding.
-            pub _pad0: u32,
-            /// Padding.
-            pub _pad1: u32,
-            /// Padding.
-            pub _pad2: u32,
+            pad _pad0, _pad1, _pad2: u32,
             /// Centre variance along x, y, z (m²); `w` unused.
             pub variance: [f32; 4],
     }
@@ -181,10 +178,7 @@ host_structs! {
             pub margin: f32,
             /// Time step (s): the margin grows by how far a pair can close in one step.
             pub dt: f32,
-            /// Padding.
-            pub _pad0: u32,
-            /// Padding.
-            pub _pad1: u32,
+            pad _pad0, _pad1: u32,
     }
 
     /// One contact point of a manifold. 48 bytes.
@@ -200,8 +194,7 @@ host_structs! {
             pub id: u32,
             /// Accumulated normal impulse (N s), carried between steps.
             pub normal_impulse: f32,
-            /// Padding.
-            pub _pad: u32,
+            pad _pad: u32,
     }
 
     /// The manifold of candidate pair `k`; its points are `contacts[k * MAX_MANIFOLD_POINTS..]`.
@@ -222,10 +215,7 @@ host_structs! {
             pub len: u32,
             /// Index of this pair's manifold last step, or `NO_PREVIOUS`.
             pub previous: u32,
-            /// Padding.
-            pub _pad0: u32,
-            /// Padding.
-            pub _pad1: u32,
+            pad _pad0, _pad1: u32,
     }
 
     /// A manifold in body A's frame at the poses it was found at, kept per pair slot so that the
@@ -289,10 +279,7 @@ host_structs! {
             pub manifolds: u32,
             /// Their points.
             pub points: u32,
-            /// Padding.
-            pub _pad0: u32,
-            /// Padding.
-            pub _pad1: u32,
+            pad _pad0, _pad1: u32,
     }
 
     /// Parameters of `scatter_impulses`. 16 bytes.
@@ -300,12 +287,7 @@ host_structs! {
     pub struct ScatterParams {
             /// Dense manifolds to scatter.
             pub count: u32,
-            /// Padding.
-            pub _pad0: u32,
-            /// Padding.
-            pub _pad1: u32,
-            /// Padding.
-            pub _pad2: u32,
+            pad _pad0, _pad1, _pad2: u32,
     }
 
     /// A pair that began or ended touching, or one that touches (`contact_begins`,

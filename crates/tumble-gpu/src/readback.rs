@@ -30,7 +30,7 @@ struct Slot {
 
 /// A readback in flight: staging slot and the regions copied into it.
 #[derive(Debug)]
-#[must_use = "a readback must be waited for or polled"]
+#[must_use = "a readback must be waited for"]
 pub struct Ticket {
     slot: usize,
 }
@@ -128,28 +128,10 @@ impl Readback {
         Ticket { slot }
     }
 
-    /// The bytes of every region if the map has completed, without blocking.
-    pub fn try_read(
-        &mut self,
-        ticket: &Ticket,
-        regions: &[Region],
-    ) -> Option<Result<Vec<Vec<u8>>, GpuError>> {
-        let mapped = self.try_mapped(ticket)?;
-        Some(mapped.and_then(|m| regions.iter().map(|r| m.read::<u8>(r)).collect()))
-    }
-
     /// Waits for the map and returns the bytes of every region.
     pub fn wait(&mut self, ticket: &Ticket, regions: &[Region]) -> Result<Vec<Vec<u8>>, GpuError> {
         let mapped = self.wait_mapped(ticket)?;
         regions.iter().map(|r| mapped.read::<u8>(r)).collect()
-    }
-
-    /// The mapped staging buffer if the map has completed, without blocking; regions are then
-    /// read as typed vectors with a single copy ([`Mapped::read`]).
-    pub fn try_mapped(&mut self, ticket: &Ticket) -> Option<Result<Mapped<'_>, GpuError>> {
-        // A non-blocking poll lets the map callback run.
-        let _ = self.ctx.device.poll(wgpu::PollType::Poll);
-        self.is_mapped(ticket).then(|| self.take(ticket))
     }
 
     /// Waits for the map (at most the context's read timeout) and returns the mapped staging

@@ -18,15 +18,11 @@ host_structs! {
             pub dt: f32,
             /// Kinematic bodies (entries of the kinematic list).
             pub kinematic_count: u32,
-            /// Padding.
-            pub _pad0: u32,
+            pad _pad0: u32,
             /// Workgroups along x of a dispatch over every body ([`crate::constants::workgroups_for`]).
             pub body_groups_x: u32,
             /// Workgroups along y of the same dispatch.
             pub body_groups_y: u32,
-            /// Padding.
-            pub _pad1: u32,
-            /// Padding.
-            pub _pad2: u32,
+            pad _pad1, _pad2: u32,
     }
 }

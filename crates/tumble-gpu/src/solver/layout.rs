@@ -31,10 +31,7 @@ host_structs! {
             pub linear_damping: f32,
             /// Angular damping rate, 1/s.
             pub angular_damping: f32,
-            /// Padding.
-            pub _pad0: u32,
-            /// Padding.
-            pub _pad1: u32,
+            pad _pad0, _pad1: u32,
             /// Persistent force at the centre of mass (N, world); `w`: gravity scale.
             pub force: [f32; 4],
             /// Persistent torque (N m, world); `w` unused.
@@ -79,8 +76,7 @@ host_structs! {
             pub tangent_impulse_2: f32,
             /// Normal relative velocity at preparation.
             pub relative_velocity: f32,
-            /// Padding.
-            pub _pad: f32,
+            pad _pad: f32,
     }
 
     /// The constraint of one manifold. 368 bytes.
@@ -112,12 +108,7 @@ host_structs! {
             pub tilt_impulse_2: f32,
             /// Radius of the disc inscribed in the contact patch, m (0 below three points).
             pub patch_radius: f32,
-            /// Padding.
-            pub _pad0: f32,
-            /// Padding.
-            pub _pad1: f32,
-            /// Padding.
-            pub _pad2: f32,
+            pad _pad0, _pad1, _pad2: f32,
             /// The points.
             pub points: [GpuConstraintPoint; MAX_MANIFOLD_POINTS],
     }
@@ -162,8 +153,7 @@ host_structs! {
             pub relax_iterations: u32,
             /// 1 when the restitution pass runs.
             pub restitution: u32,
-            /// Padding.
-            pub _pad: u32,
+            pad _pad: u32,
     }
 
     /// Which color a per-color pass visits. 16 bytes.
@@ -173,10 +163,7 @@ host_structs! {
             pub color: u32,
             /// 1 for a pass's tail: every constraint from `color` on, in one thread.
             pub tail: u32,
-            /// Padding.
-            pub _pad1: u32,
-            /// Padding.
-            pub _pad2: u32,
+            pad _pad1, _pad2: u32,
     }
 
     /// A constraint's coloring state. 8 bytes.
@@ -193,12 +180,7 @@ host_structs! {
     pub struct GpuImpulse {
             /// The body.
             pub body: u32,
-            /// Padding.
-            pub _pad0: u32,
-            /// Padding.
-            pub _pad1: u32,
-            /// Padding.
-            pub _pad2: u32,
+            pad _pad0, _pad1, _pad2: u32,
             /// Impulse, N s (world); `w` unused.
             pub impulse: [f32; 4],
             /// World point it acts at; `w` unused.

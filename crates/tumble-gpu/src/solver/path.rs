@@ -2,10 +2,6 @@
 //! every thread of the GPU) or the fused path (one workgroup, one dispatch). Both compute the
 //! same result; the choice is only about speed.
 
-use tumble_solver::SolverConfig;
-
-use super::constants::COLOR_SLOTS;
-
 /// The fused path is used up to this many manifolds. One workgroup visits a color in
 /// batches of `WORKGROUP_SIZE` constraints, so its cost grows with the manifold count, while
 /// the wide path pays a nearly fixed cost per dispatch (about 80 per substep). Measured on an
@@ -37,24 +33,6 @@ impl SolvePath {
             SolvePath::Fused
         } else {
             SolvePath::Wide
-        }
-    }
-
-    /// Compute dispatches this path records per step with `config` (restitution pass when
-    /// `restitution`), not counting buffer clears and copies.
-    pub fn dispatches_per_step(self, config: &SolverConfig, restitution: bool) -> u32 {
-        match self {
-            SolvePath::Fused => 1,
-            SolvePath::Wide => {
-                // propose, resolve, finish; two radix passes of three kernels.
-                let color = 3 + 2 * 3;
-                let prepare = 2;
-                let sweeps = 1 + config.iterations + config.relax_iterations;
-                let substep = 2 + COLOR_SLOTS * sweeps;
-                let restitution = if restitution { COLOR_SLOTS } else { 0 };
-                let finish = 2;
-                color + prepare + config.substeps.max(1) * substep + restitution + finish
-            }
         }
     }
 }

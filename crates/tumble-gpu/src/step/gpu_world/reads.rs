@@ -5,7 +5,7 @@ use super::*;
 use crate::buffer_pool::bytes_of;
 
 impl GpuWorld {
-    /// Asks the next steps to copy `request` for reading (see [`Self::latest_snapshot`]).
+    /// Asks the next steps to copy `request` for reading (see [`Self::wait_snapshot`]).
     pub fn request_reads(&mut self, request: ReadRequest) {
         self.request = request;
     }
@@ -55,21 +55,6 @@ impl GpuWorld {
             .collect();
         self.bytes_read += regions.iter().map(|r| r.len).sum::<u64>();
         Ok((slot, regions, islands.is_some()))
-    }
-
-    /// The most recent requested read whose copy has arrived, without waiting (older ones
-    /// are dropped); `None` when none has arrived yet.
-    pub fn latest_snapshot(&mut self) -> Option<Result<Snapshot, GpuError>> {
-        let mut latest = None;
-        while let Some(oldest) = self.pending.front() {
-            let Some(bytes) = self.readback.try_read(&oldest.ticket, &oldest.regions) else {
-                break;
-            };
-            let done = self.pending.pop_front().expect("front exists");
-            let n = self.bodies.len();
-            latest = Some(bytes.map(|b| decode(&done, n, b)));
-        }
-        latest
     }
 
     /// Waits for the most recent requested read (older ones are dropped).

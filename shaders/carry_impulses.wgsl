@@ -11,13 +11,21 @@
 // Points matched by neither start at zero, as collide_cuboids wrote them. This is the warm
 // start's input.
 
+// This step's pair `WorkList`.
 @group(0) @binding(0) var<storage, read> work: WorkList;
+// The bodies' poses the manifolds were found at.
 @group(0) @binding(1) var<storage, read> poses: array<GpuPose>;
+// This step's manifolds.
 @group(0) @binding(2) var<storage, read> manifolds: array<GpuManifold>;
+// Last step's manifolds.
 @group(0) @binding(3) var<storage, read> previous_manifolds: array<GpuManifold>;
+// Last step's contact points (with the solver's impulses).
 @group(0) @binding(4) var<storage, read> previous_contacts: array<GpuContact>;
+// Last step's manifolds in their body A's frame (`array<GpuLocalManifold>`).
 @group(0) @binding(5) var<storage, read> previous_locals: array<GpuLocalManifold>;
+// This step's contact points; impulses are written.
 @group(0) @binding(6) var<storage, read_write> contacts: array<GpuContact>;
+// This step's manifolds in body A's frame; written for every manifold with points.
 @group(0) @binding(7) var<storage, read_write> locals: array<GpuLocalManifold>;
 
 // Manifold k's normal and points in the frame of body A at pose `a`.

@@ -4,8 +4,10 @@
 // The reduction order is fixed (strided partial sums, then a tree), so the result is
 // deterministic and the CPU twin reproduces it.
 
+// The bodies' `WorkList` (its count is the body count).
 @group(0) @binding(0) var<storage, read> work: WorkList;
 @group(0) @binding(1) var<storage, read> aabbs: array<GpuAabb>;
+// Output `SweepAxis`.
 @group(0) @binding(2) var<storage, read_write> sweep_axis: SweepAxis;
 
 var<workgroup> sums: array<vec3<f32>, WORKGROUP_SIZE>;

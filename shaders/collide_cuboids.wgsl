@@ -6,15 +6,23 @@
 // without contact gets len = 0. Manifold k belongs to pair k.
 
 @group(0) @binding(0) var<uniform> params: NarrowParams;
+// This step's pair `WorkList`.
 @group(0) @binding(1) var<storage, read> work: WorkList;
+// Sorted pairs, first bodies.
 @group(0) @binding(2) var<storage, read> pair_a: array<u32>;
+// Sorted pairs, second bodies.
 @group(0) @binding(3) var<storage, read> pair_b: array<u32>;
 @group(0) @binding(4) var<storage, read> poses: array<GpuPose>;
+// `array<GpuVelocity>` (for the speculative margin).
 @group(0) @binding(5) var<storage, read> velocities: array<GpuVelocity>;
 @group(0) @binding(6) var<storage, read> shapes: array<GpuShape>;
+// From `match_pairs`.
 @group(0) @binding(7) var<storage, read> previous_index: array<u32>;
+// Last step's manifolds (for the reference-face hysteresis).
 @group(0) @binding(8) var<storage, read> previous_manifolds: array<GpuManifold>;
+// Output manifolds, one per pair.
 @group(0) @binding(9) var<storage, read_write> manifolds: array<GpuManifold>;
+// Output points, `MAX_MANIFOLD_POINTS` per pair.
 @group(0) @binding(10) var<storage, read_write> contacts: array<GpuContact>;
 
 fn half_extents(i: u32) -> vec3<f32> {

@@ -5,14 +5,23 @@
 // kept, so that contact_ends leaves it alone. Append order is the threads' (the host sorts
 // the short lists by body pair).
 
+// This step's pair `WorkList`.
 @group(0) @binding(0) var<storage, read> work: WorkList;
+// This step's manifolds, one per pair.
 @group(0) @binding(1) var<storage, read> manifolds: array<GpuManifold>;
+// This step's points, `MAX_MANIFOLD_POINTS` per pair.
 @group(0) @binding(2) var<storage, read> contacts: array<GpuContact>;
+// Last step's manifolds.
 @group(0) @binding(3) var<storage, read> previous_manifolds: array<GpuManifold>;
+// Last step's points.
 @group(0) @binding(4) var<storage, read> previous_contacts: array<GpuContact>;
+// Output: 1 for each of last step's slots that still touches (cleared before).
 @group(0) @binding(5) var<storage, read_write> kept: array<u32>;
+// The append counters `EventCounts` (cleared before).
 @group(0) @binding(6) var<storage, read_write> counts: EventCounts;
+// Output `array<GpuContactEvent>`: begins (then ends, from `contact_ends`).
 @group(0) @binding(7) var<storage, read_write> events: array<GpuContactEvent>;
+// Output `array<GpuContactEvent>`: the pairs touching.
 @group(0) @binding(8) var<storage, read_write> touching: array<GpuContactEvent>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)

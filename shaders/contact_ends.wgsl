@@ -3,11 +3,17 @@
 // then and whose slot contact_begins did not mark kept (it does not touch now, or is no pair
 // any more) gets an end event, with last step's impulse and point.
 
+// Last step's pair `WorkList`.
 @group(0) @binding(0) var<storage, read> previous_work: WorkList;
+// Last step's manifolds.
 @group(0) @binding(1) var<storage, read> previous_manifolds: array<GpuManifold>;
+// Last step's points.
 @group(0) @binding(2) var<storage, read> previous_contacts: array<GpuContact>;
+// `contact_begins`' marks.
 @group(0) @binding(3) var<storage, read> kept: array<u32>;
+// The append counters.
 @group(0) @binding(4) var<storage, read_write> counts: EventCounts;
+// Output: the ends, after the begins.
 @group(0) @binding(5) var<storage, read_write> events: array<GpuContactEvent>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)

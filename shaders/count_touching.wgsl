@@ -3,8 +3,11 @@
 // contact (len > 0) and their points, for the compaction of the contacts into a dense list
 // in pair order (a deterministic compaction: tile totals, their scan, then the writes).
 
+// The pair `WorkList`.
 @group(0) @binding(0) var<storage, read> work: WorkList;
+// Manifolds, one per pair.
 @group(0) @binding(1) var<storage, read> manifolds: array<GpuManifold>;
+// Output `array<vec2<u32>>`: (manifolds in contact, points) per tile.
 @group(0) @binding(2) var<storage, read_write> tile_totals: array<vec2<u32>>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)

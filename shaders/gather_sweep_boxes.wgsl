@@ -5,13 +5,20 @@
 // longer on the sweep axis than `params.long_extent` is counted in `long_boxes[0]` and
 // listed after it while there is room (see common/sweep.wgsl); the host clears the count.
 
+// The bodies' `WorkList`.
 @group(0) @binding(0) var<storage, read> work: WorkList;
+// `SweepAxis` from `choose_axis`.
 @group(0) @binding(1) var<storage, read> sweep_axis: SweepAxis;
 @group(0) @binding(2) var<storage, read> aabbs: array<GpuAabb>;
+// `array<GpuShape>` (for the flags).
 @group(0) @binding(3) var<storage, read> shapes: array<GpuShape>;
+// Body indices sorted by lower bound on the sweep axis.
 @group(0) @binding(4) var<storage, read> sorted_bodies: array<u32>;
+// Output `array<GpuSweepBox>`, one per sorted position.
 @group(0) @binding(5) var<storage, read_write> sweep_boxes: array<GpuSweepBox>;
+// SweepParams (the long extent).
 @group(0) @binding(6) var<uniform> params: SweepParams;
+// Output: the long box count and list (cleared count before).
 @group(0) @binding(7) var<storage, read_write> long_boxes: array<atomic<u32>>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)

@@ -3,12 +3,19 @@
 // binary search (the lists are in canonical (a, b) order), so its manifold and impulses can be
 // carried over. NO_PREVIOUS when the pair is new.
 
+// This step's pair `WorkList`.
 @group(0) @binding(0) var<storage, read> work: WorkList;
+// This step's sorted pairs, first bodies.
 @group(0) @binding(1) var<storage, read> pair_a: array<u32>;
+// This step's sorted pairs, second bodies.
 @group(0) @binding(2) var<storage, read> pair_b: array<u32>;
+// Last step's pair `WorkList`.
 @group(0) @binding(3) var<storage, read> previous_work: WorkList;
+// Last step's sorted pairs, first bodies.
 @group(0) @binding(4) var<storage, read> previous_a: array<u32>;
+// Last step's sorted pairs, second bodies.
 @group(0) @binding(5) var<storage, read> previous_b: array<u32>;
+// Output: last step's index of each pair, or `NO_PREVIOUS`.
 @group(0) @binding(6) var<storage, read_write> previous_index: array<u32>;
 
 // True when (a1, b1) sorts before (a2, b2).

@@ -4,7 +4,9 @@
 // workgroup counts of the indirect dispatches that process the list. This keeps a
 // data-dependent count on the GPU: no step ever waits for the host to read it.
 
+// The append counter (`u32` at offset 0).
 @group(0) @binding(0) var<storage, read> counter: array<u32>;
+// The `WorkList` to fill; its `capacity` is set by the host when the list is allocated.
 @group(0) @binding(1) var<storage, read_write> work: WorkList;
 
 @compute @workgroup_size(1)

@@ -3,9 +3,13 @@
 // of this pass and stores the counts digit-major (counts[digit * tiles + tile]), so that one
 // exclusive scan over the array yields each tile's first output slot for each digit.
 
+// This pass's RadixPassParams.
 @group(0) @binding(0) var<uniform> pass_params: RadixPassParams;
+// The `WorkList` giving the item count.
 @group(0) @binding(1) var<storage, read> work: WorkList;
+// Keys.
 @group(0) @binding(2) var<storage, read> keys: array<u32>;
+// Output counts, `RADIX * tiles` entries, digit-major.
 @group(0) @binding(3) var<storage, read_write> tile_counts: array<u32>;
 
 var<workgroup> counts: array<atomic<u32>, RADIX>;

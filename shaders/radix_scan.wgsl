@@ -4,7 +4,9 @@
 // that digit. Each thread sums a contiguous chunk, the chunk sums are scanned across the
 // workgroup, and each thread then writes its chunk's running offsets.
 
+// The `WorkList` giving the item count.
 @group(0) @binding(0) var<storage, read> work: WorkList;
+// Counts in, first slots out (in place).
 @group(0) @binding(1) var<storage, read_write> tile_counts: array<u32>;
 
 var<workgroup> partial: array<u32, WORKGROUP_SIZE>;

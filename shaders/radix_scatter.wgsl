@@ -4,12 +4,19 @@
 // keys before it in the tile with the same digit. Counting only earlier keys keeps equal
 // digits in input order, which makes every pass, and so the whole LSD sort, stable.
 
+// This pass's RadixPassParams.
 @group(0) @binding(0) var<uniform> pass_params: RadixPassParams;
+// The `WorkList` giving the item count.
 @group(0) @binding(1) var<storage, read> work: WorkList;
+// Keys in.
 @group(0) @binding(2) var<storage, read> keys_in: array<u32>;
+// Values in.
 @group(0) @binding(3) var<storage, read> values_in: array<u32>;
+// First slots from the scan.
 @group(0) @binding(4) var<storage, read> tile_offsets: array<u32>;
+// Keys out.
 @group(0) @binding(5) var<storage, read_write> keys_out: array<u32>;
+// Values out.
 @group(0) @binding(6) var<storage, read_write> values_out: array<u32>;
 
 var<workgroup> digits: array<u32, WORKGROUP_SIZE>;

@@ -7,8 +7,11 @@
 // values are their input positions, so (key, value) order is the stable order by key; the
 // pairs (a, b) are sorted by b and then stably by a, which is (a, b) order.
 
+// The `WorkList` giving the item count (at most RANK_SORT_CAPACITY).
 @group(0) @binding(0) var<storage, read> work: WorkList;
+// Keys, sorted in place.
 @group(0) @binding(1) var<storage, read_write> keys: array<u32>;
+// Values, moved with their keys.
 @group(0) @binding(2) var<storage, read_write> values: array<u32>;
 
 // Items per thread; the host uses this kernel only for lists of at most

@@ -4,8 +4,11 @@
 // and writes the grand totals. Each thread sums a contiguous chunk, the chunk sums are
 // scanned across the workgroup, then each thread writes its chunk's running offsets.
 
+// The pair `WorkList`.
 @group(0) @binding(0) var<storage, read> work: WorkList;
+// Tile totals in, first dense manifold and point per tile out.
 @group(0) @binding(1) var<storage, read_write> tile_totals: array<vec2<u32>>;
+// Output `TouchingCounts`.
 @group(0) @binding(2) var<storage, read_write> counts: TouchingCounts;
 
 @compute @workgroup_size(WORKGROUP_SIZE)

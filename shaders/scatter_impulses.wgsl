@@ -3,10 +3,15 @@
 // a readback of the touching contacts returned them, solved by a CPU solver) back into the
 // pair-slot contact array, where the next step's carry_impulses finds them.
 
+// `ScatterParams` (how many dense manifolds).
 @group(0) @binding(0) var<uniform> params: ScatterParams;
+// `array<GpuTouching>` from `write_touching`.
 @group(0) @binding(1) var<storage, read> touching: array<GpuTouching>;
+// Dense manifolds from `write_touching` (for their point counts).
 @group(0) @binding(2) var<storage, read> touching_manifolds: array<GpuManifold>;
+// Impulses in dense point order (uploaded).
 @group(0) @binding(3) var<storage, read> impulses: array<GpuContact>;
+// The per-pair points whose impulses are written.
 @group(0) @binding(4) var<storage, read_write> contacts: array<GpuContact>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)

@@ -3,9 +3,13 @@
 // speculative margin and swept by the motion expected over the next step.
 
 @group(0) @binding(0) var<uniform> params: UpdateAabbsParams;
+// `array<GpuPose>`, one per body.
 @group(0) @binding(1) var<storage, read> poses: array<GpuPose>;
+// `array<GpuVelocity>`, one per body.
 @group(0) @binding(2) var<storage, read> velocities: array<GpuVelocity>;
+// `array<GpuShape>`, one per body.
 @group(0) @binding(3) var<storage, read> shapes: array<GpuShape>;
+// Output `array<GpuAabb>`, one per body.
 @group(0) @binding(4) var<storage, read_write> aabbs: array<GpuAabb>;
 
 fn swept_aabb(pose: GpuPose, velocity: GpuVelocity, shape: GpuShape) -> GpuAabb {

@@ -2,10 +2,14 @@
 // write_sort_keys: one thread per body; the AABB's lower bound on the sweep axis becomes an
 // unsigned key whose integer order is the float order, paired with the body index.
 
+// The bodies' `WorkList`.
 @group(0) @binding(0) var<storage, read> work: WorkList;
+// `SweepAxis` from `choose_axis`.
 @group(0) @binding(1) var<storage, read> sweep_axis: SweepAxis;
 @group(0) @binding(2) var<storage, read> aabbs: array<GpuAabb>;
+// Output keys, one per body.
 @group(0) @binding(3) var<storage, read_write> keys: array<u32>;
+// Output body indices, one per body.
 @group(0) @binding(4) var<storage, read_write> values: array<u32>;
 
 // Flips all bits of negative floats and only the sign bit of positive ones, so that

@@ -3,12 +3,19 @@
 // slot in the dense list (pair order kept), with its pair slot, its first dense point and
 // its points, so a readback or a later stage touches only contacts that exist.
 
+// The pair `WorkList`.
 @group(0) @binding(0) var<storage, read> work: WorkList;
+// Manifolds, one per pair.
 @group(0) @binding(1) var<storage, read> manifolds: array<GpuManifold>;
+// Points, `MAX_MANIFOLD_POINTS` per pair.
 @group(0) @binding(2) var<storage, read> contacts: array<GpuContact>;
+// Scanned tile totals.
 @group(0) @binding(3) var<storage, read> tile_offsets: array<vec2<u32>>;
+// Output `array<GpuTouching>`.
 @group(0) @binding(4) var<storage, read_write> touching: array<GpuTouching>;
+// Output dense manifolds.
 @group(0) @binding(5) var<storage, read_write> touching_manifolds: array<GpuManifold>;
+// Output dense points.
 @group(0) @binding(6) var<storage, read_write> touching_points: array<GpuContact>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)

@@ -6,6 +6,7 @@
 // thread order was (that body's label can never go lower).
 
 // Bindings 0 to 4 are links.wgsl's.
+// Flagged when some link still joins two labels.
 @group(0) @binding(5) var<storage, read_write> unfinished: array<atomic<u32>>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)

@@ -7,13 +7,21 @@
 // whose island search did not finish.
 
 @group(0) @binding(0) var<uniform> params: SleepParams;
+// `array<u32>`, one entry: nonzero when the island search did not finish.
 @group(0) @binding(1) var<storage, read> unfinished: array<u32>;
+// `array<GpuBody>`: every body as uploaded.
 @group(0) @binding(2) var<storage, read> awake_bodies: array<GpuBody>;
+// `array<u32>`: the finished search labels.
 @group(0) @binding(3) var<storage, read> labels: array<u32>;
+// `array<u32>`: shortest rest time bits by label.
 @group(0) @binding(4) var<storage, read> shortest_rest: array<u32>;
+// `array<u32>`: island labels, set for the bodies falling asleep.
 @group(0) @binding(5) var<storage, read_write> island: array<u32>;
+// `array<GpuVelocity>`: zeroed for the bodies falling asleep.
 @group(0) @binding(6) var<storage, read_write> velocities: array<GpuVelocity>;
+// `array<GpuBody>`: the solver's bodies, made fixed for the bodies falling asleep.
 @group(0) @binding(7) var<storage, read_write> bodies: array<GpuBody>;
+// `array<GpuShape>`: the collision shapes, flagged static for the bodies falling asleep.
 @group(0) @binding(8) var<storage, read_write> shapes: array<GpuShape>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)

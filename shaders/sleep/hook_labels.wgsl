@@ -6,6 +6,7 @@
 // commutative, gives the same result in any thread order.
 
 // Bindings 0 to 4 are links.wgsl's.
+// The labels the round's hooks lower.
 @group(0) @binding(5) var<storage, read_write> next_labels: array<atomic<u32>>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)

@@ -6,8 +6,11 @@
 // another writes.
 
 @group(0) @binding(0) var<uniform> params: SleepParams;
+// `array<u32>`: the labels after this round's hooks.
 @group(0) @binding(1) var<storage, read> next_labels: array<u32>;
+// `array<u32>`: the round's result.
 @group(0) @binding(2) var<storage, read_write> labels: array<u32>;
+// `array<u32>`: the same result, the copy the next round hooks into.
 @group(0) @binding(3) var<storage, read_write> spare: array<u32>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)

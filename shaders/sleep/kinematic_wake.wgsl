@@ -6,10 +6,15 @@
 // island. The kinematic bodies are few: each thread loops over their list.
 
 @group(0) @binding(0) var<uniform> params: SleepParams;
+// `array<u32>`: the kinematic bodies.
 @group(0) @binding(1) var<storage, read> kinematic: array<u32>;
+// `array<GpuVelocity>`: the step's velocities.
 @group(0) @binding(2) var<storage, read> velocities: array<GpuVelocity>;
+// `array<GpuAabb>`: the step's AABBs.
 @group(0) @binding(3) var<storage, read> aabbs: array<GpuAabb>;
+// `array<u32>`: island labels.
 @group(0) @binding(4) var<storage, read> island: array<u32>;
+// `array<atomic<u32>>`: wake flags by island label, set.
 @group(0) @binding(5) var<storage, read_write> wake: array<atomic<u32>>;
 
 // True when the closed boxes overlap on every axis (touching counts, as in the sweep).

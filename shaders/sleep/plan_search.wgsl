@@ -5,8 +5,11 @@
 // the search would change nothing). The decision is an exact count, so it is deterministic.
 
 @group(0) @binding(0) var<uniform> params: SleepParams;
+// The step's pair `WorkList`.
 @group(0) @binding(1) var<storage, read> work: WorkList;
+// One `u32`: bodies whose rest reached `TIME_TO_SLEEP`.
 @group(0) @binding(2) var<storage, read> ready: array<u32>;
+// `array<DispatchArgs, 2>`: the manifold and every-body dispatches of the search.
 @group(0) @binding(3) var<storage, read_write> search_groups: array<DispatchArgs, 2>;
 
 @compute @workgroup_size(1)

@@ -5,12 +5,19 @@
 // step it was an immovable obstacle. A manifold with a moving kinematic body keeps both its
 // bodies from resting (a body carried or pushed by one must not fall asleep on it).
 
+// The step's pair `WorkList`.
 @group(0) @binding(0) var<storage, read> work: WorkList;
+// `array<GpuManifold>`: the step's manifolds.
 @group(0) @binding(1) var<storage, read> manifolds: array<GpuManifold>;
+// `array<GpuBody>`: every body as uploaded.
 @group(0) @binding(2) var<storage, read> awake_bodies: array<GpuBody>;
+// `array<GpuVelocity>`: the step's final velocities.
 @group(0) @binding(3) var<storage, read> velocities: array<GpuVelocity>;
+// `array<u32>`: island labels.
 @group(0) @binding(4) var<storage, read> island: array<u32>;
+// `array<f32>`: rest times, reset next to moving kinematic bodies.
 @group(0) @binding(5) var<storage, read_write> rest_time: array<f32>;
+// `array<atomic<u32>>`: wake flags by island label, set.
 @group(0) @binding(6) var<storage, read_write> wake: array<atomic<u32>>;
 
 // True for a kinematic body with any nonzero velocity component.

@@ -7,13 +7,21 @@
 // TIME_TO_SLEEP: with none, no island can fall asleep, and plan_search skips the search.
 
 @group(0) @binding(0) var<uniform> params: SleepParams;
+// `array<GpuBody>`: every body as uploaded (its real kind).
 @group(0) @binding(1) var<storage, read> awake_bodies: array<GpuBody>;
+// `array<GpuVelocity>`: the step's final velocities.
 @group(0) @binding(2) var<storage, read> velocities: array<GpuVelocity>;
+// `array<u32>`: island labels.
 @group(0) @binding(3) var<storage, read> island: array<u32>;
+// `array<f32>`: rest times, updated.
 @group(0) @binding(4) var<storage, read_write> rest_time: array<f32>;
+// `array<u32>`: search labels, each body its own.
 @group(0) @binding(5) var<storage, read_write> labels: array<u32>;
+// `array<u32>`: the first round's copy of them.
 @group(0) @binding(6) var<storage, read_write> next_labels: array<u32>;
+// `array<u32>`: shortest rest time bits by label, reset to `REST_UNSET`.
 @group(0) @binding(7) var<storage, read_write> shortest_rest: array<u32>;
+// One `atomic<u32>`: bodies whose rest reached `TIME_TO_SLEEP`, counted up.
 @group(0) @binding(8) var<storage, read_write> ready: array<atomic<u32>>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)

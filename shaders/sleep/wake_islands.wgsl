@@ -11,12 +11,19 @@
 // steps). The count is exact whatever the thread order.
 
 @group(0) @binding(0) var<uniform> params: SleepParams;
+// `array<u32>`: wake flags by island label.
 @group(0) @binding(1) var<storage, read> wake: array<u32>;
+// `array<GpuBody>`: every body as uploaded (awake).
 @group(0) @binding(2) var<storage, read> awake_bodies: array<GpuBody>;
+// `array<u32>`: island labels, `AWAKE` for the bodies woken.
 @group(0) @binding(3) var<storage, read_write> island: array<u32>;
+// `array<f32>`: rest times, reset for the bodies woken.
 @group(0) @binding(4) var<storage, read_write> rest_time: array<f32>;
+// `array<GpuBody>`: the solver's bodies, restored for the bodies woken.
 @group(0) @binding(5) var<storage, read_write> bodies: array<GpuBody>;
+// `array<GpuShape>`: the collision shapes, static flag cleared for the bodies woken.
 @group(0) @binding(6) var<storage, read_write> shapes: array<GpuShape>;
+// One `u32`, cleared before: the bodies the step moves (not fixed once woken) are added to it.
 @group(0) @binding(7) var<storage, read_write> moving: array<atomic<u32>>;
 
 // This workgroup's moving bodies, added to `moving` once.

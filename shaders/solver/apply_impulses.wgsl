@@ -3,9 +3,11 @@
 // the order they were queued (several may hit one body), to dynamic bodies: v += M^-1 j,
 // w += I^-1 (r x j) with the world inverse inertia of the body's current pose.
 
+// `array<GpuImpulse>`, exactly the queued ones.
 @group(0) @binding(0) var<storage, read> impulses: array<GpuImpulse>;
 @group(0) @binding(1) var<storage, read> bodies: array<GpuBody>;
 @group(0) @binding(2) var<storage, read> poses: array<GpuPose>;
+// `array<GpuVelocity>`, updated.
 @group(0) @binding(3) var<storage, read_write> velocities: array<GpuVelocity>;
 
 @compute @workgroup_size(1)

@@ -4,10 +4,15 @@
 // sums do not depend on the order of the adds) and lays out the (color, index) keys of the
 // stable radix sort that produces the constraint order by color.
 
+// The contacts' `WorkList`.
 @group(0) @binding(0) var<storage, read> contact_work: WorkList;
+// This step's `array<ColorSlot>`, every color decided.
 @group(0) @binding(1) var<storage, read> color_state: array<ColorSlot>;
+// The tally, whose per-color counts this adds to.
 @group(0) @binding(2) var<storage, read_write> color_tally: array<atomic<u32>>;
+// Output: sort keys (the colors).
 @group(0) @binding(3) var<storage, read_write> sort_keys: array<u32>;
+// Output: sort values (the constraint indices).
 @group(0) @binding(4) var<storage, read_write> sort_values: array<u32>;
 
 // This workgroup's constraints per color (overflow last); zero at the start (the pipelines

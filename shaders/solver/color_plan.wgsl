@@ -3,8 +3,11 @@
 // is color_order[offsets[c]..offsets[c + 1]], the overflow set last) and the indirect
 // dispatch size of every per-color pass.
 
+// The tally with every color counted.
 @group(0) @binding(0) var<storage, read> color_tally: array<u32>;
+// Output: `COLOR_OFFSETS_LEN` offsets.
 @group(0) @binding(1) var<storage, read_write> color_offsets: array<u32>;
+// Output: `array<DispatchArgs>`, one per color slot.
 @group(0) @binding(2) var<storage, read_write> color_args: array<DispatchArgs>;
 
 // Workgroups of a per-color pass for one thread per item, folded past the per-dimension limit

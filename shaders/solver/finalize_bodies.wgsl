@@ -4,6 +4,7 @@
 @group(0) @binding(0) var<uniform> params: SolverParams;
 @group(0) @binding(1) var<storage, read> bodies: array<GpuBody>;
 @group(0) @binding(2) var<storage, read> solver_bodies: array<GpuSolverBody>;
+// `array<GpuPose>`, updated.
 @group(0) @binding(3) var<storage, read_write> poses: array<GpuPose>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)

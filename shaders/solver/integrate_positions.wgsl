@@ -5,8 +5,11 @@
 
 @group(0) @binding(0) var<uniform> params: SolverParams;
 @group(0) @binding(1) var<storage, read> bodies: array<GpuBody>;
+// `array<GpuPose>` (start of step, for the gyroscopic half step).
 @group(0) @binding(2) var<storage, read> poses: array<GpuPose>;
+// `array<GpuVelocity>` (clamped, and turned by the gyroscopic half step, in place).
 @group(0) @binding(3) var<storage, read_write> velocities: array<GpuVelocity>;
+// `array<GpuSolverBody>`, deltas updated.
 @group(0) @binding(4) var<storage, read_write> solver_bodies: array<GpuSolverBody>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)

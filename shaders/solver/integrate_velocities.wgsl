@@ -4,8 +4,11 @@
 
 @group(0) @binding(0) var<uniform> params: SolverParams;
 @group(0) @binding(1) var<storage, read> bodies: array<GpuBody>;
+// `array<GpuPose>` (start of step).
 @group(0) @binding(2) var<storage, read> poses: array<GpuPose>;
+// `array<GpuSolverBody>` (for the delta rotation).
 @group(0) @binding(3) var<storage, read> solver_bodies: array<GpuSolverBody>;
+// `array<GpuVelocity>`, updated.
 @group(0) @binding(4) var<storage, read_write> velocities: array<GpuVelocity>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)

@@ -5,6 +5,7 @@
 @group(0) @binding(0) var<uniform> params: SolverParams;
 @group(0) @binding(1) var<storage, read> bodies: array<GpuBody>;
 @group(0) @binding(2) var<storage, read> poses: array<GpuPose>;
+// Output `array<GpuSolverBody>`.
 @group(0) @binding(3) var<storage, read_write> solver_bodies: array<GpuSolverBody>;
 
 @compute @workgroup_size(WORKGROUP_SIZE)

@@ -3,6 +3,7 @@
 // scenes (solver/common/fused_solve.wgsl), with the bodies' velocities and solver state in
 // their storage buffers.
 
+// `array<GpuVelocity>`, updated.
 @group(0) @binding(12) var<storage, read_write> velocities: array<GpuVelocity>;
 @group(0) @binding(13) var<storage, read_write> solver_bodies: array<GpuSolverBody>;
 

@@ -16,9 +16,7 @@ use tumble_geometry::{
 };
 use tumble_gpu::constants::NO_PREVIOUS;
 use tumble_gpu::kernel::Kernel;
-use tumble_gpu::kernels::carry_impulses::{
-    CARRY_IMPULSES, CarryHistory, CarryImpulsesArgs, carry_impulses_cpu,
-};
+use tumble_gpu::kernels::carry_impulses::{CARRY_IMPULSES, CarryHistory, carry_impulses_cpu};
 use tumble_gpu::kernels::collide_cuboids::kind_from_code;
 use tumble_gpu::layout::{GpuContact, GpuLocalManifold, GpuManifold, GpuPose, WorkList};
 use tumble_gpu::{GpuContext, MAX_MANIFOLD_POINTS};
@@ -254,19 +252,17 @@ fn gpu_carry(
         "locals",
         &vec![GpuLocalManifold::default(); now.manifolds.len()],
     );
-    let group = kernel.bind(
-        ctx,
-        &CarryImpulsesArgs {
-            work: &work,
-            poses: &poses,
-            manifolds: &manifolds,
-            previous_manifolds: &previous_manifolds,
-            previous_contacts: &previous_contacts,
-            previous_locals: &previous_locals,
-            contacts: &contacts,
-            locals: &locals,
-        },
-    );
+    let group = kernel.bind_named(ctx, |name| match name {
+        "work" => &work,
+        "poses" => &poses,
+        "manifolds" => &manifolds,
+        "previous_manifolds" => &previous_manifolds,
+        "previous_contacts" => &previous_contacts,
+        "previous_locals" => &previous_locals,
+        "contacts" => &contacts,
+        "locals" => &locals,
+        _ => unreachable!("no carry_impulses binding {name}"),
+    });
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
     {
         let mut pass = encoder.begin_compute_pass(&Default::default());

@@ -112,12 +112,12 @@ fn workgroup_size_comes_from_the_host_constant() {
 }
 
 #[test]
-fn every_argument_struct_names_its_shaders_bindings_in_order() {
+fn every_kernel_binds_its_shaders_group_0_bindings_in_order() {
     for &spec in KERNELS.iter() {
         let module = spec.check().unwrap_or_else(|e| panic!("{e}"));
         let bindings = reflect_bindings(&module);
         let names: Vec<&str> = bindings.iter().map(|b| b.name.as_str()).collect();
-        assert_eq!(names, spec.buffers, "{}", spec.name);
+        assert_eq!(names, spec.buffers().unwrap(), "{}", spec.name);
         for (i, b) in bindings.iter().enumerate() {
             assert_eq!(
                 (b.group, b.binding),
@@ -141,23 +141,10 @@ fn every_argument_struct_names_its_shaders_bindings_in_order() {
 }
 
 #[test]
-fn argument_fields_that_differ_from_the_bindings_are_an_error_naming_both() {
-    static SWAPPED: KernelSpec = KernelSpec::new(
-        tumble_gpu::shader::file("radix_scan.wgsl"),
-        &["tile_counts", "work"],
-    );
-    let err = SWAPPED.check().unwrap_err().to_string();
-    for part in [
-        "radix_scan",
-        "[\"tile_counts\", \"work\"]",
-        "@binding(0) work",
-        "@binding(1) tile_counts",
-    ] {
-        assert!(err.contains(part), "{part} missing from: {err}");
-    }
-    static SHORT: KernelSpec =
-        KernelSpec::new(tumble_gpu::shader::file("radix_scan.wgsl"), &["work"]);
-    assert!(SHORT.check().is_err());
+fn a_kernels_buffers_are_read_from_its_shader() {
+    // The names bind_named asks for, in binding order; nothing on the host lists them.
+    static SCAN: KernelSpec = KernelSpec::new(tumble_gpu::shader::file("radix_scan.wgsl"));
+    assert_eq!(SCAN.buffers().unwrap(), ["work", "tile_counts"]);
 }
 
 #[test]

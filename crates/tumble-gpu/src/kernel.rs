@@ -1,42 +1,32 @@
-//! One compute kernel: its WGSL file, its typed buffer arguments, the pipeline built from
-//! them (once per device and override values, in one cache), and dispatch helpers (direct,
+//! One compute kernel: its WGSL file, the pipeline built from it (once per device and
+//! override values, in one cache), bind groups by binding name, and dispatch helpers (direct,
 //! folded past the per-dimension limit, and indirect).
 //!
 //! # Adding a kernel
 //!
 //! A kernel is a file in `shaders/` with one entry point `main`, whose first lines name the
-//! shared files it needs (see [`crate::shader`]), plus one [`kernel!`] block naming its
-//! buffers in binding order:
+//! shared files it needs (see [`crate::shader`]), plus one [`KernelSpec`] static:
 //!
 //! ```ignore
 //! // shaders/match_pairs.wgsl
 //! // requires: common/indexing.wgsl common/layout.wgsl
+//! // This step's pair WorkList.
 //! @group(0) @binding(0) var<storage, read> work: WorkList;
+//! // Output: last step's index of each pair.
 //! @group(0) @binding(1) var<storage, read_write> previous_index: array<u32>;
 //! ```
 //!
 //! ```ignore
-//! kernel! {
-//!     /// Buffers of [`MATCH_PAIRS`].
-//!     pub struct MatchPairsArgs {
-//!         /// This step's pair `WorkList`.
-//!         work,
-//!         /// Output: last step's index of each pair.
-//!         previous_index,
-//!     }
-//!     /// The kernel: one thread per pair.
-//!     pub static MATCH_PAIRS = "match_pairs.wgsl";
-//! }
+//! /// The kernel: one thread per pair.
+//! pub static MATCH_PAIRS: KernelSpec = KernelSpec::new(file("match_pairs.wgsl"));
 //! ```
 //!
-//! The block declares `MatchPairsArgs<'a>` (one `&'a wgpu::Buffer` per field, its
-//! [`KernelArgs`] in field order) and the [`KernelSpec`] `MATCH_PAIRS`, named after its file.
-//! Nothing else lists the bindings: their kinds (uniform, storage read, storage read-write)
-//! come from naga's reflection of the composed module when the pipeline is built, and
-//! [`KernelSpec::check`] fails unless the struct's field names, in order, are the names of the
-//! shader's group-0 bindings in binding order. One block may declare several kernels taking
-//! the same buffers. A kernel is then built with [`Kernel::new`] (or [`Kernel::specialized`]
-//! for extra `override` values); a field of a [`pipelines!`] struct is in
+//! The spec is named after its file. Nothing on the host lists the bindings: their names and
+//! kinds (uniform, storage read, storage read-write) come from naga's reflection of the
+//! composed module, and [`KernelSpec::check`] fails unless they are group 0, numbered from 0.
+//! The shader is where each binding is documented. A kernel is then built with [`Kernel::new`]
+//! (or [`Kernel::specialized`] for extra `override` values) and bound with
+//! [`Kernel::bind_named`]; a field of a [`pipelines!`] struct is in
 //! [`crate::registry::KERNELS`] for the checks.
 
 use std::collections::HashMap;
@@ -45,52 +35,6 @@ use std::sync::{Arc, Mutex, OnceLock};
 use crate::layout::WORK_LIST_GROUPS_OFFSET;
 use crate::shader::{Binding, ShaderSource, WgslFile, override_names, reflect_bindings};
 use crate::{GpuContext, GpuError, constants};
-
-/// Declares a kernel's typed buffer arguments and the kernel specs that take them (see the
-/// [module docs](crate::kernel)).
-macro_rules! kernel {
-    (
-        $(#[$args_meta:meta])*
-        $args_vis:vis struct $args:ident {
-            $(
-                $(#[$field_meta:meta])*
-                $field:ident
-            ),* $(,)?
-        }
-        $(
-            $(#[$spec_meta:meta])*
-            $spec_vis:vis static $spec:ident = $path:literal;
-        )+
-    ) => {
-        $(#[$args_meta])*
-        $args_vis struct $args<'a> {
-            $(
-                $(#[$field_meta])*
-                pub $field: &'a wgpu::Buffer,
-            )*
-        }
-
-        impl $args<'_> {
-            /// The fields' names, in order: the names of the kernel's bindings.
-            pub const NAMES: &'static [&'static str] = &[$(stringify!($field)),*];
-        }
-
-        impl $crate::kernel::KernelArgs for $args<'_> {
-            fn buffers(&self) -> Vec<&wgpu::Buffer> {
-                vec![$(self.$field),*]
-            }
-        }
-
-        $(
-            $(#[$spec_meta])*
-            $spec_vis static $spec: $crate::kernel::KernelSpec = $crate::kernel::KernelSpec::new(
-                $crate::shader::file($path),
-                <$args<'static>>::NAMES,
-            );
-        )+
-    };
-}
-pub(crate) use kernel;
 
 /// Declares a struct of built kernels, one `pub` [`Kernel`] field per spec (documented as
 /// built from it, then by the field's own docs), and its constructor `build`, which takes
@@ -135,55 +79,14 @@ macro_rules! pipelines {
 }
 pub(crate) use pipelines;
 
-/// `names` with each `(from, to)` of `renames` renamed: the bindings of a kernel that takes
-/// another kernel's argument struct under other names. Fails to compile (as the constant it
-/// is evaluated in) when `names` lacks a `from` or has other than `N` entries.
-pub const fn renamed<const N: usize>(
-    names: &[&'static str],
-    renames: &[(&str, &'static str)],
-) -> [&'static str; N] {
-    assert!(names.len() == N, "renamed: N is not the number of names");
-    let mut out = [""; N];
-    let mut i = 0;
-    while i < N {
-        out[i] = names[i];
-        i += 1;
-    }
-    let mut r = 0;
-    while r < renames.len() {
-        let from = renames[r].0.as_bytes();
-        let mut i = 0;
-        while i < N && !same_bytes(out[i].as_bytes(), from) {
-            i += 1;
-        }
-        assert!(i < N, "renamed: no such name");
-        out[i] = renames[r].1;
-        r += 1;
-    }
-    out
-}
-
-const fn same_bytes(a: &[u8], b: &[u8]) -> bool {
-    if a.len() != b.len() {
-        return false;
-    }
-    let mut i = 0;
-    while i < a.len() && a[i] == b[i] {
-        i += 1;
-    }
-    i == a.len()
-}
-
-/// A kernel: its file and the names of its buffers, in binding order. Declared with
-/// [`kernel!`]; everything else (binding kinds, override names) is read from the shader.
+/// A kernel: its file. Everything else (binding names and kinds, override names) is read
+/// from the shader.
 #[derive(Debug)]
 pub struct KernelSpec {
     /// The kernel's name: its file name without `.wgsl` (used in labels and errors).
     pub name: &'static str,
     /// Its WGSL file (entry point `main`); the shared files come from its directives.
     pub file: WgslFile,
-    /// The fields of its argument struct, in order: the names its group-0 bindings must have.
-    pub buffers: &'static [&'static str],
     reflection: OnceLock<Result<Reflection, String>>,
 }
 
@@ -191,6 +94,7 @@ pub struct KernelSpec {
 #[derive(Debug)]
 struct Reflection {
     text: String,
+    names: Vec<String>,
     bindings: Vec<Binding>,
     overrides: Vec<String>,
 }
@@ -239,12 +143,11 @@ fn host_override_values() -> Vec<(&'static str, f64)> {
 }
 
 impl KernelSpec {
-    /// A spec over `file` whose argument struct has the fields `buffers` (used by [`kernel!`]).
-    pub const fn new(file: WgslFile, buffers: &'static [&'static str]) -> Self {
+    /// The spec of the kernel in `file`.
+    pub const fn new(file: WgslFile) -> Self {
         Self {
             name: kernel_name(file.path),
             file,
-            buffers,
             reflection: OnceLock::new(),
         }
     }
@@ -262,7 +165,7 @@ impl KernelSpec {
     }
 
     /// Parses and validates the shader and checks that its buffer bindings are group 0,
-    /// numbered from 0, with the names of [`Self::buffers`] in binding order.
+    /// numbered from 0 (a bind group is built by index from [`Self::buffers`]).
     pub fn check(&self) -> Result<naga::Module, GpuError> {
         self.checked().map(|(module, _)| module)
     }
@@ -282,16 +185,13 @@ impl KernelSpec {
             .iter()
             .enumerate()
             .all(|(i, b)| b.group == 0 && b.binding == i as u32);
-        let names: Vec<&str> = found.iter().map(|b| b.name.as_str()).collect();
-        if !numbered || names != self.buffers {
+        if !numbered {
             let shader: Vec<String> = found
                 .iter()
                 .map(|b| format!("@group({}) @binding({}) {}", b.group, b.binding, b.name))
                 .collect();
             return Err(self.error(format!(
-                "the argument struct's fields {:?} are not the shader's group 0 bindings \
-                 in binding order {shader:?}",
-                self.buffers
+                "the bindings {shader:?} are not group 0 numbered from 0"
             )));
         }
         Ok((module, info))
@@ -305,14 +205,27 @@ impl KernelSpec {
                     GpuError::Shader { message, .. } => message,
                     other => other.to_string(),
                 })?;
+                let found = reflect_bindings(&module);
                 Ok(Reflection {
                     text: self.source().map_err(|e| e.to_string())?.compose(),
-                    bindings: reflect_bindings(&module).iter().map(|b| b.kind).collect(),
+                    names: found.iter().map(|b| b.name.clone()).collect(),
+                    bindings: found.iter().map(|b| b.kind).collect(),
                     overrides: override_names(&module),
                 })
             })
             .as_ref()
             .map_err(|message| self.error(message.clone()))
+    }
+
+    /// The names of its buffer bindings, in binding order: the names [`Kernel::bind_named`]
+    /// asks for.
+    pub fn buffers(&self) -> Result<Vec<&str>, GpuError> {
+        Ok(self
+            .reflection()?
+            .names
+            .iter()
+            .map(String::as_str)
+            .collect())
     }
 
     /// Whether the shader declares the `override` `name`.
@@ -380,10 +293,11 @@ impl KernelSpec {
     }
 }
 
-/// A kernel's buffers as a typed struct of named fields; `buffers` lists them in binding order.
+/// One kernel's buffers as a struct with a field per binding, for a caller that binds that
+/// kernel alone (a stage binds by name, [`Kernel::bind_named`]).
 pub trait KernelArgs {
-    /// The buffers, in the order of the kernel's [`KernelSpec::buffers`].
-    fn buffers(&self) -> Vec<&wgpu::Buffer>;
+    /// The buffer for the binding `name`.
+    fn buffer(&self, name: &str) -> &wgpu::Buffer;
 }
 
 /// A built kernel: compute pipeline plus the layout of its single bind group. Cheap to clone
@@ -394,7 +308,8 @@ pub struct Kernel {
     pub spec: &'static KernelSpec,
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
-    bindings: usize,
+    /// Its bindings' names, in binding order (the spec's reflection, which lives as long).
+    names: &'static [String],
 }
 
 /// Pipelines by kernel and override values (as bits).
@@ -491,41 +406,30 @@ impl Kernel {
             spec,
             pipeline,
             layout,
-            bindings: entries.len(),
+            names: &reflection.names,
         })
     }
 
-    /// A bind group over `args` (whole buffers).
+    /// A bind group over `args`' buffers.
     pub fn bind(&self, ctx: &GpuContext, args: &dyn KernelArgs) -> wgpu::BindGroup {
-        self.bind_buffers(ctx, &args.buffers())
+        self.bind_named(ctx, |name| args.buffer(name))
     }
 
-    /// A bind group over the buffer `buffer` gives for each binding's name: a stage that
-    /// names its buffers as its kernels' bindings looks every kernel's arguments up in one
-    /// place instead of listing them kernel by kernel.
+    /// A bind group over the buffer `buffer` gives for each binding's name (whole buffers):
+    /// a stage that names its buffers as its kernels' bindings looks every kernel's arguments
+    /// up in one place instead of listing them kernel by kernel.
     pub fn bind_named<'a>(
         &self,
         ctx: &GpuContext,
         buffer: impl Fn(&'static str) -> &'a wgpu::Buffer,
     ) -> wgpu::BindGroup {
-        let buffers: Vec<&wgpu::Buffer> = self.spec.buffers.iter().map(|&n| buffer(n)).collect();
-        self.bind_buffers(ctx, &buffers)
-    }
-
-    fn bind_buffers(&self, ctx: &GpuContext, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
-        assert_eq!(
-            buffers.len(),
-            self.bindings,
-            "kernel {} takes {} buffers",
-            self.spec.name,
-            self.bindings
-        );
-        let entries: Vec<wgpu::BindGroupEntry> = buffers
+        let entries: Vec<wgpu::BindGroupEntry> = self
+            .names
             .iter()
             .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
+            .map(|(i, name)| wgpu::BindGroupEntry {
                 binding: i as u32,
-                resource: b.as_entire_binding(),
+                resource: buffer(name).as_entire_binding(),
             })
             .collect();
         ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {

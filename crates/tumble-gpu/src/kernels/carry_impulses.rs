@@ -6,34 +6,14 @@ use tumble_geometry::Vec3;
 
 use crate::MAX_MANIFOLD_POINTS;
 use crate::constants::{NO_PREVIOUS, PERSIST_DISTANCE};
-use crate::kernel::kernel;
+use crate::kernel::KernelSpec;
 use crate::layout::{GpuContact, GpuLocalManifold, GpuManifold, GpuPose};
+use crate::shader::file;
 use crate::solver::constants::PERSIST_NORMAL_COS;
 use crate::solver::convert::{vec3, vec4};
 
-kernel! {
-    /// Buffers of [`CARRY_IMPULSES`].
-    pub struct CarryImpulsesArgs {
-        /// This step's pair `WorkList`.
-        work,
-        /// The bodies' poses the manifolds were found at.
-        poses,
-        /// This step's manifolds.
-        manifolds,
-        /// Last step's manifolds.
-        previous_manifolds,
-        /// Last step's contact points (with the solver's impulses).
-        previous_contacts,
-        /// Last step's manifolds in their body A's frame (`array<GpuLocalManifold>`).
-        previous_locals,
-        /// This step's contact points; impulses are written.
-        contacts,
-        /// This step's manifolds in body A's frame; written for every manifold with points.
-        locals,
-    }
-    /// The kernel: one thread per manifold.
-    pub static CARRY_IMPULSES = "carry_impulses.wgsl";
-}
+/// The kernel: one thread per manifold.
+pub static CARRY_IMPULSES: KernelSpec = KernelSpec::new(file("carry_impulses.wgsl"));
 
 /// What last step left for [`carry_impulses_cpu`]: its manifolds, their points with the
 /// solver's impulses, and the manifolds in body A's frame, all indexed by last step's slot.

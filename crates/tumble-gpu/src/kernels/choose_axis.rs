@@ -1,22 +1,12 @@
 //! `choose_axis`: the sweep axis is the one along which AABB centres spread most.
 
 use crate::WORKGROUP_SIZE;
-use crate::kernel::kernel;
+use crate::kernel::KernelSpec;
 use crate::layout::{GpuAabb, SweepAxis};
+use crate::shader::file;
 
-kernel! {
-    /// Buffers of [`CHOOSE_AXIS`].
-    pub struct ChooseAxisArgs {
-        /// The bodies' `WorkList` (its count is the body count).
-        work,
-        /// `array<GpuAabb>`.
-        aabbs,
-        /// Output `SweepAxis`.
-        sweep_axis,
-    }
-    /// The kernel: a single workgroup reduction.
-    pub static CHOOSE_AXIS = "choose_axis.wgsl";
-}
+/// The kernel: a single workgroup reduction.
+pub static CHOOSE_AXIS: KernelSpec = KernelSpec::new(file("choose_axis.wgsl"));
 
 /// The CPU twin of [`CHOOSE_AXIS`], with the same summation order (strided partial sums per
 /// thread, then a pairwise tree), so results agree up to fused multiply-adds.

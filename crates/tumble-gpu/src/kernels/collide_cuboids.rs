@@ -5,37 +5,11 @@
 use tumble_geometry::FeatureKind;
 
 use crate::constants::{MANIFOLD_EDGE, MANIFOLD_FACE_A, MANIFOLD_FACE_B};
-use crate::kernel::kernel;
+use crate::kernel::KernelSpec;
+use crate::shader::file;
 
-kernel! {
-    /// Buffers of [`COLLIDE_CUBOIDS`].
-    pub struct CollideCuboidsArgs {
-        /// [`crate::layout::NarrowParams`].
-        params,
-        /// This step's pair `WorkList`.
-        work,
-        /// Sorted pairs, first bodies.
-        pair_a,
-        /// Sorted pairs, second bodies.
-        pair_b,
-        /// `array<GpuPose>`.
-        poses,
-        /// `array<GpuVelocity>` (for the speculative margin).
-        velocities,
-        /// `array<GpuShape>`.
-        shapes,
-        /// From `match_pairs`.
-        previous_index,
-        /// Last step's manifolds (for the reference-face hysteresis).
-        previous_manifolds,
-        /// Output manifolds, one per pair.
-        manifolds,
-        /// Output points, `MAX_MANIFOLD_POINTS` per pair.
-        contacts,
-    }
-    /// The kernel: one thread per pair.
-    pub static COLLIDE_CUBOIDS = "collide_cuboids.wgsl";
-}
+/// The kernel: one thread per pair.
+pub static COLLIDE_CUBOIDS: KernelSpec = KernelSpec::new(file("collide_cuboids.wgsl"));
 
 /// `GpuManifold::kind` of a CPU feature kind.
 pub fn kind_code(kind: FeatureKind) -> u32 {

@@ -6,76 +6,21 @@
 //! order in which threads happened to append.
 
 use crate::MAX_MANIFOLD_POINTS;
-use crate::kernel::kernel;
+use crate::kernel::KernelSpec;
 use crate::layout::{GpuContact, GpuManifold, GpuTouching};
+use crate::shader::file;
 
-kernel! {
-    /// Buffers of [`COUNT_TOUCHING`].
-    pub struct CountTouchingArgs {
-        /// The pair `WorkList`.
-        work,
-        /// Manifolds, one per pair.
-        manifolds,
-        /// Output `array<vec2<u32>>`: (manifolds in contact, points) per tile.
-        tile_totals,
-    }
-    /// Kernel: per-tile totals of manifolds in contact and of their points.
-    pub static COUNT_TOUCHING = "count_touching.wgsl";
-}
+/// Kernel: per-tile totals of manifolds in contact and of their points.
+pub static COUNT_TOUCHING: KernelSpec = KernelSpec::new(file("count_touching.wgsl"));
 
-kernel! {
-    /// Buffers of [`SCAN_TOUCHING`].
-    pub struct ScanTouchingArgs {
-        /// The pair `WorkList`.
-        work,
-        /// Tile totals in, first dense manifold and point per tile out.
-        tile_totals,
-        /// Output `TouchingCounts`.
-        counts,
-    }
-    /// Kernel: exclusive scan of the tile totals (single workgroup) and the grand totals.
-    pub static SCAN_TOUCHING = "scan_touching.wgsl";
-}
+/// Kernel: exclusive scan of the tile totals (single workgroup) and the grand totals.
+pub static SCAN_TOUCHING: KernelSpec = KernelSpec::new(file("scan_touching.wgsl"));
 
-kernel! {
-    /// Buffers of [`WRITE_TOUCHING`].
-    pub struct WriteTouchingArgs {
-        /// The pair `WorkList`.
-        work,
-        /// Manifolds, one per pair.
-        manifolds,
-        /// Points, `MAX_MANIFOLD_POINTS` per pair.
-        contacts,
-        /// Scanned tile totals.
-        tile_offsets,
-        /// Output `array<GpuTouching>`.
-        touching,
-        /// Output dense manifolds.
-        touching_manifolds,
-        /// Output dense points.
-        touching_points,
-    }
-    /// Kernel: the dense writes.
-    pub static WRITE_TOUCHING = "write_touching.wgsl";
-}
+/// Kernel: the dense writes.
+pub static WRITE_TOUCHING: KernelSpec = KernelSpec::new(file("write_touching.wgsl"));
 
-kernel! {
-    /// Buffers of [`SCATTER_IMPULSES`].
-    pub struct ScatterImpulsesArgs {
-        /// `ScatterParams` (how many dense manifolds).
-        params,
-        /// `array<GpuTouching>` from `write_touching`.
-        touching,
-        /// Dense manifolds from `write_touching` (for their point counts).
-        touching_manifolds,
-        /// Impulses in dense point order (uploaded).
-        impulses,
-        /// The per-pair points whose impulses are written.
-        contacts,
-    }
-    /// Kernel: dense impulses back to the pair slots.
-    pub static SCATTER_IMPULSES = "scatter_impulses.wgsl";
-}
+/// Kernel: dense impulses back to the pair slots.
+pub static SCATTER_IMPULSES: KernelSpec = KernelSpec::new(file("scatter_impulses.wgsl"));
 
 /// The dense contact list: where each manifold in contact sits, the manifolds, their points.
 #[derive(Clone, Debug, Default, PartialEq)]

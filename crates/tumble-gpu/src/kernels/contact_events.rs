@@ -5,8 +5,9 @@
 //! impulses are intact until the next step) and append with atomic counters; the host sorts
 //! the short lists by body pair, so their order is deterministic.
 
-use crate::kernel::kernel;
+use crate::kernel::KernelSpec;
 use crate::layout::GpuContactEvent;
+use crate::shader::file;
 
 /// [`GpuContactEvent::kind`] of a begin.
 pub const EVENT_BEGIN: u32 = 0;
@@ -15,51 +16,11 @@ pub const EVENT_END: u32 = 1;
 /// [`GpuContactEvent::kind`] of a touching pair.
 pub const EVENT_TOUCHING: u32 = 2;
 
-kernel! {
-    /// Buffers of [`CONTACT_BEGINS`].
-    pub struct ContactBeginsArgs {
-        /// This step's pair `WorkList`.
-        work,
-        /// This step's manifolds, one per pair.
-        manifolds,
-        /// This step's points, `MAX_MANIFOLD_POINTS` per pair.
-        contacts,
-        /// Last step's manifolds.
-        previous_manifolds,
-        /// Last step's points.
-        previous_contacts,
-        /// Output: 1 for each of last step's slots that still touches (cleared before).
-        kept,
-        /// The append counters `EventCounts` (cleared before).
-        counts,
-        /// Output `array<GpuContactEvent>`: begins (then ends, from `contact_ends`).
-        events,
-        /// Output `array<GpuContactEvent>`: the pairs touching.
-        touching,
-    }
-    /// Kernel: one thread per pair of this step.
-    pub static CONTACT_BEGINS = "contact_begins.wgsl";
-}
+/// Kernel: one thread per pair of this step.
+pub static CONTACT_BEGINS: KernelSpec = KernelSpec::new(file("contact_begins.wgsl"));
 
-kernel! {
-    /// Buffers of [`CONTACT_ENDS`].
-    pub struct ContactEndsArgs {
-        /// Last step's pair `WorkList`.
-        previous_work,
-        /// Last step's manifolds.
-        previous_manifolds,
-        /// Last step's points.
-        previous_contacts,
-        /// `contact_begins`' marks.
-        kept,
-        /// The append counters.
-        counts,
-        /// Output: the ends, after the begins.
-        events,
-    }
-    /// Kernel: one thread per pair of last step.
-    pub static CONTACT_ENDS = "contact_ends.wgsl";
-}
+/// Kernel: one thread per pair of last step.
+pub static CONTACT_ENDS: KernelSpec = KernelSpec::new(file("contact_ends.wgsl"));
 
 /// What a step's event kernels found, read back: events and touching pairs in the order the
 /// threads appended them (sort them by pair).

@@ -1,31 +1,11 @@
 //! `gather_sweep_boxes`: AABBs copied into sweep order, sweep axis first, with index and flags.
 
-use crate::kernel::kernel;
+use crate::kernel::KernelSpec;
 use crate::layout::{GpuAabb, GpuShape, GpuSweepBox};
+use crate::shader::file;
 
-kernel! {
-    /// Buffers of [`GATHER_SWEEP_BOXES`].
-    pub struct GatherSweepBoxesArgs {
-        /// The bodies' `WorkList`.
-        work,
-        /// `SweepAxis` from `choose_axis`.
-        sweep_axis,
-        /// `array<GpuAabb>`.
-        aabbs,
-        /// `array<GpuShape>` (for the flags).
-        shapes,
-        /// Body indices sorted by lower bound on the sweep axis.
-        sorted_bodies,
-        /// Output `array<GpuSweepBox>`, one per sorted position.
-        sweep_boxes,
-        /// [`crate::layout::SweepParams`] (the long extent).
-        params,
-        /// Output: the long box count and list (cleared count before).
-        long_boxes,
-    }
-    /// The kernel: one thread per sorted position.
-    pub static GATHER_SWEEP_BOXES = "gather_sweep_boxes.wgsl";
-}
+/// The kernel: one thread per sorted position.
+pub static GATHER_SWEEP_BOXES: KernelSpec = KernelSpec::new(file("gather_sweep_boxes.wgsl"));
 
 /// The CPU twin of [`GATHER_SWEEP_BOXES`].
 pub fn gather_sweep_boxes_cpu(

@@ -1,20 +1,12 @@
 //! `plan_dispatch`: an append counter -> a `WorkList` (clamped count, raw count, indirect
 //! dispatch size), so a count produced on the GPU sizes later dispatches without a readback.
 
-use crate::kernel::kernel;
+use crate::kernel::KernelSpec;
 use crate::layout::WorkList;
+use crate::shader::file;
 
-kernel! {
-    /// Buffers of [`PLAN_DISPATCH`].
-    pub struct PlanDispatchArgs {
-        /// The append counter (`u32` at offset 0).
-        counter,
-        /// The `WorkList` to fill; its `capacity` is set by the host when the list is allocated.
-        work,
-    }
-    /// The kernel: a single thread.
-    pub static PLAN_DISPATCH = "plan_dispatch.wgsl";
-}
+/// The kernel: a single thread.
+pub static PLAN_DISPATCH: KernelSpec = KernelSpec::new(file("plan_dispatch.wgsl"));
 
 /// The CPU twin of [`PLAN_DISPATCH`].
 pub fn plan_dispatch_cpu(requested: u32, capacity: u32) -> WorkList {

@@ -10,62 +10,22 @@
 
 use wgpu::util::DeviceExt;
 
-use crate::kernel::{Kernel, kernel};
+use crate::kernel::{Kernel, KernelSpec};
 use crate::layout::RadixPassParams;
+use crate::shader::file;
 use crate::{GpuContext, GpuError, RADIX, RADIX_BITS, WORKGROUP_SIZE};
 
 // The histogram kernel has one thread store each bucket's count.
 const _: () = assert!(RADIX <= WORKGROUP_SIZE);
 
-kernel! {
-    /// Buffers of [`RADIX_HISTOGRAM`].
-    pub struct RadixHistogramArgs {
-        /// This pass's [`RadixPassParams`].
-        pass_params,
-        /// The `WorkList` giving the item count.
-        work,
-        /// Keys.
-        keys,
-        /// Output counts, `RADIX * tiles` entries, digit-major.
-        tile_counts,
-    }
-    /// Kernel: per-tile digit counts.
-    pub static RADIX_HISTOGRAM = "radix_histogram.wgsl";
-}
+/// Kernel: per-tile digit counts.
+pub static RADIX_HISTOGRAM: KernelSpec = KernelSpec::new(file("radix_histogram.wgsl"));
 
-kernel! {
-    /// Buffers of [`RADIX_SCAN`].
-    pub struct RadixScanArgs {
-        /// The `WorkList` giving the item count.
-        work,
-        /// Counts in, first slots out (in place).
-        tile_counts,
-    }
-    /// Kernel: exclusive scan of the digit-major counts (single workgroup).
-    pub static RADIX_SCAN = "radix_scan.wgsl";
-}
+/// Kernel: exclusive scan of the digit-major counts (single workgroup).
+pub static RADIX_SCAN: KernelSpec = KernelSpec::new(file("radix_scan.wgsl"));
 
-kernel! {
-    /// Buffers of [`RADIX_SCATTER`].
-    pub struct RadixScatterArgs {
-        /// This pass's [`RadixPassParams`].
-        pass_params,
-        /// The `WorkList` giving the item count.
-        work,
-        /// Keys in.
-        keys_in,
-        /// Values in.
-        values_in,
-        /// First slots from the scan.
-        tile_offsets,
-        /// Keys out.
-        keys_out,
-        /// Values out.
-        values_out,
-    }
-    /// Kernel: stable scatter to the sorted slots.
-    pub static RADIX_SCATTER = "radix_scatter.wgsl";
-}
+/// Kernel: stable scatter to the sorted slots.
+pub static RADIX_SCATTER: KernelSpec = KernelSpec::new(file("radix_scatter.wgsl"));
 
 /// One pass of a chain of sorts over two arrays, `first` and `second`, each double-buffered.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -237,13 +197,11 @@ impl RadixSort {
                 (histogram, scatter)
             })
             .collect();
-        let scan = self.scan.bind(
-            ctx,
-            &RadixScanArgs {
-                work: buffers.work,
-                tile_counts: buffers.tile_counts,
-            },
-        );
+        let scan = self.scan.bind_named(ctx, |name| match name {
+            "work" => buffers.work,
+            "tile_counts" => buffers.tile_counts,
+            _ => unreachable!("no radix_scan binding {name}"),
+        });
         RadixBindGroups { passes, scan }
     }
 

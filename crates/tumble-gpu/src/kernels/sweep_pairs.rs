@@ -2,33 +2,15 @@
 //! `long_pairs`: the long boxes it leaves out (`shaders/common/sweep.wgsl`), against all.
 
 use crate::constants::{LONG_BOX_FACTOR, MAX_LONG_BOXES};
-use crate::kernel::kernel;
+use crate::kernel::KernelSpec;
 use crate::layout::{BODY_STATIC, GpuShape, GpuSweepBox};
+use crate::shader::file;
 
-kernel! {
-    /// Buffers of [`SWEEP_PAIRS`] and [`LONG_PAIRS`].
-    pub struct SweepPairsArgs {
-        /// [`crate::layout::SweepParams`].
-        params,
-        /// `array<GpuSweepBox>` in sweep order, from `gather_sweep_boxes`.
-        sweep_boxes,
-        /// Append counter (`u32`, cleared before the sweep).
-        counter,
-        /// Output: smaller body index of each pair.
-        pair_a,
-        /// Output: larger body index of each pair.
-        pair_b,
-        /// The long box count and list from `gather_sweep_boxes`.
-        long_boxes,
-        /// `array<GpuCollisionGroups>`, one per body: pairs whose groups do not interact are
-        /// not formed.
-        groups,
-    }
-    /// The kernel: one thread per sorted body, appending pairs through an atomic counter.
-    pub static SWEEP_PAIRS = "sweep_pairs.wgsl";
-    /// The kernel pairing the long boxes: one thread per sorted body, against each long box.
-    pub static LONG_PAIRS = "long_pairs.wgsl";
-}
+/// The kernel: one thread per sorted body, appending pairs through an atomic counter.
+pub static SWEEP_PAIRS: KernelSpec = KernelSpec::new(file("sweep_pairs.wgsl"));
+
+/// The kernel pairing the long boxes: one thread per sorted body, against each long box.
+pub static LONG_PAIRS: KernelSpec = KernelSpec::new(file("long_pairs.wgsl"));
 
 /// Bytes of the long box list: its count, then [`MAX_LONG_BOXES`] sorted positions.
 pub const LONG_BOXES_BYTES: u64 = 4 * (1 + MAX_LONG_BOXES as u64);

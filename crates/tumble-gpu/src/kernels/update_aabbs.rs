@@ -4,25 +4,11 @@
 //! and the spin before building the box and the CPU stage after, so the two round differently
 //! in the last bits.
 
-use crate::kernel::kernel;
+use crate::kernel::KernelSpec;
+use crate::shader::file;
 
-kernel! {
-    /// Buffers of [`UPDATE_AABBS`].
-    pub struct UpdateAabbsArgs {
-        /// [`crate::layout::UpdateAabbsParams`].
-        params,
-        /// `array<GpuPose>`, one per body.
-        poses,
-        /// `array<GpuVelocity>`, one per body.
-        velocities,
-        /// `array<GpuShape>`, one per body.
-        shapes,
-        /// Output `array<GpuAabb>`, one per body.
-        aabbs,
-    }
-    /// The kernel: one thread per body.
-    pub static UPDATE_AABBS = "update_aabbs.wgsl";
-}
+/// The kernel: one thread per body.
+pub static UPDATE_AABBS: KernelSpec = KernelSpec::new(file("update_aabbs.wgsl"));
 
 /// The host form of a GPU pose, for the twins' callers.
 pub use crate::solver::convert::pose_from_gpu;

@@ -1,26 +1,12 @@
 //! `write_sort_keys`: each body's AABB lower bound on the sweep axis as an order-preserving
 //! unsigned key, paired with the body index.
 
-use crate::kernel::kernel;
+use crate::kernel::KernelSpec;
 use crate::layout::GpuAabb;
+use crate::shader::file;
 
-kernel! {
-    /// Buffers of [`WRITE_SORT_KEYS`].
-    pub struct WriteSortKeysArgs {
-        /// The bodies' `WorkList`.
-        work,
-        /// `SweepAxis` from `choose_axis`.
-        sweep_axis,
-        /// `array<GpuAabb>`.
-        aabbs,
-        /// Output keys, one per body.
-        keys,
-        /// Output body indices, one per body.
-        values,
-    }
-    /// The kernel: one thread per body.
-    pub static WRITE_SORT_KEYS = "write_sort_keys.wgsl";
-}
+/// The kernel: one thread per body.
+pub static WRITE_SORT_KEYS: KernelSpec = KernelSpec::new(file("write_sort_keys.wgsl"));
 
 /// An unsigned key whose order is the order of the (non-NaN) floats: negative floats have
 /// all bits flipped, others only the sign bit; `-0.0` maps like `+0.0` since they are equal.

@@ -10,60 +10,14 @@
 //! bit for bit. A finished search labels each island with its smallest body index, the
 //! labels `tumble_solver::Islands` gives.
 
-use crate::kernel::kernel;
+use crate::kernel::KernelSpec;
+use crate::shader::file;
 
-kernel! {
-    /// Buffers of [`HOOK_LABELS`].
-    pub struct HookLabelsArgs {
-        /// The step's pair `WorkList`.
-        work,
-        /// `array<GpuManifold>`: the step's manifolds.
-        manifolds,
-        /// `array<GpuBody>`: every body as uploaded.
-        awake_bodies,
-        /// `array<u32>`: island labels (which bodies sleep).
-        island,
-        /// `array<u32>`: the round's labels.
-        labels,
-        /// `array<atomic<u32>>`: the labels the round's hooks lower.
-        next_labels,
-    }
-    /// Kernel: one thread per manifold (dispatched indirectly from the pair work list).
-    pub static HOOK_LABELS = "sleep/hook_labels.wgsl";
-}
+/// Kernel: one thread per manifold (dispatched indirectly from the pair work list).
+pub static HOOK_LABELS: KernelSpec = KernelSpec::new(file("sleep/hook_labels.wgsl"));
 
-kernel! {
-    /// Buffers of [`CHECK_LABELS`].
-    pub struct CheckLabelsArgs {
-        /// The step's pair `WorkList`.
-        work,
-        /// `array<GpuManifold>`: the step's manifolds.
-        manifolds,
-        /// `array<GpuBody>`: every body as uploaded.
-        awake_bodies,
-        /// `array<u32>`: island labels (which bodies sleep).
-        island,
-        /// `array<u32>`: the last round's labels.
-        labels,
-        /// One `atomic<u32>`: flagged when some link still joins two labels.
-        unfinished,
-    }
-    /// Kernel: one thread per manifold (dispatched indirectly from the pair work list).
-    pub static CHECK_LABELS = "sleep/check_labels.wgsl";
-}
+/// Kernel: one thread per manifold (dispatched indirectly from the pair work list).
+pub static CHECK_LABELS: KernelSpec = KernelSpec::new(file("sleep/check_labels.wgsl"));
 
-kernel! {
-    /// Buffers of [`JUMP_LABELS`].
-    pub struct JumpLabelsArgs {
-        /// `SleepParams`.
-        params,
-        /// `array<u32>`: the labels after this round's hooks.
-        next_labels,
-        /// `array<u32>`: the round's result.
-        labels,
-        /// `array<u32>`: the same result, the copy the next round hooks into.
-        spare,
-    }
-    /// Kernel: one thread per body.
-    pub static JUMP_LABELS = "sleep/jump_labels.wgsl";
-}
+/// Kernel: one thread per body.
+pub static JUMP_LABELS: KernelSpec = KernelSpec::new(file("sleep/jump_labels.wgsl"));

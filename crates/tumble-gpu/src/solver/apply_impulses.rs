@@ -2,20 +2,8 @@
 //! of the next step (so applying one needs no readback). The CPU twin is the facade's
 //! `World::apply_impulse` arithmetic (`velocities_after_impulse` in `tumble`).
 
-use crate::kernel::kernel;
+use crate::kernel::KernelSpec;
+use crate::shader::file;
 
-kernel! {
-    /// Buffers of [`APPLY_IMPULSES`].
-    pub struct ApplyImpulsesArgs {
-        /// `array<GpuImpulse>`, exactly the queued ones.
-        impulses,
-        /// `array<GpuBody>`.
-        bodies,
-        /// `array<GpuPose>`.
-        poses,
-        /// `array<GpuVelocity>`, updated.
-        velocities,
-    }
-    /// Kernel: a single thread, impulses in queue order.
-    pub static APPLY_IMPULSES = "solver/apply_impulses.wgsl";
-}
+/// Kernel: a single thread, impulses in queue order.
+pub static APPLY_IMPULSES: KernelSpec = KernelSpec::new(file("solver/apply_impulses.wgsl"));

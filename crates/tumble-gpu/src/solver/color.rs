@@ -8,75 +8,29 @@
 //! The CPU twin is `tumble_solver::color_in_rounds` (re-exported here), the same rounds on
 //! the host.
 
-use crate::kernel::kernel;
+use crate::kernel::KernelSpec;
+use crate::shader::file;
 
 use super::pipelines::SolverPipelines;
 
-kernel! {
-    /// Buffers of the kernels that run coloring rounds: [`COLOR_PROPOSE`], [`COLOR_RESOLVE`],
-    /// [`COLOR_WITHDRAW`] and [`COLOR_FINISH`] (the first two leave the list and tally alone).
-    pub struct ColorRoundArgs {
-        /// `SolverParams` (for the body count).
-        params,
-        /// The contacts' `WorkList`.
-        contact_work,
-        /// `array<GpuManifold>`.
-        manifolds,
-        /// `array<GpuBody>`.
-        bodies,
-        /// Last step's `array<ColorSlot>`.
-        previous_colors,
-        /// This step's `array<ColorSlot>`.
-        color_state,
-        /// Used-color masks then claims, `u32`.
-        color_marks,
-        /// Two lists of undecided constraints, `2 * capacity` `u32`.
-        color_scratch,
-        /// The tally, `COLOR_TALLY_LEN` `u32` (zeroed before the stage).
-        color_tally,
-    }
-    /// Kernel: round 0 proposals, one thread per constraint.
-    pub static COLOR_PROPOSE = "solver/color_propose.wgsl";
-    /// Kernel: round 0 decisions, one thread per constraint.
-    pub static COLOR_RESOLVE = "solver/color_resolve.wgsl";
-    /// Kernel: withdraws round 0's claims and lists the undecided constraints, one thread per
-    /// constraint.
-    pub static COLOR_WITHDRAW = "solver/color_withdraw.wgsl";
-    /// Kernel: the remaining rounds over the undecided list (one workgroup).
-    pub static COLOR_FINISH = "solver/color_finish.wgsl";
-}
+/// Kernel: round 0 proposals, one thread per constraint.
+pub static COLOR_PROPOSE: KernelSpec = KernelSpec::new(file("solver/color_propose.wgsl"));
 
-kernel! {
-    /// Buffers of [`COLOR_COUNT`].
-    pub struct ColorCountArgs {
-        /// The contacts' `WorkList`.
-        contact_work,
-        /// This step's `array<ColorSlot>`, every color decided.
-        color_state,
-        /// The tally, whose per-color counts this adds to.
-        color_tally,
-        /// Output: sort keys (the colors).
-        sort_keys,
-        /// Output: sort values (the constraint indices).
-        sort_values,
-    }
-    /// Kernel: per-color counts and sort keys, one thread per constraint.
-    pub static COLOR_COUNT = "solver/color_count.wgsl";
-}
+/// Kernel: round 0 decisions, one thread per constraint.
+pub static COLOR_RESOLVE: KernelSpec = KernelSpec::new(file("solver/color_resolve.wgsl"));
 
-kernel! {
-    /// Buffers of [`COLOR_PLAN`].
-    pub struct ColorPlanArgs {
-        /// The tally with every color counted.
-        color_tally,
-        /// Output: `COLOR_OFFSETS_LEN` offsets.
-        color_offsets,
-        /// Output: `array<DispatchArgs>`, one per color slot.
-        color_args,
-    }
-    /// Kernel: color offsets and per-color dispatch sizes (one thread).
-    pub static COLOR_PLAN = "solver/color_plan.wgsl";
-}
+/// Kernel: withdraws round 0's claims and lists the undecided constraints, one thread per
+/// constraint.
+pub static COLOR_WITHDRAW: KernelSpec = KernelSpec::new(file("solver/color_withdraw.wgsl"));
+
+/// Kernel: the remaining rounds over the undecided list (one workgroup).
+pub static COLOR_FINISH: KernelSpec = KernelSpec::new(file("solver/color_finish.wgsl"));
+
+/// Kernel: per-color counts and sort keys, one thread per constraint.
+pub static COLOR_COUNT: KernelSpec = KernelSpec::new(file("solver/color_count.wgsl"));
+
+/// Kernel: color offsets and per-color dispatch sizes (one thread).
+pub static COLOR_PLAN: KernelSpec = KernelSpec::new(file("solver/color_plan.wgsl"));
 
 /// The color stage's bind groups for one parity, in the order [`Self::record`] runs them.
 #[derive(Debug)]

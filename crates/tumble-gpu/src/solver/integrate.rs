@@ -3,56 +3,16 @@
 //! `integrate_velocities`, `integrate_positions` and `finalize_bodies`, which the GPU
 //! versus CPU tests run on the same bodies.
 
-use crate::kernel::kernel;
+use crate::kernel::KernelSpec;
+use crate::shader::file;
 
-kernel! {
-    /// Buffers of [`INTEGRATE_VELOCITIES`].
-    pub struct IntegrateVelocitiesArgs {
-        /// `SolverParams`.
-        params,
-        /// `array<GpuBody>`.
-        bodies,
-        /// `array<GpuPose>` (start of step).
-        poses,
-        /// `array<GpuSolverBody>` (for the delta rotation).
-        solver_bodies,
-        /// `array<GpuVelocity>`, updated.
-        velocities,
-    }
-    /// Kernel: one thread per body, velocities by one substep.
-    pub static INTEGRATE_VELOCITIES = "solver/integrate_velocities.wgsl";
-}
+/// Kernel: one thread per body, velocities by one substep.
+pub static INTEGRATE_VELOCITIES: KernelSpec =
+    KernelSpec::new(file("solver/integrate_velocities.wgsl"));
 
-kernel! {
-    /// Buffers of [`INTEGRATE_POSITIONS`].
-    pub struct IntegratePositionsArgs {
-        /// `SolverParams`.
-        params,
-        /// `array<GpuBody>`.
-        bodies,
-        /// `array<GpuPose>` (start of step, for the gyroscopic half step).
-        poses,
-        /// `array<GpuVelocity>` (clamped, and turned by the gyroscopic half step, in place).
-        velocities,
-        /// `array<GpuSolverBody>`, deltas updated.
-        solver_bodies,
-    }
-    /// Kernel: one thread per body, deltas by one substep.
-    pub static INTEGRATE_POSITIONS = "solver/integrate_positions.wgsl";
-}
+/// Kernel: one thread per body, deltas by one substep.
+pub static INTEGRATE_POSITIONS: KernelSpec =
+    KernelSpec::new(file("solver/integrate_positions.wgsl"));
 
-kernel! {
-    /// Buffers of [`FINALIZE_BODIES`].
-    pub struct FinalizeBodiesArgs {
-        /// `SolverParams`.
-        params,
-        /// `array<GpuBody>`.
-        bodies,
-        /// `array<GpuSolverBody>`.
-        solver_bodies,
-        /// `array<GpuPose>`, updated.
-        poses,
-    }
-    /// Kernel: one thread per body, deltas into poses.
-    pub static FINALIZE_BODIES = "solver/finalize_bodies.wgsl";
-}
+/// Kernel: one thread per body, deltas into poses.
+pub static FINALIZE_BODIES: KernelSpec = KernelSpec::new(file("solver/finalize_bodies.wgsl"));

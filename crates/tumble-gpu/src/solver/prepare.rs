@@ -4,57 +4,18 @@
 
 use tumble_solver::{Body, BodyState, Contact, Mat3, prepare_contact};
 
-use crate::kernel::kernel;
+use crate::kernel::KernelSpec;
+use crate::shader::file;
 
 use super::convert::gpu_constraint;
 use super::layout::{GpuConstraint, GpuSolverBody};
 use super::params::StepParams;
 
-kernel! {
-    /// Buffers of [`PREPARE_BODIES`].
-    pub struct PrepareBodiesArgs {
-        /// `SolverParams`.
-        params,
-        /// `array<GpuBody>`.
-        bodies,
-        /// `array<GpuPose>`.
-        poses,
-        /// Output `array<GpuSolverBody>`.
-        solver_bodies,
-    }
-    /// Kernel: one thread per body.
-    pub static PREPARE_BODIES = "solver/prepare_bodies.wgsl";
-}
+/// Kernel: one thread per body.
+pub static PREPARE_BODIES: KernelSpec = KernelSpec::new(file("solver/prepare_bodies.wgsl"));
 
-kernel! {
-    /// Buffers of [`PREPARE_CONTACTS`].
-    pub struct PrepareContactsArgs {
-        /// `SolverParams`.
-        params,
-        /// The contacts' `WorkList`.
-        contact_work,
-        /// `array<GpuManifold>`.
-        manifolds,
-        /// `array<GpuContact>`, `MAX_MANIFOLD_POINTS` per manifold, with carried impulses.
-        contacts,
-        /// `array<GpuBody>`.
-        bodies,
-        /// `array<GpuPose>`.
-        poses,
-        /// `array<GpuVelocity>`.
-        velocities,
-        /// `array<GpuSolverBody>` from `prepare_bodies`.
-        solver_bodies,
-        /// Last step's `array<GpuTilt>`, indexed by the manifolds' `previous`.
-        previous_tilts,
-        /// Manifold indices by color: slot `s` holds the constraint of manifold `color_order[s]`.
-        color_order,
-        /// Output: the constraint store (`GpuConstraint` rows, by slot).
-        constraints,
-    }
-    /// Kernel: one thread per constraint slot.
-    pub static PREPARE_CONTACTS = "solver/prepare_contacts.wgsl";
-}
+/// Kernel: one thread per constraint slot.
+pub static PREPARE_CONTACTS: KernelSpec = KernelSpec::new(file("solver/prepare_contacts.wgsl"));
 
 /// A body's solver state at the start of a step, from its CPU form.
 pub fn solver_body(body: &Body) -> GpuSolverBody {

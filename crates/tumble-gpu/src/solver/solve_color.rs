@@ -2,29 +2,13 @@
 //! one graph color, one thread each, or over the overflow set in one thread. Its CPU twin is
 //! tumble-solver's `sweep` of the same pass over the same color order.
 
-use crate::kernel::kernel;
+use crate::kernel::KernelSpec;
+use crate::shader::file;
 
 use super::constants::{PASS_RELAX, PASS_RESTITUTION, PASS_SOLVE, PASS_WARM_START};
 
-kernel! {
-    /// Buffers of [`SOLVE_COLOR`].
-    pub struct SolveColorArgs {
-        /// `SolverParams`.
-        params,
-        /// `ColorPass` naming the color.
-        pass_color,
-        /// Per-color offsets: color `c` is the constraint slots `offsets[c]..offsets[c + 1]`.
-        color_offsets,
-        /// `array<GpuSolverBody>`.
-        solver_bodies,
-        /// `array<GpuVelocity>`, updated.
-        velocities,
-        /// The constraint store (`GpuConstraint` rows, by slot), updated.
-        constraints,
-    }
-    /// Kernel: specialized per pass with the `PASS` override.
-    pub static SOLVE_COLOR = "solver/solve_color.wgsl";
-}
+/// Kernel: specialized per pass with the `PASS` override.
+pub static SOLVE_COLOR: KernelSpec = KernelSpec::new(file("solver/solve_color.wgsl"));
 
 /// The passes a sweep over the colors can make.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -17,7 +17,6 @@ use crate::layout::{GpuContact, GpuManifold, GpuPose, GpuVelocity, WorkList};
 use crate::readback::{Readback, Region};
 use crate::sleep::GpuSleep;
 use crate::sleep::constants::AWAKE;
-use crate::solver::apply_impulses::ApplyImpulsesArgs;
 use crate::solver::constants::GRAPH_COLOR_COUNT;
 use crate::solver::convert::{gpu_body, gpu_manifold, gpu_shape, gpu_tilt, gpu_velocity};
 use crate::solver::layout::{GpuBody, GpuImpulse, GpuTilt};

@@ -172,15 +172,13 @@ impl GpuWorld {
         let queued = self.ctx.storage_buffer("queued impulses", &self.impulses);
         let kernel = &self.solver.pipelines().apply_impulses;
         let buffers = self.collision.buffers(self.pool.get(BODIES));
-        let group = kernel.bind(
-            &self.ctx,
-            &ApplyImpulsesArgs {
-                impulses: &queued,
-                bodies: self.pool.get(BODIES),
-                poses: buffers.poses,
-                velocities: buffers.velocities,
-            },
-        );
+        let group = kernel.bind_named(&self.ctx, |name| match name {
+            "impulses" => &queued,
+            "bodies" => self.pool.get(BODIES),
+            "poses" => buffers.poses,
+            "velocities" => buffers.velocities,
+            _ => unreachable!("no apply_impulses binding {name}"),
+        });
         let mut pass = self.timer.begin_pass(encoder, "apply_impulses");
         kernel.dispatch_workgroups(&mut pass, &group, 1, 1);
         drop(pass);

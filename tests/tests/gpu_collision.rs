@@ -19,7 +19,7 @@ use tumble_gpu::kernels::{
     gather_sweep_boxes::gather_sweep_boxes_cpu,
     plan_dispatch::plan_dispatch_cpu,
     radix_sort::{RadixBuffers, RadixSort, radix_sort_cpu, result_copy},
-    rank_sort::{RANK_SORT, RANK_SORT_CAPACITY, RankSortArgs, rank_sort_cpu},
+    rank_sort::{RANK_SORT, RANK_SORT_CAPACITY, rank_sort_cpu},
     update_aabbs::pose_from_gpu,
     velocity_from_gpu,
     write_sort_keys::write_sort_keys_cpu,
@@ -207,14 +207,13 @@ fn gpu_rank_sort(ctx: &GpuContext, keys: &[u32], values: &[u32]) -> (Vec<u32>, V
     let k = ctx.storage_buffer("keys", keys);
     let v = ctx.storage_buffer("values", values);
     let kernel = tumble_gpu::kernel::Kernel::new(ctx, &RANK_SORT).unwrap();
-    let group = kernel.bind(
-        ctx,
-        &RankSortArgs {
-            work: &work,
-            keys: &k,
-            values: &v,
-        },
-    );
+    // The kernel's bindings, by the names its shader gives them.
+    let group = kernel.bind_named(ctx, |name| match name {
+        "work" => &work,
+        "keys" => &k,
+        "values" => &v,
+        _ => panic!("rank_sort has no binding {name}"),
+    });
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
     {
         let mut timer = StageTimer::disabled(ctx);

@@ -293,13 +293,6 @@ impl KernelSpec {
     }
 }
 
-/// One kernel's buffers as a struct with a field per binding, for a caller that binds that
-/// kernel alone (a stage binds by name, [`Kernel::bind_named`]).
-pub trait KernelArgs {
-    /// The buffer for the binding `name`.
-    fn buffer(&self, name: &str) -> &wgpu::Buffer;
-}
-
 /// A built kernel: compute pipeline plus the layout of its single bind group. Cheap to clone
 /// (the GPU objects are shared).
 #[derive(Clone, Debug)]
@@ -408,11 +401,6 @@ impl Kernel {
             layout,
             names: &reflection.names,
         })
-    }
-
-    /// A bind group over `args`' buffers.
-    pub fn bind(&self, ctx: &GpuContext, args: &dyn KernelArgs) -> wgpu::BindGroup {
-        self.bind_named(ctx, |name| args.buffer(name))
     }
 
     /// A bind group over the buffer `buffer` gives for each binding's name (whole buffers):

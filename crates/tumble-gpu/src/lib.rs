@@ -53,7 +53,7 @@ pub use collision::{CollisionConfig, CollisionSnapshot, GpuCollision, ReadbackRe
 pub use constants::{MAX_BODIES, MAX_MANIFOLD_POINTS, RADIX, RADIX_BITS, WORKGROUP_SIZE};
 pub use context::{GpuContext, GpuOptions};
 pub use error::GpuError;
-pub use kernel::{Kernel, KernelArgs, KernelSpec};
+pub use kernel::{Kernel, KernelSpec};
 pub use readback::Readback;
 pub use stage_timer::StageTimer;
 

@@ -7,7 +7,7 @@
 //! 0.32 ms of its 1.61 ms GPU step on an H200. The CPU twin is [`rank_sort_cpu`].
 
 use crate::WORKGROUP_SIZE;
-use crate::kernel::{KernelArgs, KernelSpec};
+use crate::kernel::KernelSpec;
 use crate::shader::file;
 
 /// Items each thread of the workgroup holds.
@@ -21,27 +21,6 @@ pub const RANK_SORT_CAPACITY: u32 = RANK_SORT_ITEMS * WORKGROUP_SIZE;
 
 /// Kernel: a single workgroup.
 pub static RANK_SORT: KernelSpec = KernelSpec::new(file("rank_sort.wgsl"));
-
-/// Buffers of [`RANK_SORT`], to run it alone.
-pub struct RankSortArgs<'a> {
-    /// The `WorkList` giving the item count.
-    pub work: &'a wgpu::Buffer,
-    /// Keys, sorted in place.
-    pub keys: &'a wgpu::Buffer,
-    /// Values, moved with their keys.
-    pub values: &'a wgpu::Buffer,
-}
-
-impl KernelArgs for RankSortArgs<'_> {
-    fn buffer(&self, name: &str) -> &wgpu::Buffer {
-        match name {
-            "work" => self.work,
-            "keys" => self.keys,
-            "values" => self.values,
-            _ => unreachable!("no rank_sort binding {name}"),
-        }
-    }
-}
 
 /// The CPU twin of [`RANK_SORT`]: `(key, value)` pairs in key, then value order, equal pairs
 /// in input order.

@@ -147,11 +147,26 @@ impl GpuBackend {
             // Uploading every body again woke them all.
             return Ok(Vec::new());
         }
+        // Most steps end no pair: then neither the sleep flags nor the dense indices are read.
+        let now: std::collections::HashSet<(BodyHandle, BodyHandle)> =
+            touching.iter().map(|p| (p.body_a, p.body_b)).collect();
+        let missing: Vec<TouchingPair> = previous
+            .iter()
+            .filter(|p| !now.contains(&(p.body_a, p.body_b)))
+            .copied()
+            .collect();
+        if missing.is_empty() {
+            return Ok(missing);
+        }
         let asleep = unread.sleeping(&self.gpu).map_err(failed)?;
+        // Dense indices of the missing pairs' bodies only: one pass over the handles.
+        let wanted: std::collections::HashSet<BodyHandle> =
+            missing.iter().flat_map(|p| [p.body_a, p.body_b]).collect();
         let dense: std::collections::HashMap<BodyHandle, usize> = self
             .uploaded
             .iter()
             .enumerate()
+            .filter(|(_, h)| wanted.contains(h))
             .map(|(d, &h)| (h, d))
             .collect();
         let rests = |h: &BodyHandle| {
@@ -163,13 +178,9 @@ impl GpuBackend {
                         .is_some_and(|b| b.kind != BodyKind::Dynamic)
             })
         };
-        let now: std::collections::HashSet<(BodyHandle, BodyHandle)> =
-            touching.iter().map(|p| (p.body_a, p.body_b)).collect();
-        Ok(previous
-            .iter()
-            .filter(|p| !now.contains(&(p.body_a, p.body_b)))
+        Ok(missing
+            .into_iter()
             .filter(|p| rests(&p.body_a) && rests(&p.body_b))
-            .copied()
             .collect())
     }
 

@@ -1,4 +1,4 @@
-//! A window on a scene: `cargo run -p tumble-render --example viewer -- SCENE [options]`.
+//! A window on a scene: `cargo run -p tumble-render --example viewer -- SCENE|FILE.json [options]`.
 //!
 //! Right drag orbits, the wheel zooms, a left drag picks the body under the mouse and pulls it
 //! (its velocity is set each step towards the mouse on the plane facing the camera). Space
@@ -91,13 +91,22 @@ fn parse_args() -> Result<Args, String> {
     Ok(args)
 }
 
+/// The world of `name`: a scene file when it ends in `.json` (the scene format of
+/// `tumble::scenes`, as `cargo xtask render` reads it), else a canonical scene by name.
 fn scene_world(name: &str, backend: Backend) -> Result<World, String> {
     let scenes = tumble::scenes::canonical();
-    let names: Vec<&str> = scenes.iter().map(|s| s.name.as_str()).collect();
-    let scene = scenes.iter().find(|s| s.name == name).ok_or(format!(
-        "no scene named {name:?}; the scenes: {}",
-        names.join(", ")
-    ))?;
+    let from_file;
+    let scene = if name.ends_with(".json") {
+        let text = std::fs::read_to_string(name).map_err(|e| format!("{name}: {e}"))?;
+        from_file = tumble::scenes::Scene::from_json(&text).map_err(|e| format!("{name}: {e}"))?;
+        &from_file
+    } else {
+        let names: Vec<&str> = scenes.iter().map(|s| s.name.as_str()).collect();
+        scenes.iter().find(|s| s.name == name).ok_or(format!(
+            "no scene named {name:?} (nor a .json scene file); the scenes: {}",
+            names.join(", ")
+        ))?
+    };
     let config = WorldConfig {
         backend,
         ..Default::default()
@@ -524,7 +533,7 @@ impl ApplicationHandler for App {
 fn main() -> Result<(), String> {
     let args = parse_args()?;
     if args.scene.is_empty() {
-        return Err("usage: viewer SCENE [--backend cpu|gpu] [--frames N] [--drag X0,Y0:X1,Y1] [--screenshot FILE.png]".into());
+        return Err("usage: viewer SCENE|FILE.json [--backend cpu|gpu] [--frames N] [--drag X0,Y0:X1,Y1] [--screenshot FILE.png]".into());
     }
     let mut app = App::new(args)?;
     let event_loop = EventLoop::new().map_err(|e| e.to_string())?;

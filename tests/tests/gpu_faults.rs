@@ -69,8 +69,7 @@ fn a_scene_over_the_devices_binding_size_is_refused_naming_the_limit() {
     // first step, from the broad phase's count: either may be the one refused.
     let err = gpu_world_of(&ctx, &big, GpuWorldConfig::default())
         .and_then(|mut world| world.step())
-        .err()
-        .expect("the pyramid of 20 must not fit in 4 MiB bindings");
+        .expect_err("the pyramid of 20 must not fit in 4 MiB bindings");
     match &err {
         GpuError::LimitExceeded {
             value,
@@ -117,8 +116,7 @@ fn limits_over_the_adapters_are_a_clear_error() {
             ..limits
         }),
     })
-    .err()
-    .expect("a device over the adapter's limits must not open");
+    .expect_err("a device over the adapter's limits must not open");
     match &err {
         GpuError::DeviceRequest { adapter, reason } => {
             assert_eq!(adapter, &name);
@@ -148,8 +146,7 @@ fn an_uncaught_error_is_returned_once_and_a_lost_device_from_then_on() {
     ctx.queue.submit([encoder.finish()]);
     let err = world
         .step()
-        .err()
-        .expect("the step after the bad copy reports it");
+        .expect_err("the step after the bad copy reports it");
     assert!(matches!(err, GpuError::Device(_)), "{err}");
     // Reported once, and the refused step did not run: the world steps on from where it was,
     // one step of falling (at most g dt^2 = 2.7 mm per body) from the poses read before.

@@ -12,12 +12,10 @@ use tumble_render::{Camera, Image, Overlay, Palette, RenderConfig, Renderer, Sou
 const WIDTH: u32 = 240;
 const HEIGHT: u32 = 160;
 
-/// The world of every test: a fixed floor (top at y = 0), a dynamic cube resting on it at
-/// the origin, a dynamic box turned 30 degrees about y, and a kinematic cube, all at rest
-/// on the floor and without gravity, so a step leaves the poses where they are and finds
-/// the floor contacts.
-fn world(backend: Backend) -> (World, [BodyHandle; 4]) {
-    let mut world = World::new(WorldConfig {
+/// An empty world without gravity on `backend`, and the 6 m x 1 m x 6 m fixed floor (top at
+/// y = 0) every test puts in it.
+fn zero_gravity_world(backend: Backend) -> (World, BodyDesc) {
+    let world = World::new(WorldConfig {
         gravity: Vec3::zeros(),
         backend,
         ..Default::default()
@@ -26,6 +24,15 @@ fn world(backend: Backend) -> (World, [BodyHandle; 4]) {
     let floor = BodyDesc::fixed()
         .cuboid(Vec3::new(3.0, 0.5, 3.0))
         .translation(0.0, -0.5, 0.0);
+    (world, floor)
+}
+
+/// The world of every test: a fixed floor (top at y = 0), a dynamic cube resting on it at
+/// the origin, a dynamic box turned 30 degrees about y, and a kinematic cube, all at rest
+/// on the floor and without gravity, so a step leaves the poses where they are and finds
+/// the floor contacts.
+fn world(backend: Backend) -> (World, [BodyHandle; 4]) {
+    let (mut world, floor) = zero_gravity_world(backend);
     let cube = BodyDesc::dynamic()
         .cuboid(Vec3::repeat(0.5))
         .translation(0.0, 0.5, 0.0);
@@ -337,15 +344,7 @@ fn colour_overlay_fills_each_manifolds_dots_with_its_graph_colour() {
         .map(|c| tumble_render::graph_colour(c).unwrap())
         .collect();
     let stack = |backend| {
-        let mut world = World::new(WorldConfig {
-            gravity: Vec3::zeros(),
-            backend,
-            ..Default::default()
-        })
-        .expect("world");
-        let floor = BodyDesc::fixed()
-            .cuboid(Vec3::new(3.0, 0.5, 3.0))
-            .translation(0.0, -0.5, 0.0);
+        let (mut world, floor) = zero_gravity_world(backend);
         let lower = BodyDesc::dynamic()
             .cuboid(Vec3::repeat(0.5))
             .translation(0.0, 0.5, 0.0);

@@ -410,3 +410,78 @@ fn pixel_at_with(image: &Image, camera: &Camera, point: Point3) -> [u8; 4] {
     let [x, y, _] = camera.project(point, WIDTH, HEIGHT).expect("in front");
     image.pixel(x as u32, y as u32)
 }
+
+/// The pair lines are the broad phase's candidate pairs, touching or not. Two cubes turned
+/// 45 degrees about z, their centres 1.2 m apart along x and along y: their AABBs (0.707 m
+/// half wide in x and y) overlap by 0.21 m on both axes, but their facing faces are 0.70 m
+/// apart along the diagonal (1.2 * sqrt(2) - 1), far beyond the speculative margin at rest,
+/// so the broad phase pairs them and the narrow phase finds no contact. Two more cubes
+/// 4 m apart are not paired. No gravity, no floor: nothing moves. On every backend the
+/// picture has a pair line along the near pair's centres, none between the far pair's.
+#[test]
+fn pair_overlay_draws_the_broad_phase_pairs_touching_or_not() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let palette = Palette::DEFAULT;
+    let cam = Camera::looking_at(Point3::new(0.0, 1.0, 9.0), Point3::new(0.0, 1.0, 0.0));
+    let turned = |x: f32, y: f32| {
+        let mut pose = Pose::translation(x, y, 0.0);
+        pose.rotation = Rot::from_axis_angle(&Vec3::z_axis(), 45f32.to_radians());
+        BodyDesc::dynamic().cuboid(Vec3::repeat(0.5)).pose(pose)
+    };
+    let far = |x: f32| {
+        BodyDesc::dynamic()
+            .cuboid(Vec3::repeat(0.4))
+            .translation(x, -1.5, 0.0)
+    };
+    let pairs = Overlay {
+        pairs: true,
+        ..Overlay::NONE
+    };
+    for backend in [Backend::Cpu, Backend::Hybrid, Backend::Gpu] {
+        let mut world = World::new(WorldConfig {
+            gravity: Vec3::zeros(),
+            backend,
+            ..Default::default()
+        })
+        .expect("world");
+        let [a, b, c, d] = [turned(-0.6, 0.4), turned(0.6, 1.6), far(-2.0), far(2.0)]
+            .map(|desc| world.add_body(desc).expect("body"));
+        world.step().expect("step");
+        // Meaningful only if the near pair has no manifold: a line from the contacts would
+        // not be drawn.
+        assert!(
+            world.contacts().is_empty(),
+            "{backend:?}: {:?}",
+            world.contacts()
+        );
+        if backend != Backend::Gpu {
+            assert_eq!(world.broad_phase_pairs(), &[(a, b)], "{backend:?}");
+        }
+        let ctx = world.gpu_context().unwrap_or_else(|| ctx.clone());
+        let mut renderer = Renderer::new(&ctx, overlay_config()).expect("renderer");
+        let image = renderer.render(&world, &cam, &pairs).unwrap();
+        let plain = renderer.render(&world, &cam, &Overlay::NONE).unwrap();
+        assert_eq!(count_near(&plain, palette.pair), 0, "{backend:?}");
+        let along = |p: Point3, q: Point3, t: f32| p + (q - p) * t;
+        let (pa, pb) = (centre(&world, a), centre(&world, b));
+        // 0.5 lies in the gap between the cubes, 0.25 and 0.75 over the cubes' faces.
+        for t in [0.25, 0.5, 0.75] {
+            assert!(
+                drawn_near(&image, &cam, along(pa, pb, t), palette.pair),
+                "{backend:?}: no pair line at {t} of the near pair"
+            );
+        }
+        let (pc, pd) = (centre(&world, c), centre(&world, d));
+        for t in [0.25, 0.5, 0.75] {
+            assert!(
+                !drawn_near(&image, &cam, along(pc, pd, t), palette.pair),
+                "{backend:?}: a pair line at {t} between the far cubes"
+            );
+        }
+        // One line 1.7 m long seen from 9 m: tens of pixels, not hundreds.
+        let line = count_near(&image, palette.pair);
+        assert!((20..200).contains(&line), "{backend:?}: {line} pair pixels");
+    }
+}

@@ -79,6 +79,12 @@ pub(crate) struct FrameBuffers {
     pub bodies: u32,
     /// Manifold slots the contact overlays walk (`MAX_POINTS` instances each).
     pub manifold_slots: u32,
+    /// Instances of the pair lines: the broad phase's candidate pairs.
+    pub pair_slots: u32,
+    /// Where the pair lines' bodies are: `None` in the manifold slots `0..work[0]` (on the
+    /// GPU, where each slot is one candidate pair), or `Some(first)`: records
+    /// `first..first + pair_slots` of `manifolds`, past the host's contact manifolds.
+    pub pair_base: Option<u32>,
     pub poses: wgpu::Buffer,
     pub shapes: wgpu::Buffer,
     pub kinds: wgpu::Buffer,
@@ -133,12 +139,14 @@ impl BodyBuffers {
         Ok(())
     }
 
-    /// The buffers to draw `world` from. `contacts`: whether an overlay needs the manifolds.
+    /// The buffers to draw `world` from. `contacts`: whether an overlay needs the manifolds;
+    /// `pairs`: whether it needs the broad phase's pairs.
     pub(crate) fn prepare(
         &mut self,
         ctx: &GpuContext,
         world: &World,
         contacts: bool,
+        pairs: bool,
     ) -> Result<FrameBuffers, RenderError> {
         self.write_kinds(ctx, world)?;
         if let Some(draw) = world_buffers(ctx, world) {
@@ -148,6 +156,8 @@ impl BodyBuffers {
                 source: Source::WorldBuffers,
                 bodies: draw.body_count,
                 manifold_slots: if contacts { draw.manifold_capacity } else { 0 },
+                pair_slots: if pairs { draw.manifold_capacity } else { 0 },
+                pair_base: None,
                 poses: draw.poses,
                 shapes: draw.shapes,
                 kinds: self.kinds.buffer.clone(),
@@ -177,12 +187,17 @@ impl BodyBuffers {
         self.poses.write(ctx, &poses);
         self.shapes.write(ctx, &shapes);
         let mut slots = 0;
-        if contacts {
+        let mut pair_slots = 0;
+        if contacts || pairs {
             let dense: HashMap<BodyHandle, u32> = (0u32..)
                 .zip(world.handles())
                 .map(|(i, &h)| (h, i))
                 .collect();
-            let reports = world.contacts();
+            let reports = if contacts {
+                world.contacts()
+            } else {
+                Vec::new()
+            };
             let colours = world.contact_colors();
             let mut manifolds = vec![GpuManifold::default(); reports.len()];
             let mut points = vec![GpuContact::default(); reports.len() * MAX_POINTS];
@@ -204,6 +219,21 @@ impl BodyBuffers {
                 }
             }
             slots = reports.len() as u32;
+            // The broad phase's pairs follow the contact manifolds as records without
+            // points, which only the pair lines read.
+            if pairs {
+                for &(a, b) in world.broad_phase_pairs() {
+                    // A pair with a body removed since the step is not drawn.
+                    if let (Some(&a), Some(&b)) = (dense.get(&a), dense.get(&b)) {
+                        manifolds.push(GpuManifold {
+                            body_a: a,
+                            body_b: b,
+                            ..Default::default()
+                        });
+                        pair_slots += 1;
+                    }
+                }
+            }
             self.manifolds.write(ctx, &manifolds);
             self.contacts.write(ctx, &points);
             self.colors.write(ctx, &colors);
@@ -213,6 +243,8 @@ impl BodyBuffers {
             source: Source::Uploaded,
             bodies: poses.len() as u32,
             manifold_slots: slots,
+            pair_slots,
+            pair_base: Some(slots),
             poses: self.poses.buffer.clone(),
             shapes: self.shapes.buffer.clone(),
             kinds: self.kinds.buffer.clone(),

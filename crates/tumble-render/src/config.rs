@@ -65,10 +65,10 @@ pub struct Overlay {
     /// The outline of each body's axis-aligned bounding box (the box's world bounds, without
     /// the broad phase's speculative margin and sweep).
     pub aabbs: bool,
-    /// A line between the centres of the two bodies of each pair: on `Backend::Gpu` every
-    /// manifold slot in use, which is every candidate pair of the broad phase; elsewhere
-    /// every manifold of [`tumble::World::contacts`] (the candidate pairs the narrow phase
-    /// kept: the host backends do not keep the broad phase's list).
+    /// A line between the centres of the two bodies of each candidate pair the broad phase
+    /// produced in the last step, touching or not: on `Backend::Gpu` every manifold slot in
+    /// use (one per candidate pair, read from the world's buffer), elsewhere
+    /// [`tumble::World::broad_phase_pairs`].
     pub pairs: bool,
     /// Contact dots filled with their manifold's graph colour ([`crate::graph_colour`]),
     /// drawn with or without `contacts`: from the solver's colour buffer on `Backend::Gpu`,

@@ -13,7 +13,10 @@ struct Frame {
     light_dir: vec4<f32>,
     // Width, height (pixels), contact dot radius (pixels), normal length (m).
     viewport: vec4<f32>,
-    // x: 1 to fill the contact dots with their manifold's graph colour.
+    // x: 1 to fill the contact dots with their manifold's graph colour. y: 1 when the pair
+    // lines' bodies are the `w` records of `manifolds` from index `z` (the host's list of
+    // the broad phase's pairs), 0 when they are the manifold slots in use (on the GPU each
+    // slot is one candidate pair of the broad phase).
     flags: vec4<u32>,
 }
 
@@ -300,14 +303,17 @@ fn fs_aabb() -> @location(0) vec4<f32> {
     return vec4(aabb_r, aabb_g, aabb_b, 1.0);
 }
 
-// End `v` (0 or 1) of the line between the centres of manifold slot `k`'s two bodies; off
-// screen past the slots in use.
+// End `v` (0 or 1) of the line between the centres of candidate pair `k`'s two bodies (see
+// Frame.flags); off screen past the pairs.
 @vertex
 fn vs_pair(@builtin(vertex_index) v: u32, @builtin(instance_index) k: u32) -> @builtin(position) vec4<f32> {
-    if k >= work[0] {
+    let host_list = frame.flags.y == 1u;
+    let count = select(work[0], frame.flags.w, host_list);
+    if k >= count {
         return OFF_SCREEN;
     }
-    let body = select(manifolds[k].body_a, manifolds[k].body_b, v == 1u);
+    let slot = select(k, frame.flags.z + k, host_list);
+    let body = select(manifolds[slot].body_a, manifolds[slot].body_b, v == 1u);
     if body >= arrayLength(&poses) {
         return OFF_SCREEN;
     }

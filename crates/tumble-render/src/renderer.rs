@@ -381,9 +381,9 @@ impl Renderer {
         camera: &Camera,
         overlay: &Overlay,
     ) -> Result<Image, RenderError> {
-        let buffers = self
-            .bodies
-            .prepare(&self.ctx, world, overlay.reads_manifolds())?;
+        let buffers =
+            self.bodies
+                .prepare(&self.ctx, world, overlay.reads_manifolds(), overlay.pairs)?;
         self.last_source = Some(buffers.source);
         let shadows = self.config.shadow_map_size > 0;
         let dir = Vec3::from(LIGHT_DIRECTION).normalize();
@@ -397,7 +397,12 @@ impl Renderer {
                 overlay.dot_radius,
                 overlay.normal_length,
             ],
-            flags: [u32::from(overlay.colors && buffers.has_colors), 0, 0, 0],
+            flags: [
+                u32::from(overlay.colors && buffers.has_colors),
+                u32::from(buffers.pair_base.is_some()),
+                buffers.pair_base.unwrap_or(0),
+                buffers.pair_slots,
+            ],
         };
         self.ctx
             .queue
@@ -454,9 +459,9 @@ impl Renderer {
                 pass.set_pipeline(&self.aabb_pipeline);
                 pass.draw(0..AABB_VERTICES, 0..buffers.bodies);
             }
-            if overlay.pairs && buffers.manifold_slots > 0 {
+            if overlay.pairs && buffers.pair_slots > 0 {
                 pass.set_pipeline(&self.pair_pipeline);
-                pass.draw(0..2, 0..buffers.manifold_slots);
+                pass.draw(0..2, 0..buffers.pair_slots);
             }
             let points = buffers.manifold_slots * MAX_POINTS as u32;
             if overlay.normals && points > 0 {

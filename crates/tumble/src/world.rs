@@ -173,6 +173,18 @@ impl World {
         self.host.contact_colors.iter().map(colored).collect()
     }
 
+    /// The candidate pairs the broad phase produced in the last step, touching or not: pairs
+    /// of bodies whose AABBs (grown by the speculative margin and the step's motion)
+    /// overlapped and that may collide (not both immovable, collision groups allowing), the
+    /// body of the lower dense index first, sorted. [`World::contacts`] holds the pairs the
+    /// narrow phase kept. Bodies removed since the step may appear. Empty before the first
+    /// step, after a step in which nothing could move, and on `Backend::Gpu`, whose pair
+    /// list stays on the device (there each manifold slot of `World::gpu_draw_buffers` is
+    /// one candidate pair).
+    pub fn broad_phase_pairs(&self) -> &[(BodyHandle, BodyHandle)] {
+        self.backend.broad_phase_pairs()
+    }
+
     /// The deepest overlap among last step's manifolds, m (0 when nothing overlaps).
     pub fn max_penetration(&self) -> Real {
         self.stats().max_penetration

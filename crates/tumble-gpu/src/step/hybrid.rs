@@ -34,6 +34,8 @@ pub struct HybridCollision {
     local_normals: Vec<Option<Vec3>>,
     /// Last step's tilt impulse and normal in A's frame, per pair slot.
     last_tilts: Vec<Option<(Vec3, Vec3)>>,
+    /// Last step's candidate pairs, as read back.
+    last_pairs: Vec<(u32, u32)>,
 }
 
 impl HybridCollision {
@@ -48,6 +50,7 @@ impl HybridCollision {
             last_points: Vec::new(),
             local_normals: Vec::new(),
             last_tilts: Vec::new(),
+            last_pairs: Vec::new(),
         })
     }
 
@@ -75,6 +78,7 @@ impl HybridCollision {
         if bodies.is_empty() {
             self.last_points.clear();
             self.last_tilts.clear();
+            self.last_pairs.clear();
             return Ok(Vec::new());
         }
         let poses: Vec<_> = bodies.iter().map(|b| GpuPose::from_pose(&b.pose)).collect();
@@ -110,6 +114,7 @@ impl HybridCollision {
             snapshot.check_overflow()?;
         }
         self.last_points = snapshot.contacts.clone();
+        self.last_pairs = std::mem::take(&mut snapshot.pairs);
         let mut contacts = snapshot.solver_contacts();
         self.local_normals = vec![None; snapshot.manifolds.len()];
         for (slot, contact) in &mut contacts {
@@ -128,6 +133,12 @@ impl HybridCollision {
             }
         }
         Ok(contacts)
+    }
+
+    /// The candidate pairs of the broad phase in the last [`Self::collide`], `(a, b)` with
+    /// `a < b` in body index order, sorted: every pair slot, touching or not.
+    pub fn pairs(&self) -> &[(u32, u32)] {
+        &self.last_pairs
     }
 
     /// Records the collision stages and a readback of their manifolds, submits, and waits for

@@ -7,7 +7,7 @@ use super::pipeline::{self, Collided, Collision, StepBodies};
 use super::{Host, StepArgs, StepBackend};
 use crate::snapshot::BackendSnapshot;
 use crate::stats::StageClock;
-use crate::{Backend, Error};
+use crate::{Backend, BodyHandle, Error};
 
 /// The CPU collision stages: the grid broad phase, the box-box test, the contact cache.
 #[derive(Debug, Default)]
@@ -16,6 +16,8 @@ pub(crate) struct CpuCollision {
     grid: BroadPhase,
     /// Last step's impulses by body pair, for warm starting.
     cache: ContactCache,
+    /// Last step's candidate pairs from the broad phase, by handle.
+    pairs: Vec<(BodyHandle, BodyHandle)>,
 }
 
 impl Collision for CpuCollision {
@@ -28,6 +30,7 @@ impl Collision for CpuCollision {
         let aabbs = stages::update_aabbs(step.bodies, step.states, margin, dt);
         clock.lap(Stage::UpdateAabbs);
         let pairs = stages::broad_phase(&mut self.grid, &aabbs, step.bodies);
+        self.pairs = pipeline::pair_handles(step, pairs.iter().copied());
         clock.lap(Stage::BroadPhase);
         let found = stages::narrow_phase(
             step.bodies,
@@ -66,7 +69,16 @@ pub(crate) struct CpuBackend {
 
 impl StepBackend for CpuBackend {
     fn step(&mut self, host: &mut Host, args: StepArgs<'_>) -> Result<(), Error> {
-        pipeline::step(host, args, &mut self.collision)
+        let before = std::mem::take(&mut self.collision.pairs);
+        let stepped = pipeline::step(host, args, &mut self.collision);
+        if stepped.is_err() {
+            self.collision.pairs = before;
+        }
+        stepped
+    }
+
+    fn broad_phase_pairs(&self) -> &[(BodyHandle, BodyHandle)] {
+        &self.collision.pairs
     }
 
     fn forget_body(&mut self, id: u64) {

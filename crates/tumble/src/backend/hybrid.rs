@@ -22,6 +22,8 @@ pub(crate) struct GpuCollision {
     uploaded: Vec<BodyHandle>,
     /// The GPU pair slot of each manifold of the last [`Collision::collide`].
     slots: Vec<u32>,
+    /// Last step's candidate pairs from the broad phase, by handle.
+    pairs: Vec<(BodyHandle, BodyHandle)>,
 }
 
 fn failed(e: tumble_gpu::GpuError) -> Error {
@@ -47,6 +49,19 @@ impl Collision for GpuCollision {
             .map_err(failed)?;
         let pairs = found.len();
         let immovable = step.gathered.map(|g| stages::immovable(&g.bodies));
+        // The pairs with a sleeper are dropped as the manifolds are below.
+        self.pairs = self
+            .collision
+            .pairs()
+            .iter()
+            .filter(|&&(a, b)| match (step.gathered, &immovable) {
+                (Some(g), Some(immovable)) => {
+                    is_wanted_pair(immovable, g.position(a as usize), g.position(b as usize))
+                }
+                _ => true,
+            })
+            .map(|&(a, b)| (step.handles[a as usize], step.handles[b as usize]))
+            .collect();
         let mut out = Collided {
             pairs,
             ..Default::default()
@@ -113,6 +128,7 @@ impl HybridBackend {
                 collision,
                 uploaded: Vec::new(),
                 slots: Vec::new(),
+                pairs: Vec::new(),
             },
         })
     }
@@ -124,7 +140,16 @@ impl StepBackend for HybridBackend {
     }
 
     fn step(&mut self, host: &mut Host, args: StepArgs<'_>) -> Result<(), Error> {
-        pipeline::step(host, args, &mut self.collision)
+        let before = std::mem::take(&mut self.collision.pairs);
+        let stepped = pipeline::step(host, args, &mut self.collision);
+        if stepped.is_err() {
+            self.collision.pairs = before;
+        }
+        stepped
+    }
+
+    fn broad_phase_pairs(&self) -> &[(BodyHandle, BodyHandle)] {
+        &self.collision.pairs
     }
 
     fn device_buffer_bytes(&self) -> u64 {

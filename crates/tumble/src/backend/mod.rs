@@ -116,6 +116,13 @@ pub(crate) trait StepBackend: fmt::Debug + Send + Sync {
         Ok((crate::events::touching_pairs(contacts, handles), None))
     }
 
+    /// Last step's candidate pairs from the broad phase, by handle (see
+    /// [`crate::World::broad_phase_pairs`]). The default has none: a backend whose pairs stay
+    /// on the device.
+    fn broad_phase_pairs(&self) -> &[(BodyHandle, BodyHandle)] {
+        &[]
+    }
+
     /// Last step's statistics.
     fn stats<'a>(&'a self, host: &'a Host) -> &'a StepStats {
         &host.stats

@@ -260,6 +260,29 @@ fn set_contacts(host: &mut Host, contacts: Vec<Contact>, handles: &[BodyHandle])
     host.contacts = contacts;
 }
 
+/// The broad phase's candidate pairs `pairs` (indices into [`StepBodies::bodies`]) by
+/// handle, the body of the lower dense index first, sorted by dense indices.
+pub(crate) fn pair_handles(
+    step: &StepBodies<'_>,
+    pairs: impl Iterator<Item = (u32, u32)>,
+) -> Vec<(BodyHandle, BodyHandle)> {
+    let dense = |i: u32| match step.gathered {
+        Some(g) => g.order[i as usize],
+        None => i as usize,
+    };
+    let mut dense_pairs: Vec<(usize, usize)> = pairs
+        .map(|(a, b)| {
+            let (a, b) = (dense(a), dense(b));
+            (a.min(b), a.max(b))
+        })
+        .collect();
+    dense_pairs.sort_unstable();
+    dense_pairs
+        .into_iter()
+        .map(|(a, b)| (step.handles[a], step.handles[b]))
+        .collect()
+}
+
 /// The deepest overlap among `contacts`, m (0 when none overlaps).
 pub(crate) fn max_penetration(contacts: &[Contact]) -> Real {
     contacts

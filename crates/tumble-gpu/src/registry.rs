@@ -22,6 +22,7 @@ pub static KERNELS: LazyLock<Vec<&'static KernelSpec>> = LazyLock::new(|| {
         &kernels::contact_events::CONTACT_BEGINS,
         &kernels::contact_events::CONTACT_ENDS,
         &solver::solve_color::SOLVE_COLOR,
+        &kernels::cast_rays::CAST_RAYS,
     ];
     [
         CollisionKernels::SPECS,
@@ -78,6 +79,7 @@ pub fn host_shared_files() -> Vec<WgslFile> {
         "common/layout.wgsl",
         "common/solver_types.wgsl",
         "sleep/common/sleep_types.wgsl",
+        "common/ray_types.wgsl",
     ]
     .into_iter()
     .map(crate::shader::file)
@@ -89,5 +91,6 @@ pub fn all_struct_layouts() -> Vec<StructLayout> {
     let mut layouts = shared_struct_layouts();
     layouts.extend(crate::solver::layout::solver_struct_layouts());
     layouts.extend(crate::sleep::layout::sleep_struct_layouts());
+    layouts.extend(kernels::cast_rays::ray_struct_layouts());
     layouts
 }

@@ -14,9 +14,10 @@
 //! edge lines make depth readable; fixed, dynamic, kinematic and sleeping bodies have the
 //! colours of [`Palette`]. The optional [`Overlay`] draws a dot at each contact point, a
 //! line along each manifold normal, each body's AABB outline, a line between the bodies of
-//! each pair and dots filled with their manifold's graph colour ([`graph_colour`]), from the
-//! manifold and colour buffers on `Backend::Gpu` and from [`World::contacts`] and
-//! [`World::contact_colors`] elsewhere. The picture comes back as an [`Image`], written as PNG with
+//! each candidate pair of the broad phase (touching or not) and dots filled with their
+//! manifold's graph colour ([`graph_colour`]), from the manifold and colour buffers on
+//! `Backend::Gpu` (one manifold slot per candidate pair) and from [`World::contacts`],
+//! [`World::broad_phase_pairs`] and [`World::contact_colors`] elsewhere. The picture comes back as an [`Image`], written as PNG with
 //! [`Image::write_png`].
 //!
 //! A picture of a cube at rest on the origin, seen from above and to the side:
@@ -50,6 +51,7 @@
 //!
 //! [`World::gpu_draw_buffers`]: tumble::World::gpu_draw_buffers
 //! [`World::contacts`]: tumble::World::contacts
+//! [`World::broad_phase_pairs`]: tumble::World::broad_phase_pairs
 //! [`World::contact_colors`]: tumble::World::contact_colors
 #![warn(missing_docs)]
 

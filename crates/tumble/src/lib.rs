@@ -49,7 +49,7 @@ pub use effects::{EffectOverrides, EffectSwitch, ReadbackOverrides};
 pub use error::Error;
 pub use events::{ContactEvent, ContactEventKind, TouchingPair};
 pub use handle::BodyHandle;
-pub use query::{BoxHit, PointHit, QueryFilter, RayHit};
+pub use query::{BoxHit, PointHit, QueryFilter, Ray, RayHit};
 pub use scene::body_desc;
 pub use sleep::{ANGULAR_SLEEP_TOLERANCE, LINEAR_SLEEP_TOLERANCE, TIME_TO_SLEEP};
 pub use snapshot::WorldSnapshot;

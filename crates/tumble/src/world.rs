@@ -71,6 +71,7 @@ impl World {
             effects: &effects,
         };
         self.backend.step(&mut self.host, args)?;
+        self.query.stepped();
         self.steps += 1;
         if self.events.enabled {
             let (touching, events) = self.backend.touching_and_events(

@@ -7,6 +7,7 @@ use tumble_narrow::BoxMotion;
 use crate::layout::{GpuAabb, GpuPose, GpuShape, GpuVelocity};
 
 pub mod carry_impulses;
+pub mod cast_rays;
 pub mod choose_axis;
 pub mod collide_cuboids;
 pub mod compact_touching;

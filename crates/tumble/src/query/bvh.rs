@@ -183,6 +183,9 @@ fn build_node(entries: &mut [Entry], start: usize, end: usize, nodes: &mut Vec<N
 #[derive(Debug, Default)]
 pub(crate) struct QueryCache {
     tree: OnceLock<Bvh>,
+    /// Whether a body was added, removed or moved by the caller since the last step (or
+    /// since the world was made or restored): the GPU step's buffers then lag the host.
+    edited: bool,
 }
 
 impl QueryCache {
@@ -201,6 +204,19 @@ impl QueryCache {
     /// Forgets the tree: the poses, the bodies or their number changed.
     pub(crate) fn invalidate(&mut self) {
         self.tree.take();
+        self.edited = true;
+    }
+
+    /// A step ran: the poses changed, and every earlier edit reached the step.
+    pub(crate) fn stepped(&mut self) {
+        self.tree.take();
+        self.edited = false;
+    }
+
+    /// Whether bodies were added, removed or moved by the caller since the last step.
+    #[cfg_attr(not(feature = "gpu"), allow(dead_code))]
+    pub(crate) fn edited_since_step(&self) -> bool {
+        self.edited
     }
 }
 

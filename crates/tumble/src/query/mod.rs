@@ -7,6 +7,9 @@
 //! built on the first query after the bodies changed and kept until the next step, added or
 //! removed body, or `set_pose`, so a batch of queries between two steps builds it once.
 //!
+//! On `Backend::Gpu`, [`World::cast_rays_gpu`] casts a batch of rays on the GPU in one
+//! dispatch, against the step's own buffers, with [`World::cast_ray`]'s answers.
+//!
 //! The shape tests are those of `tumble_geometry`: the slab test for rays
 //! ([`tumble_geometry::Cuboid::cast_ray`]) and the exact swept separating axis test for boxes
 //! ([`tumble_geometry::cast_cuboid`], [`tumble_geometry::cuboids_intersect`]); both are exact
@@ -15,10 +18,12 @@
 
 mod bvh;
 mod filter;
+mod gpu_rays;
 pub(crate) mod input;
 
 pub(crate) use bvh::QueryCache;
 pub use filter::QueryFilter;
+pub use gpu_rays::Ray;
 
 use tumble_geometry::{Aabb, CastHit, Cuboid, Point3, Pose, Real, Vec3};
 use tumble_geometry::{cast_cuboid, cuboids_intersect};

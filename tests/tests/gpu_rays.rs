@@ -225,3 +225,61 @@ fn gpu_ray_batch_contracts() {
     world.step().unwrap();
     assert_eq!(world.cast_rays_gpu(&[ray], 10.0).unwrap(), vec![None]);
 }
+
+/// The kernel alone against its CPU twin `cast_rays_cpu` on buffers made for it (100 random
+/// boxes, 2,000 random rays, a finite and an infinite `max_toi`): the same body or miss for
+/// every ray and times within the tolerance of `gpu_ray_batch_equals_the_cpu_ray_cast`; and
+/// buffers too small for the body count are refused, naming them.
+#[test]
+fn cast_rays_kernel_equals_its_cpu_twin() {
+    use tumble::gpu::kernels::cast_rays::{GpuRay, cast_rays, cast_rays_cpu};
+    use tumble::gpu::layout::{GpuPose, GpuShape};
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let (poses, shapes): (Vec<GpuPose>, Vec<GpuShape>) = (0..100)
+        .map(|_| {
+            let c = Vec3::from_fn(|_, _| rng.random_range(-5.0..5.0));
+            let pose = Pose::from_parts(c.into(), random_rotation(&mut rng));
+            let h = Vec3::from_fn(|_, _| rng.random_range(0.05..0.8));
+            let shape = GpuShape {
+                hx: h.x,
+                hy: h.y,
+                hz: h.z,
+                flags: 0,
+            };
+            (GpuPose::from_pose(&pose), shape)
+        })
+        .unzip();
+    let rays: Vec<GpuRay> = (0..2000)
+        .map(|_| {
+            let o = Point3::from(Vec3::from_fn(|_, _| rng.random_range(-6.0..6.0)));
+            GpuRay::new(&o, &random_dir(&mut rng))
+        })
+        .collect();
+    let pose_buffer = ctx.storage_buffer("test poses", &poses);
+    let shape_buffer = ctx.storage_buffer("test shapes", &shapes);
+    for max_toi in [4.0, Real::INFINITY] {
+        let gpu = cast_rays(&ctx, &pose_buffer, &shape_buffer, 100, &rays, max_toi).unwrap();
+        let cpu = cast_rays_cpu(&poses, &shapes, &rays, max_toi);
+        let mut hits = 0;
+        for (i, ((g, c), ray)) in gpu.iter().zip(&cpu).zip(&rays).enumerate() {
+            let (Some((gb, gt, gn)), Some((cb, ct, cn))) = (g.found(), c.found()) else {
+                assert_eq!(g.found(), c.found(), "ray {i}");
+                continue;
+            };
+            hits += 1;
+            assert_eq!(gb, cb, "ray {i}: {g:?} {c:?}");
+            let dir = Vec3::new(ray.dir[0], ray.dir[1], ray.dir[2]);
+            assert!(
+                (gt - ct).abs() * dir.dot(&cn).abs() <= 1e-5,
+                "ray {i}: {g:?} {c:?}"
+            );
+            assert!((gn - cn).norm() <= 1e-5, "ray {i}: {g:?} {c:?}");
+        }
+        assert!(hits > 300, "max_toi {max_toi}: {hits} hits");
+    }
+    let e = cast_rays(&ctx, &pose_buffer, &shape_buffer, 101, &rays, 1.0).unwrap_err();
+    assert!(e.to_string().contains("poses"), "{e}");
+}

@@ -4,6 +4,7 @@ use std::collections::HashMap;
 
 use tumble_geometry::{FeatureKind, MAX_MANIFOLD_POINTS, Manifold, Pose, Real, Vec3};
 
+use crate::pair_hash::PairBuildHasher;
 use crate::{Body, Contact, PointImpulse};
 
 /// Farthest a point may move in body A's frame and still inherit an impulse when its feature
@@ -46,7 +47,7 @@ pub struct CachedManifold {
 /// Impulses of the last step's manifolds, looked up by pair.
 #[derive(Clone, Debug, Default)]
 pub struct ContactCache {
-    manifolds: HashMap<PairKey, CachedManifold>,
+    manifolds: HashMap<PairKey, CachedManifold, PairBuildHasher>,
 }
 
 impl ContactCache {

@@ -71,6 +71,7 @@ mod integrate;
 mod islands;
 mod mass;
 mod material;
+mod pair_hash;
 mod sleep;
 mod softness;
 mod solve;
@@ -110,15 +111,15 @@ pub use integrate::{
 pub use islands::Islands;
 pub use mass::MassProperties;
 pub use material::{DEFAULT_FRICTION, Material, mix_friction, mix_restitution};
+pub use pair_hash::{PairBuildHasher, PairHasher};
 pub use sleep::labels::{IslandSearch, SleepLabels, SleepLink, island_search};
 pub use sleep::{
     ANGULAR_SLEEP_TOLERANCE, AWAKE, Gathered, LINEAR_SLEEP_TOLERANCE, SleepState, TIME_TO_SLEEP,
     is_moving_kinematic, is_resting,
 };
 pub use softness::Softness;
-pub use solve::{SolveStats, solve, solve_with_effects};
+pub use solve::{SolveBuffers, SolveStats, solve, solve_with_buffers, solve_with_effects};
 pub use stage::Stage;
-pub use sweep::{Batch, sweep};
 pub use tangent_basis::tangent_basis;
 pub use tumble_broad::CollisionGroups;
 

@@ -10,10 +10,11 @@
 use rayon::prelude::*;
 use tumble_geometry::{Real, Vec3};
 
+use crate::sweep::{Batch, check_disjoint, sweep};
 use crate::{
-    Batch, Body, BodyState, Coloring, Contact, ContactConstraint, Effects, Mat3, OVERFLOW_COLOR,
+    Body, BodyState, Coloring, Contact, ContactConstraint, Effects, Mat3, OVERFLOW_COLOR,
     PassContext, PrepareContext, SolveOrder, SolverConfig, begin_step, integrate_positions,
-    integrate_velocities_with, prepare_contact, restitution_contact, solve_contact, sweep,
+    integrate_velocities_with, prepare_contact, restitution_contact, solve_contact,
     warm_start_contact,
 };
 
@@ -31,31 +32,69 @@ pub struct SolveStats {
     pub parallel_batches: usize,
 }
 
-/// The visiting order: the constraint permutation and its batches.
+/// What the solve stage keeps between steps so that a step allocates nothing once the scene's
+/// size has been reached: the constraints (about 1 KB each, megabytes on a large pile), the
+/// bodies' world inverse inertias, the visiting order and its batches, and the scratch of the
+/// batch check. Holding one across steps changes no result: every buffer is rewritten in
+/// full before it is read.
+#[derive(Debug, Default)]
+pub struct SolveBuffers {
+    constraints: Vec<ContactConstraint>,
+    inverse_inertia: Vec<Mat3>,
+    order: Vec<u32>,
+    batches: Vec<Batch>,
+    stamps: Vec<u32>,
+}
+
+/// The visiting order: the constraint permutation (`order`) and its batches.
 fn plan(
     contacts: &[Contact],
     coloring: &Coloring,
     config: &SolverConfig,
-) -> (Vec<u32>, Vec<Batch>) {
+    order: &mut Vec<u32>,
+    batches: &mut Vec<Batch>,
+) {
+    batches.clear();
+    order.clear();
     let colored = config.order == SolveOrder::Colored && coloring.colors.len() == contacts.len();
     if !colored {
-        let order = (0..contacts.len() as u32).collect();
-        let batches = vec![Batch {
+        order.extend(0..contacts.len() as u32);
+        batches.push(Batch {
             range: 0..contacts.len(),
             parallel: false,
-        }];
-        return (order, batches);
+        });
+        return;
     }
-    let batches = (0..=OVERFLOW_COLOR)
-        .map(|c| {
-            let range =
-                coloring.offsets[c as usize] as usize..coloring.offsets[c as usize + 1] as usize;
-            let parallel = c != OVERFLOW_COLOR && range.len() >= config.parallel_threshold as usize;
-            Batch { range, parallel }
-        })
-        .filter(|b| !b.range.is_empty())
-        .collect();
-    (coloring.order.clone(), batches)
+    order.extend_from_slice(&coloring.order);
+    batches.extend(
+        (0..=OVERFLOW_COLOR)
+            .map(|c| {
+                let range = coloring.offsets[c as usize] as usize
+                    ..coloring.offsets[c as usize + 1] as usize;
+                let parallel =
+                    c != OVERFLOW_COLOR && range.len() >= config.parallel_threshold as usize;
+                Batch { range, parallel }
+            })
+            .filter(|b| !b.range.is_empty()),
+    );
+}
+
+/// Makes sure every parallel batch shares no dynamic body between its constraints, which the
+/// in-place parallel sweep relies on; a batch that does (a coloring that is not one) is
+/// visited sequentially, which gives the reference result.
+fn check_batches(
+    constraints: &[ContactConstraint],
+    batches: &mut [Batch],
+    stamps: &mut Vec<u32>,
+    bodies: usize,
+) {
+    stamps.clear();
+    stamps.resize(bodies, u32::MAX);
+    for (k, batch) in batches.iter_mut().enumerate() {
+        if batch.parallel && !check_disjoint(&constraints[batch.range.clone()], stamps, k as u32) {
+            batch.parallel = false;
+        }
+    }
 }
 
 /// Runs the solve stage for one step of length `dt`.
@@ -102,6 +141,40 @@ pub fn solve_with_effects(
     gravity: &Vec3,
     effects: &Effects,
 ) -> SolveStats {
+    solve_with_buffers(
+        bodies,
+        states,
+        contacts,
+        coloring,
+        config,
+        dt,
+        gravity,
+        effects,
+        &mut SolveBuffers::default(),
+    )
+}
+
+/// [`solve_with_effects`] with its working memory in `buffers`, which a caller that steps
+/// again keeps: the same bits, without allocating the constraints every step.
+#[allow(clippy::too_many_arguments)]
+pub fn solve_with_buffers(
+    bodies: &[Body],
+    states: &mut [BodyState],
+    contacts: &mut [Contact],
+    coloring: &Coloring,
+    config: &SolverConfig,
+    dt: Real,
+    gravity: &Vec3,
+    effects: &Effects,
+    buffers: &mut SolveBuffers,
+) -> SolveStats {
+    let SolveBuffers {
+        constraints,
+        inverse_inertia,
+        order,
+        batches,
+        stamps,
+    } = buffers;
     let substeps = config.substeps.max(1);
     let h = dt / substeps as Real;
     let inv_h = 1.0 / h;
@@ -120,34 +193,38 @@ pub fn solve_with_effects(
     // and the spin): contacts then push without torque and the integrator adds no spin. For
     // a scene that needs no rotation (every moving body dynamic with all rotations locked)
     // both are zero already, so the result bits do not change.
-    let inverse_inertia: Vec<Mat3> = if effects.rotation {
-        bodies.iter().map(Body::inverse_inertia_world).collect()
+    inverse_inertia.clear();
+    if effects.rotation {
+        inverse_inertia.extend(bodies.iter().map(Body::inverse_inertia_world));
     } else {
         for s in states.iter_mut() {
             s.angular_velocity = Vec3::zeros();
         }
-        vec![Mat3::zeros(); bodies.len()]
-    };
-    let (order, batches) = plan(contacts, coloring, config);
+        inverse_inertia.resize(bodies.len(), Mat3::zeros());
+    }
+    plan(contacts, coloring, config, order, batches);
+    let inverse_inertia: &[Mat3] = inverse_inertia;
     let prepare = |&i: &u32| {
         prepare_contact(
             bodies,
-            &inverse_inertia,
+            inverse_inertia,
             states,
             contacts,
             i as usize,
             &prepare_ctx,
         )
     };
-    let mut constraints: Vec<ContactConstraint> = if order.len() >= PARALLEL_PREPARE_MIN {
-        order.par_iter().map(prepare).collect()
+    if order.len() >= PARALLEL_PREPARE_MIN {
+        order.par_iter().map(prepare).collect_into_vec(constraints);
     } else {
-        order.iter().map(prepare).collect()
-    };
+        constraints.clear();
+        constraints.extend(order.iter().map(prepare));
+    }
+    check_batches(constraints, batches, stamps, states.len());
     if !effects.friction {
         // A zero coefficient is what makes the passes skip the tangent rows; the warm start
         // must not re-apply friction impulses carried from before the effect went off.
-        for c in &mut constraints {
+        for c in constraints.iter_mut() {
             c.friction = 0.0;
             for p in &mut c.points {
                 p.tangent_impulse = [0.0; 2];
@@ -156,7 +233,6 @@ pub fn solve_with_effects(
     }
     let gravity = effects.gravity.then_some(gravity);
 
-    let mut scratch = Vec::new();
     let solve_pass = |use_bias| PassContext {
         inv_h,
         use_bias,
@@ -166,44 +242,26 @@ pub fn solve_with_effects(
     let relaxed = solve_pass(false);
     for _ in 0..substeps {
         integrate_velocities_with(bodies, states, gravity, effects.rotation, h);
-        sweep(
-            &mut constraints,
-            &batches,
-            states,
-            &mut scratch,
-            &warm_start_contact,
-        );
+        sweep(constraints, batches, states, &warm_start_contact);
         for _ in 0..config.iterations {
-            sweep(
-                &mut constraints,
-                &batches,
-                states,
-                &mut scratch,
-                &|c, a, b| solve_contact(c, a, b, &biased),
-            );
+            sweep(constraints, batches, states, &|c, a, b| {
+                solve_contact(c, a, b, &biased)
+            });
         }
         integrate_positions(bodies, states, h);
         for _ in 0..config.relax_iterations {
-            sweep(
-                &mut constraints,
-                &batches,
-                states,
-                &mut scratch,
-                &|c, a, b| solve_contact(c, a, b, &relaxed),
-            );
+            sweep(constraints, batches, states, &|c, a, b| {
+                solve_contact(c, a, b, &relaxed)
+            });
         }
     }
     if effects.restitution && constraints.iter().any(|c| c.restitution > 0.0) {
         let threshold = config.restitution_threshold;
-        sweep(
-            &mut constraints,
-            &batches,
-            states,
-            &mut scratch,
-            &|c, a, b| restitution_contact(c, a, b, threshold),
-        );
+        sweep(constraints, batches, states, &|c, a, b| {
+            restitution_contact(c, a, b, threshold)
+        });
     }
-    for c in &constraints {
+    for c in constraints.iter() {
         c.store_impulses(&mut contacts[c.contact as usize]);
     }
     SolveStats {

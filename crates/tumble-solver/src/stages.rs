@@ -131,12 +131,13 @@ pub fn narrow_phase(
         contact.tilt_impulse = cache.warm_tilt(&key, &manifold, &ba.pose);
         Some((contact, key))
     };
-    let found: Vec<(Contact, PairKey)> = if pairs.len() >= PARALLEL_MIN_PAIRS {
-        pairs.par_iter().filter_map(test).collect()
+    // Straight into the two output arrays (in pair order on either path): no intermediate
+    // array of (contact, key) tuples to copy out of.
+    let (contacts, keys) = if pairs.len() >= PARALLEL_MIN_PAIRS {
+        pairs.par_iter().filter_map(test).unzip()
     } else {
-        pairs.iter().filter_map(test).collect()
+        pairs.iter().filter_map(test).unzip()
     };
-    let (contacts, keys) = found.into_iter().unzip();
     NarrowPhaseOutput { contacts, keys }
 }
 

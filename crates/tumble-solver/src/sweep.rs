@@ -1,17 +1,24 @@
 //! Visiting constraints in solve order: batches run one after another; a parallel batch (one
-//! graph color) runs its constraints on the rayon pool, a sequential batch (the reference
-//! order, or the overflow set) one at a time.
+//! graph color) spreads its constraints over the rayon pool's workers, a sequential batch (the
+//! reference order, or the overflow set) runs one constraint at a time.
 //!
-//! A parallel batch gathers each constraint's two body states, solves on the copies and
-//! scatters the dynamic ones back. Inside a color no dynamic body appears twice, so every
-//! copy sees exactly the state a sequential visit would see, and the result does not depend on
-//! the number of threads or on scheduling.
+//! The workers start once per sweep (one pass over every batch) and take blocks of
+//! [`BLOCK`] constraints of the current batch by an atomic counter, as Box2D v3's solver
+//! stages do; each constraint copies its two body states, solves on the copies and writes the
+//! dynamic ones straight back into the shared state array, with no scratch copy and no serial
+//! write-back. Inside a color no dynamic body appears twice ([`Batch::parallel`] promises it
+//! and [`check_disjoint`] checks it once per step), so a constraint reads exactly the state a
+//! sequential visit would read and writes bodies no other constraint of the color reads or
+//! writes: the result is the same bits on any number of threads and under any scheduling.
 
 use std::ops::Range;
-
-use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use crate::{BodyState, ContactConstraint};
+
+/// Constraints per block of a parallel batch: enough work (a few microseconds) to pay for a
+/// worker taking it, small enough that a color of a few hundred constraints still spreads.
+const BLOCK: usize = 32;
 
 /// A run of constraints (indices into the step's constraint array) visited as one unit.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -24,54 +31,247 @@ pub struct Batch {
 }
 
 /// Applies `op` to every constraint, batch by batch.
-pub fn sweep<F>(
+///
+/// Every batch marked parallel must have no dynamic body twice (as [`check_disjoint`] says).
+/// With one thread, or no parallel batch, the batches run in order on the calling thread.
+/// Otherwise the pool's workers start once for the whole sweep: each batch is a stage of
+/// blocks (a parallel batch [`BLOCK`] constraints per block, a sequential one a single
+/// block), a worker claims the next block of the current stage with an atomic counter and
+/// solves it in place, and moves to the next stage once every block of this one is done. A
+/// worker that starts late finds the finished stages' blocks all claimed and catches up, so
+/// the sweep never waits for a worker that the pool has not started, and the calling thread
+/// alone can finish it.
+pub(crate) fn sweep<F>(
     constraints: &mut [ContactConstraint],
     batches: &[Batch],
     states: &mut [BodyState],
-    scratch: &mut Vec<(BodyState, BodyState)>,
     op: &F,
 ) where
     F: Fn(&mut ContactConstraint, &mut BodyState, &mut BodyState) + Sync,
 {
-    for batch in batches {
-        let slice = &mut constraints[batch.range.clone()];
-        if batch.parallel {
-            scratch.resize(slice.len(), Default::default());
-            let read: &[BodyState] = states;
-            slice
-                .par_iter_mut()
-                .zip(scratch.par_iter_mut())
-                .for_each(|(c, out)| {
-                    let mut a = read[c.body_a as usize];
-                    let mut b = read[c.body_b as usize];
-                    op(c, &mut a, &mut b);
-                    *out = (a, b);
-                });
-            for (c, (a, b)) in slice.iter().zip(scratch.iter()) {
-                write_back(c, states, a, b);
+    let threads = rayon::current_num_threads();
+    let wide = batches.iter().any(|b| b.parallel && b.range.len() > BLOCK);
+    if threads == 1 || !wide {
+        for batch in batches {
+            solve_run(&mut constraints[batch.range.clone()], states, op);
+        }
+        return;
+    }
+    let stages: Vec<Stage> = batches
+        .iter()
+        .map(|b| Stage {
+            start: b.range.start,
+            len: b.range.len(),
+            block: if b.parallel {
+                BLOCK
+            } else {
+                b.range.len().max(1)
+            },
+            next: AtomicUsize::new(0),
+            done: AtomicUsize::new(0),
+        })
+        .collect();
+    assert!(
+        batches.iter().all(|b| b.range.end <= constraints.len()),
+        "batch out of range"
+    );
+    let shared = Shared {
+        constraints: constraints.as_mut_ptr(),
+        states: states.as_mut_ptr(),
+        len: states.len(),
+    };
+    let work = || {
+        for stage in &stages {
+            let blocks = stage.len.div_ceil(stage.block);
+            loop {
+                let k = stage.next.fetch_add(1, Ordering::Relaxed);
+                if k >= blocks {
+                    break;
+                }
+                let from = stage.start + k * stage.block;
+                let to = (from + stage.block).min(stage.start + stage.len);
+                // SAFETY: blocks of a stage are disjoint ranges of `constraints` (checked in
+                // range above), each claimed by exactly one worker; the stage's dynamic
+                // bodies are disjoint between its blocks (a parallel batch's contract; a
+                // sequential batch is one block), and no other stage runs meanwhile: a
+                // worker enters the next stage only after every block of this one is done.
+                unsafe { shared.solve_block(from..to, op) };
+                stage.done.fetch_add(1, Ordering::Release);
             }
-        } else {
-            for c in slice.iter_mut() {
-                let mut a = states[c.body_a as usize];
-                let mut b = states[c.body_b as usize];
-                op(c, &mut a, &mut b);
-                write_back(c, states, &a, &b);
+            // Every block is claimed: wait for the ones still being solved, whose writes
+            // the next stage reads (the acquire pairs with each block's release).
+            let mut spins = 0u32;
+            while stage.done.load(Ordering::Acquire) < blocks {
+                spins += 1;
+                if spins < 64 {
+                    std::hint::spin_loop();
+                } else {
+                    std::thread::yield_now();
+                }
+            }
+        }
+    };
+    rayon::scope(|scope| {
+        for _ in 1..threads {
+            scope.spawn(|_| work());
+        }
+        work();
+    });
+}
+
+/// One stage of a staged sweep: a batch cut into blocks, with its claim and done counters.
+struct Stage {
+    start: usize,
+    len: usize,
+    block: usize,
+    next: AtomicUsize,
+    done: AtomicUsize,
+}
+
+/// The constraint and state arrays shared by the workers of a staged sweep.
+#[derive(Clone, Copy)]
+struct Shared {
+    constraints: *mut ContactConstraint,
+    states: *mut BodyState,
+    len: usize,
+}
+
+// SAFETY: the pointers are only dereferenced inside `sweep`, while the slices they were made
+// from are mutably borrowed by it; which worker touches which element is said at each use.
+unsafe impl Send for Shared {}
+// SAFETY: as above.
+unsafe impl Sync for Shared {}
+
+impl Shared {
+    /// Solves constraints `range` in order, in place.
+    ///
+    /// # Safety
+    /// `range` lies inside the constraint array; no other thread touches these constraints,
+    /// writes any body they read, or reads or writes a dynamic body of theirs meanwhile.
+    unsafe fn solve_block<F>(self, range: Range<usize>, op: &F)
+    where
+        F: Fn(&mut ContactConstraint, &mut BodyState, &mut BodyState),
+    {
+        for i in range {
+            // SAFETY: the caller's contract: constraint `i` is this thread's alone.
+            let c = unsafe { &mut *self.constraints.add(i) };
+            let (ia, ib) = (c.body_a as usize, c.body_b as usize);
+            assert!(ia < self.len && ib < self.len, "body index out of range");
+            // SAFETY: in range (checked); no other thread writes these bodies meanwhile.
+            let (mut a, mut b) = unsafe { (*self.states.add(ia), *self.states.add(ib)) };
+            op(c, &mut a, &mut b);
+            // SAFETY: a dynamic body of this constraint is no other thread's meanwhile.
+            unsafe {
+                if c.dynamic_a {
+                    set_velocities(&mut *self.states.add(ia), &a);
+                }
+                if c.dynamic_b {
+                    set_velocities(&mut *self.states.add(ib), &b);
+                }
             }
         }
     }
 }
 
-/// Stores the solved copies of the dynamic bodies; fixed and kinematic bodies are read-only.
-#[inline]
-fn write_back(c: &ContactConstraint, states: &mut [BodyState], a: &BodyState, b: &BodyState) {
-    if c.dynamic_a {
-        let s = &mut states[c.body_a as usize];
-        s.linear_velocity = a.linear_velocity;
-        s.angular_velocity = a.angular_velocity;
+/// Solves `constraints` one after another on the calling thread.
+fn solve_run<F>(constraints: &mut [ContactConstraint], states: &mut [BodyState], op: &F)
+where
+    F: Fn(&mut ContactConstraint, &mut BodyState, &mut BodyState),
+{
+    for c in constraints {
+        let mut a = states[c.body_a as usize];
+        let mut b = states[c.body_b as usize];
+        op(c, &mut a, &mut b);
+        if c.dynamic_a {
+            set_velocities(&mut states[c.body_a as usize], &a);
+        }
+        if c.dynamic_b {
+            set_velocities(&mut states[c.body_b as usize], &b);
+        }
     }
-    if c.dynamic_b {
-        let s = &mut states[c.body_b as usize];
-        s.linear_velocity = b.linear_velocity;
-        s.angular_velocity = b.angular_velocity;
+}
+
+/// True when no dynamic body appears in two of `constraints`: the condition for visiting
+/// them as one parallel batch. `stamps` (one entry per body, any contents) is scratch space,
+/// `stamp` a value not yet written into it for this batch.
+pub(crate) fn check_disjoint(
+    constraints: &[ContactConstraint],
+    stamps: &mut [u32],
+    stamp: u32,
+) -> bool {
+    for c in constraints {
+        for (body, dynamic) in [(c.body_a, c.dynamic_a), (c.body_b, c.dynamic_b)] {
+            if !dynamic {
+                continue;
+            }
+            match stamps.get_mut(body as usize) {
+                Some(s) if *s != stamp => *s = stamp,
+                _ => return false,
+            }
+        }
+    }
+    true
+}
+
+/// Stores the solved velocities of a dynamic body (its deltas are not the passes' to change).
+#[inline]
+fn set_velocities(out: &mut BodyState, solved: &BodyState) {
+    out.linear_velocity = solved.linear_velocity;
+    out.angular_velocity = solved.angular_velocity;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{ConstraintPoint, Mat3, Softness};
+    use tumble_geometry::{MAX_MANIFOLD_POINTS, Vec3};
+
+    /// A constraint between `a` and `b` (index, dynamic); only the bodies matter here.
+    fn between(a: (u32, bool), b: (u32, bool)) -> ContactConstraint {
+        ContactConstraint {
+            body_a: a.0,
+            body_b: b.0,
+            contact: 0,
+            dynamic_a: a.1,
+            dynamic_b: b.1,
+            normal: Vec3::y(),
+            tangent1: Vec3::x(),
+            tangent2: Vec3::z(),
+            inverse_mass_a: Vec3::zeros(),
+            inverse_mass_b: Vec3::zeros(),
+            inverse_inertia_a: Mat3::zeros(),
+            inverse_inertia_b: Mat3::zeros(),
+            friction: 0.0,
+            restitution: 0.0,
+            softness: Softness::default(),
+            slop: 0.0,
+            point_count: 0,
+            points: [ConstraintPoint::default(); MAX_MANIFOLD_POINTS],
+            patch_radius: 0.0,
+            tilt_mass: [0.0; 2],
+            tilt_impulse: [0.0; 2],
+            tilt_push_a: [Vec3::zeros(); 2],
+            tilt_push_b: [Vec3::zeros(); 2],
+        }
+    }
+
+    #[test]
+    fn a_batch_is_disjoint_unless_a_dynamic_body_repeats() {
+        let mut stamps = vec![u32::MAX; 4];
+        // Body 0 is fixed and shared: allowed, it is only read.
+        let shared_floor = [
+            between((0, false), (1, true)),
+            between((0, false), (2, true)),
+        ];
+        assert!(check_disjoint(&shared_floor, &mut stamps, 0));
+        // Body 2 is dynamic in two constraints: in place, their writes would race.
+        let shared_box = [between((1, true), (2, true)), between((2, true), (3, true))];
+        assert!(!check_disjoint(&shared_box, &mut stamps, 1));
+        // A body index past the state array is refused, not read.
+        assert!(!check_disjoint(
+            &[between((0, false), (9, true))],
+            &mut stamps,
+            2
+        ));
     }
 }

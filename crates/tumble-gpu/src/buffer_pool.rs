@@ -106,3 +106,143 @@ impl BufferPool {
         self.buffers.values().map(|b| b.size()).sum()
     }
 }
+
+/// One pooled buffer's contents as saved by [`BufferPool::save`]: its name, its size in
+/// bytes, and its bytes up to the last non-zero one (a device buffer starts zeroed, so the
+/// rest is zeros).
+#[derive(Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct SavedBuffer {
+    /// The pool's name for the buffer.
+    pub name: String,
+    /// Its size in bytes.
+    pub size: u64,
+    /// Its contents, trailing zeros left out.
+    pub bytes: Vec<u8>,
+}
+
+impl BufferPool {
+    /// The buffers that hold state a kernel wrote (every one the device can copy from:
+    /// parameter blocks, which the host writes, are left out), in name order.
+    fn state_buffers(&self) -> Vec<(&'static str, &wgpu::Buffer)> {
+        let mut out: Vec<_> = self
+            .buffers
+            .iter()
+            .filter(|(_, b)| b.usage().contains(wgpu::BufferUsages::COPY_SRC))
+            .map(|(&n, b)| (n, b))
+            .collect();
+        out.sort_unstable_by_key(|(n, _)| *n);
+        out
+    }
+
+    /// Every state buffer's contents, read back (blocking, after all submitted work).
+    pub fn save(&self) -> Result<Vec<SavedBuffer>, GpuError> {
+        self.state_buffers()
+            .into_iter()
+            .map(|(name, buffer)| {
+                let mut bytes: Vec<u8> = self.ctx.read_buffer(buffer, 0, buffer.size())?;
+                let used = bytes.iter().rposition(|&b| b != 0).map_or(0, |i| i + 1);
+                bytes.truncate(used);
+                Ok(SavedBuffer {
+                    name: name.to_string(),
+                    size: buffer.size(),
+                    bytes,
+                })
+            })
+            .collect()
+    }
+
+    /// Writes `saved` (from [`Self::save`] of a pool holding the same buffers) into this
+    /// pool's buffers, each made exactly `saved.size` bytes. Errs, before writing anything,
+    /// when the two pools do not hold the same state buffers or a buffer holds more bytes
+    /// than its size, naming it.
+    pub fn load(&mut self, saved: &[SavedBuffer]) -> Result<(), GpuError> {
+        let mine: Vec<&'static str> = self.state_buffers().iter().map(|(n, _)| *n).collect();
+        let theirs: Vec<&str> = saved.iter().map(|s| s.name.as_str()).collect();
+        if mine != theirs {
+            return Err(GpuError::InvalidInput {
+                field: "saved buffers".into(),
+                value: format!("{theirs:?} (this stage holds {mine:?})"),
+            });
+        }
+        if let Some(s) = saved
+            .iter()
+            .find(|s| s.bytes.len() as u64 > s.size || s.size % wgpu::COPY_BUFFER_ALIGNMENT != 0)
+        {
+            return Err(GpuError::InvalidInput {
+                field: format!("saved buffer {}", s.name),
+                value: format!("{} bytes in a buffer of {}", s.bytes.len(), s.size),
+            });
+        }
+        for (name, s) in mine.into_iter().zip(saved) {
+            self.ctx.check_storage_size(name, s.size)?;
+            let usage = self.buffers[name].usage();
+            if self.buffers[name].size() != s.size {
+                let buffer = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(name),
+                    size: s.size,
+                    usage,
+                    mapped_at_creation: false,
+                });
+                self.buffers.insert(name, buffer);
+                self.generation += 1;
+            }
+            let mut bytes = s.bytes.clone();
+            bytes.resize(s.size as usize, 0);
+            self.ctx.queue.write_buffer(&self.buffers[name], 0, &bytes);
+        }
+        Ok(())
+    }
+
+    /// Records a copy of every state buffer into the same-named buffer of `shadow` (made to
+    /// match first): a checkpoint on the device that [`Self::copy_back`] restores.
+    pub fn record_checkpoint(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        shadow: &mut BufferPool,
+    ) -> Result<(), GpuError> {
+        for (name, buffer) in self.state_buffers() {
+            let fits = shadow
+                .buffers
+                .get(name)
+                .is_some_and(|b| b.size() == buffer.size());
+            if !fits {
+                let copy = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(name),
+                    size: buffer.size(),
+                    usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                shadow.buffers.insert(name, copy);
+            }
+            encoder.copy_buffer_to_buffer(buffer, 0, &shadow.buffers[name], 0, buffer.size());
+        }
+        Ok(())
+    }
+
+    /// Records the copy of `shadow`'s checkpoint back into this pool's buffers. Errs, copying
+    /// nothing, when a buffer was reallocated since the checkpoint.
+    pub fn copy_back(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        shadow: &BufferPool,
+    ) -> Result<(), GpuError> {
+        let buffers = self.state_buffers();
+        for (name, buffer) in &buffers {
+            if shadow
+                .buffers
+                .get(name)
+                .is_none_or(|b| b.size() != buffer.size())
+            {
+                return Err(GpuError::InvalidInput {
+                    field: "checkpoint".into(),
+                    value: format!("buffer {name} reallocated since"),
+                });
+            }
+        }
+        for (name, buffer) in buffers {
+            encoder.copy_buffer_to_buffer(&shadow.buffers[name], 0, buffer, 0, buffer.size());
+        }
+        Ok(())
+    }
+}

@@ -4,11 +4,14 @@
 //! events), so that a world restored from it continues bit for bit as the one it was taken
 //! from, on the same backend.
 //!
-//! Snapshots are taken on `Backend::Cpu`; `Backend::Gpu` and `Backend::Hybrid` keep their
-//! warm-start impulses in GPU pair buffers, which are not saved yet, and answer
-//! [`World::snapshot`] with an error. With the crate's `serde` feature a snapshot is
-//! `Serialize` and `Deserialize` (floats round-trip exactly through JSON's shortest
-//! representation).
+//! On `Backend::Gpu` and `Backend::Hybrid` the snapshot also holds the device state the next
+//! steps read, copied back from the GPU buffers (`tumble_gpu::step::GpuWorldState`,
+//! `tumble_gpu::step::SavedHybrid`: both pair parities with their manifolds and impulses, the
+//! solver's colors and tilt impulses, the sleep stage's rest times and islands, the lagged
+//! step statistics), which a restore writes back into a new device world; the restored world
+//! then continues bit for bit on the same kind of adapter. With the crate's `serde` feature a
+//! snapshot is `Serialize` and `Deserialize` (floats round-trip exactly through JSON's
+//! shortest representation).
 
 use tumble_solver::{Body, BodyState, CachedManifold, Contact, PairKey, SleepState, bounds};
 
@@ -18,8 +21,9 @@ use crate::handle::HandleMap;
 use crate::{Backend, BodyHandle, Error, StepStats, World, WorldConfig};
 
 /// The layout of [`WorldSnapshot`]: a snapshot of another layout is refused. Format 2 added
-/// each body's collision groups, force, torque, gravity scale and user data.
-const FORMAT: u32 = 2;
+/// each body's collision groups, force, torque, gravity scale and user data; format 3 the
+/// GPU backends' device state.
+const FORMAT: u32 = 3;
 
 /// What a snapshot expects of its contents.
 const EXPECTED: &str = "a snapshot as World::snapshot took it";
@@ -51,15 +55,53 @@ pub(crate) enum BackendSnapshot {
         /// Last step's impulses by body pair.
         cache: Vec<(PairKey, CachedManifold)>,
     },
+    /// `Backend::Gpu`: the device world's state and what the backend knows of it.
+    #[cfg(feature = "gpu")]
+    Gpu {
+        /// The device world's buffers and counters.
+        state: Box<tumble_gpu::step::GpuWorldState>,
+        /// The handles of the bodies on the GPU, in dense order.
+        uploaded: Vec<BodyHandle>,
+        /// Pose and velocities of each body as the GPU holds them.
+        synced: Vec<(tumble_geometry::Pose, BodyState)>,
+        /// Dense indices of bodies whose properties are to be written before the next step.
+        changed: Vec<usize>,
+    },
+    /// `Backend::Hybrid`: the GPU collision stages' state.
+    #[cfg(feature = "gpu")]
+    Hybrid {
+        /// The collision stages' buffers and counters, and the tilt impulses kept by slot.
+        collision: Box<tumble_gpu::step::SavedHybrid>,
+        /// The handles of the bodies on the GPU, in dense order.
+        uploaded: Vec<BodyHandle>,
+    },
 }
 
 impl BackendSnapshot {
     /// The backend the state belongs to.
-    fn backend(&self) -> Backend {
+    pub(crate) fn backend(&self) -> Backend {
         match self {
             Self::Cpu { .. } => Backend::Cpu,
+            #[cfg(feature = "gpu")]
+            Self::Gpu { .. } => Backend::Gpu,
+            #[cfg(feature = "gpu")]
+            Self::Hybrid { .. } => Backend::Hybrid,
         }
     }
+}
+
+/// The error for `saved` given to a backend `to` of another kind.
+pub(crate) fn wrong_backend(saved: &BackendSnapshot, to: Backend) -> Error {
+    corrupt(
+        "snapshot.backend",
+        format!("{:?} state for a {to:?} world", saved.backend()),
+    )
+}
+
+/// The error for a snapshot whose device state does not fit (`why`).
+#[cfg(feature = "gpu")]
+pub(crate) fn corrupt_device(why: impl std::fmt::Display) -> Error {
+    corrupt("snapshot.device", why)
 }
 
 impl WorldSnapshot {
@@ -81,6 +123,7 @@ impl WorldSnapshot {
     /// Checks every part against the others and against the engine's bounds, so that a
     /// snapshot altered after it was taken (by hand, or corrupted on disk) is refused rather
     /// than stepped.
+    #[cfg_attr(not(feature = "gpu"), allow(irrefutable_let_patterns))]
     fn check(&self) -> Result<(), Error> {
         if self.format != FORMAT {
             return Err(corrupt("snapshot.format", self.format));
@@ -143,8 +186,9 @@ impl WorldSnapshot {
                 ));
             }
         }
-        let BackendSnapshot::Cpu { cache } = &self.backend;
-        if let Some((key, m)) = cache.iter().find(|(_, m)| m.len as usize > max_points) {
+        if let BackendSnapshot::Cpu { cache } = &self.backend
+            && let Some((key, m)) = cache.iter().find(|(_, m)| m.len as usize > max_points)
+        {
             return Err(corrupt(
                 "snapshot.cache",
                 format!("pair {key:?}: {} points", m.len),
@@ -200,21 +244,33 @@ fn check_body(b: &Body, s: &BodyState, dt: f32, substeps: u32) -> Result<(), Str
 impl World {
     /// Everything that decides the world's next steps, as a value: restored with
     /// [`World::restore`] or [`World::from_snapshot`], the world continues bit for bit as this
-    /// one would. Errs on `Backend::Gpu` and `Backend::Hybrid`, whose warm-start state lives
-    /// in GPU buffers that snapshots do not hold yet.
+    /// one would, on the same backend (on the GPU backends, on the same kind of adapter). On
+    /// `Backend::Gpu` and `Backend::Hybrid` the device state is read back, which waits for the
+    /// steps submitted so far. Errs when that read fails, or when the last step left a state
+    /// out of bounds (`Error::InvalidGpuState`).
     pub fn snapshot(&self) -> Result<WorldSnapshot, Error> {
-        let backend = self.backend.save()?;
         let host = &self.host;
+        // The GPU backend's host arrays may be behind its last step: the current motion and
+        // manifolds come from the backend's own reads.
+        let mut bodies = host.bodies.clone();
+        let mut states = host.states.clone();
+        for (d, (body, state)) in bodies.iter_mut().zip(&mut states).enumerate() {
+            body.pose = self.backend.pose(host, d)?;
+            *state = self.backend.state(host, d)?;
+        }
+        let (contacts, contact_handles) = self.backend.contacts(host);
+        let (contacts, contact_handles) = (contacts.to_vec(), contact_handles.to_vec());
+        let backend = self.backend.save()?;
         Ok(WorldSnapshot {
             format: FORMAT,
             config: self.config,
             steps: self.steps,
             handles: self.handles.clone(),
-            bodies: host.bodies.clone(),
-            states: host.states.clone(),
+            bodies,
+            states,
             user_data: host.user_data.clone(),
-            contacts: host.contacts.clone(),
-            contact_handles: host.contact_handles.clone(),
+            contacts,
+            contact_handles,
             sleep: host.sleep.clone(),
             events: self.events.clone(),
             backend,
@@ -239,12 +295,7 @@ impl World {
             });
         }
         snapshot.check()?;
-        let mut backend = new_backend(&snapshot.config)?;
-        backend.load(&snapshot.backend)?;
-        self.config = snapshot.config;
-        self.steps = snapshot.steps;
-        self.handles = snapshot.handles.clone();
-        self.host = Host {
+        let host = Host {
             bodies: snapshot.bodies.clone(),
             states: snapshot.states.clone(),
             user_data: snapshot.user_data.clone(),
@@ -257,6 +308,15 @@ impl World {
                 ..Default::default()
             },
         };
+        let mut backend = new_backend(&snapshot.config)?;
+        backend.load(&snapshot.backend, &host)?;
+        if snapshot.events.enabled {
+            backend.set_contact_events(true)?;
+        }
+        self.config = snapshot.config;
+        self.steps = snapshot.steps;
+        self.handles = snapshot.handles.clone();
+        self.host = host;
         self.events = snapshot.events.clone();
         self.backend = backend;
         self.query.invalidate();

@@ -21,6 +21,7 @@ pub mod snapshot;
 pub mod validate;
 
 mod reads;
+mod saved;
 
 pub use buffers::StepBuffers;
 use buffers::*;

@@ -172,6 +172,49 @@ impl GpuSleep {
         Ok(())
     }
 
+    /// The stage's buffers (none while it is off) and the bodies queued to wake, for a saved
+    /// world (blocking).
+    pub(crate) fn save_state(
+        &self,
+    ) -> Result<(Vec<crate::buffer_pool::SavedBuffer>, Vec<u32>), GpuError> {
+        let buffers = if self.is_enabled() {
+            self.pool.save()?
+        } else {
+            Vec::new()
+        };
+        Ok((buffers, self.queued.clone()))
+    }
+
+    /// Takes what [`Self::save_state`] gave, after [`Self::enable`] for the same bodies when
+    /// the saved stage was on. Errs when one is on and the other off.
+    pub(crate) fn load_state(
+        &mut self,
+        buffers: &[crate::buffer_pool::SavedBuffer],
+        queued: &[u32],
+    ) -> Result<(), GpuError> {
+        if buffers.is_empty() == self.is_enabled() {
+            return Err(GpuError::InvalidInput {
+                field: "sleep buffers".into(),
+                value: format!(
+                    "{} saved while the sleep stage is {}",
+                    buffers.len(),
+                    if self.is_enabled() { "on" } else { "off" }
+                ),
+            });
+        }
+        if self.is_enabled() {
+            self.pool.load(buffers)?;
+        }
+        if let Some(&i) = queued.iter().find(|&&i| i >= self.body_count) {
+            return Err(GpuError::InvalidInput {
+                field: "queued wakes".into(),
+                value: format!("body {i} of {}", self.body_count),
+            });
+        }
+        self.queued = queued.to_vec();
+        Ok(())
+    }
+
     /// Turns the stage off, waking every sleeping body first, in a submit of its own: `restore`
     /// holds the solver's bodies and the collision shapes to restore them in (`None` for a
     /// world without body buffers yet).

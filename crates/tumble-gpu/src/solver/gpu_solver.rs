@@ -217,6 +217,26 @@ impl GpuSolver {
         self.effects
     }
 
+    /// The solver's pooled buffers (for saving and restoring a world's state).
+    pub(crate) fn pool(&self) -> &BufferPool {
+        &self.pool
+    }
+
+    /// The solver's pooled buffers, to write a saved state into.
+    pub(crate) fn pool_mut(&mut self) -> &mut BufferPool {
+        &mut self.pool
+    }
+
+    /// Which copy of the colors and tilts the next step writes (0 or 1).
+    pub(crate) fn parity(&self) -> usize {
+        self.parity
+    }
+
+    /// Sets the parity a saved world had (0 or 1).
+    pub(crate) fn set_parity(&mut self, parity: usize) {
+        self.parity = parity % 2;
+    }
+
     /// Switches to pipelines with `effects` (bind groups are rebuilt on the next record).
     /// The sleep switch is not the solver's: it is dropped, so toggling it builds nothing.
     pub fn set_effects(&mut self, effects: Effects) -> Result<(), GpuError> {

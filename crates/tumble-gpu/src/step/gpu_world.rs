@@ -32,11 +32,13 @@ use super::stats_ring::{StatsRing, StatsSources};
 use crate::kernels::contact_events::ContactEventList;
 
 pub use draw::DrawBuffers;
+pub use saved::{GpuWorldState, SavedCollision, SavedIdle, SavedStats};
 
 mod bodies;
 mod draw;
 mod host_contacts;
 mod reads;
+mod saved;
 
 const BODIES: &str = "world bodies";
 const HOST_MANIFOLDS: &str = "host manifolds";

@@ -193,3 +193,59 @@ impl HybridCollision {
         Ok(())
     }
 }
+
+/// What a [`HybridCollision`] keeps between steps, saved to the host.
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct SavedHybrid {
+    /// The collision stages.
+    pub collision: super::SavedCollision,
+    /// Whether the uploaded shapes match the bodies.
+    pub shapes_uploaded: bool,
+    /// The collision groups uploaded, per body (memberships, filter).
+    pub groups: Vec<[u32; 2]>,
+    /// Last step's tilt impulse and normal in A's frame, per pair slot.
+    pub last_tilts: Vec<Option<([f32; 3], [f32; 3])>>,
+}
+
+impl HybridCollision {
+    /// Everything the next [`Self::collide`] reads (blocking).
+    pub fn save_state(&self) -> Result<SavedHybrid, GpuError> {
+        self.ctx.wait_idle()?;
+        Ok(SavedHybrid {
+            collision: self.collision.save_state()?,
+            shapes_uploaded: self.shapes_uploaded,
+            groups: self
+                .groups
+                .iter()
+                .map(|g| [g.memberships, g.filter_bits])
+                .collect(),
+            last_tilts: self
+                .last_tilts
+                .iter()
+                .map(|t| t.map(|(tilt, normal)| (tilt.into(), normal.into())))
+                .collect(),
+        })
+    }
+
+    /// Takes the state [`Self::save_state`] gave (into a new one with the same settings).
+    /// Errs when it does not fit, naming the part.
+    pub fn load_state(&mut self, saved: &SavedHybrid) -> Result<(), GpuError> {
+        self.collision.load_state(&saved.collision)?;
+        self.shapes_uploaded = saved.shapes_uploaded;
+        self.groups = saved
+            .groups
+            .iter()
+            .map(|&[memberships, filter_bits]| GpuCollisionGroups {
+                memberships,
+                filter_bits,
+            })
+            .collect();
+        self.last_tilts = saved
+            .last_tilts
+            .iter()
+            .map(|t| t.map(|(tilt, normal)| (Vec3::from(tilt), Vec3::from(normal))))
+            .collect();
+        Ok(())
+    }
+}

@@ -72,4 +72,24 @@ impl IdleSteps {
     pub fn skipped_steps(&self) -> u64 {
         self.skipped
     }
+
+    /// The tracker's state, for a saved world.
+    pub(crate) fn save(&self) -> super::SavedIdle {
+        super::SavedIdle {
+            changes: self.changes,
+            previous_count: self.previous_count,
+            idle: self.idle,
+            skipped: self.skipped,
+        }
+    }
+
+    /// The tracker a saved world had.
+    pub(crate) fn from_saved(s: super::SavedIdle) -> Self {
+        Self {
+            changes: s.changes,
+            previous_count: s.previous_count,
+            idle: s.idle,
+            skipped: s.skipped,
+        }
+    }
 }

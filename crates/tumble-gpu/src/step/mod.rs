@@ -12,6 +12,6 @@ pub mod snapshot;
 pub mod stats_ring;
 
 pub use config::{ColorDispatch, GpuWorldConfig, PathPolicy};
-pub use gpu_world::{DrawBuffers, GpuWorld};
-pub use hybrid::HybridCollision;
+pub use gpu_world::{DrawBuffers, GpuWorld, GpuWorldState, SavedCollision, SavedIdle, SavedStats};
+pub use hybrid::{HybridCollision, SavedHybrid};
 pub use snapshot::{ContactSnapshot, ReadRequest, Snapshot};

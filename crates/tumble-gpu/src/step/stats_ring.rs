@@ -54,6 +54,8 @@ struct Slot {
     /// the pending step.
     recorded: (bool, bool, u64),
     pending: Option<(wgpu::SubmissionIndex, MapResult)>,
+    /// Stats given by [`StatsRing::preset`] (a loaded world's), taken instead of a read.
+    preset: Option<StepStats>,
 }
 
 /// [`STATS_LAG`] staging slots used in turn.
@@ -77,6 +79,7 @@ impl StatsRing {
                 }),
                 recorded: (false, false, 0),
                 pending: None,
+                preset: None,
             })
             .collect();
         Self {
@@ -90,6 +93,9 @@ impl StatsRing {
     /// `None` when there was none (after a reset).
     pub fn take_lagged(&mut self) -> Result<Option<StepStats>, GpuError> {
         let slot = &mut self.slots[self.next];
+        if let Some(stats) = slot.preset.take() {
+            return Ok(Some(stats));
+        }
         let Some((index, mapped)) = slot.pending.take() else {
             return Ok(None);
         };
@@ -97,6 +103,46 @@ impl StatsRing {
         self.ctx.wait_until(Some(index), || map_lock().is_some())?;
         let status = map_lock().take().expect("the map callback has run");
         status.map_err(GpuError::Device)?;
+        let stats = Self::decode(slot)?;
+        slot.buffer.unmap();
+        Ok(Some(stats))
+    }
+
+    /// The stats of the steps not yet taken, in the order [`Self::take_lagged`] will take
+    /// them, waiting for them; they stay to be taken.
+    pub fn peek(&self) -> Result<Vec<Option<StepStats>>, GpuError> {
+        (0..STATS_LAG)
+            .map(|i| {
+                let slot = &self.slots[(self.next + i) % STATS_LAG];
+                if let Some(stats) = slot.preset {
+                    return Ok(Some(stats));
+                }
+                let Some((index, mapped)) = &slot.pending else {
+                    return Ok(None);
+                };
+                let map_lock = || mapped.lock().expect("stats map lock");
+                self.ctx
+                    .wait_until(Some(index.clone()), || map_lock().is_some())?;
+                if let Some(Err(e)) = &*map_lock() {
+                    return Err(GpuError::Device(e.clone()));
+                }
+                Self::decode(slot).map(Some)
+            })
+            .collect()
+    }
+
+    /// Makes `stats` (as [`Self::peek`] gave them) the next ones taken, in order, instead of
+    /// any read pending (for a world loaded from a saved one).
+    pub fn preset(&mut self, stats: impl IntoIterator<Item = Option<StepStats>>) {
+        for (i, s) in stats.into_iter().take(STATS_LAG).enumerate() {
+            let slot = &mut self.slots[(self.next + i) % STATS_LAG];
+            slot.pending = None;
+            slot.preset = s;
+        }
+    }
+
+    /// The stats in `slot`'s mapped staging buffer.
+    fn decode(slot: &Slot) -> Result<StepStats, GpuError> {
         let (work, active, counts) = {
             let view = slot
                 .buffer
@@ -109,14 +155,13 @@ impl StatsRing {
                 bytemuck::pod_read_unaligned(&view[COLORS_AT as usize..]);
             (work, active, counts)
         };
-        slot.buffer.unmap();
         let (active_copied, colors_copied, changes) = slot.recorded;
-        Ok(Some(StepStats {
+        Ok(StepStats {
             work,
             active: active_copied.then_some(active),
             changes,
             colors: colors_copied.then(|| colors_used(&counts)),
-        }))
+        })
     }
 
     /// Records the copy of this step's work list and of what `sources` names into the

@@ -5,7 +5,7 @@ use tumble_solver::{Body, Contact, ContactCache, PairKey, Stage, stages};
 
 use super::pipeline::{self, Collided, Collision, StepBodies};
 use super::{Host, StepArgs, StepBackend};
-use crate::snapshot::BackendSnapshot;
+use crate::snapshot::{BackendSnapshot, wrong_backend};
 use crate::stats::StageClock;
 use crate::{Backend, BodyHandle, Error};
 
@@ -95,8 +95,12 @@ impl StepBackend for CpuBackend {
         })
     }
 
-    fn load(&mut self, saved: &BackendSnapshot) -> Result<(), Error> {
-        let BackendSnapshot::Cpu { cache } = saved;
+    // Without the `gpu` feature the Cpu state is the only kind.
+    #[cfg_attr(not(feature = "gpu"), allow(irrefutable_let_patterns))]
+    fn load(&mut self, saved: &BackendSnapshot, _host: &Host) -> Result<(), Error> {
+        let BackendSnapshot::Cpu { cache } = saved else {
+            return Err(wrong_backend(saved, self.kind()));
+        };
         self.collision.cache = ContactCache::from_entries(cache.iter().copied());
         Ok(())
     }

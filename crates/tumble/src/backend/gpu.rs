@@ -21,6 +21,7 @@ use super::{
     ContactsView, Host, StepArgs, StepBackend, TouchingAndEvents, shared_context, unavailable,
 };
 use crate::gpu_reads::{ContactView, Reads, Unread};
+use crate::snapshot::{BackendSnapshot, corrupt_device, wrong_backend};
 use crate::{
     Backend, BodyHandle, ContactEvent, ContactEventKind, Error, StepStats, TouchingPair,
     WorldConfig,
@@ -468,6 +469,70 @@ impl StepBackend for GpuBackend {
         if !self.changed.contains(&d) {
             self.changed.push(d);
         }
+        Ok(())
+    }
+
+    fn save(&self) -> Result<BackendSnapshot, Error> {
+        if let Some(e) = self.invalid.get() {
+            return Err(e.clone());
+        }
+        if let Some(e) = self.unread.as_ref().and_then(Unread::error) {
+            return Err(failed(e));
+        }
+        // The GPU holds the last step's motion when the host is behind; else what the host
+        // had when it was last brought up to date.
+        let synced = match self.unread_motion() {
+            Some(u) => {
+                let poses = u.poses(&self.gpu).map_err(failed)?;
+                let velocities = u.velocities(&self.gpu).map_err(failed)?;
+                poses
+                    .iter()
+                    .copied()
+                    .zip(velocities.iter().copied())
+                    .collect()
+            }
+            None => self.synced.clone(),
+        };
+        let state = {
+            let mut gpu = self.gpu.lock().map_err(|_| poisoned())?;
+            gpu.save_state().map_err(failed)?
+        };
+        Ok(BackendSnapshot::Gpu {
+            state: Box::new(state),
+            uploaded: self.uploaded.clone(),
+            synced,
+            changed: self.changed.clone(),
+        })
+    }
+
+    fn load(&mut self, saved: &BackendSnapshot, host: &Host) -> Result<(), Error> {
+        let BackendSnapshot::Gpu {
+            state,
+            uploaded,
+            synced,
+            changed,
+        } = saved
+        else {
+            return Err(wrong_backend(saved, self.kind()));
+        };
+        let n = host.bodies.len();
+        if synced.len() != uploaded.len() || state.bodies.len() != uploaded.len() {
+            return Err(corrupt_device(format!(
+                "{} bodies on the GPU, {} handles, {} synced states",
+                state.bodies.len(),
+                uploaded.len(),
+                synced.len()
+            )));
+        }
+        if let Some(d) = changed.iter().find(|&&d| d >= n) {
+            return Err(corrupt_device(format!("changed body {d} of {n}")));
+        }
+        let gpu = self.gpu.get_mut().map_err(|_| poisoned())?;
+        gpu.load_state(state).map_err(corrupt_device)?;
+        self.uploaded = uploaded.clone();
+        self.synced = synced.clone();
+        self.changed = changed.clone();
+        self.unread = None;
         Ok(())
     }
 

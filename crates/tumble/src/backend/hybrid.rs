@@ -10,6 +10,7 @@ use tumble_solver::{Body, Contact, PairKey, Stage, stages};
 
 use super::pipeline::{self, Collided, Collision, StepBodies};
 use super::{Host, StepArgs, StepBackend, shared_context, unavailable};
+use crate::snapshot::{BackendSnapshot, corrupt_device, wrong_backend};
 use crate::stats::StageClock;
 use crate::{Backend, BodyHandle, Error, WorldConfig};
 
@@ -150,6 +151,40 @@ impl StepBackend for HybridBackend {
 
     fn broad_phase_pairs(&self) -> &[(BodyHandle, BodyHandle)] {
         &self.collision.pairs
+    }
+
+    fn save(&self) -> Result<BackendSnapshot, Error> {
+        let collision = self.collision.collision.save_state().map_err(failed)?;
+        Ok(BackendSnapshot::Hybrid {
+            collision: Box::new(collision),
+            uploaded: self.collision.uploaded.clone(),
+        })
+    }
+
+    fn load(&mut self, saved: &BackendSnapshot, host: &Host) -> Result<(), Error> {
+        let BackendSnapshot::Hybrid {
+            collision,
+            uploaded,
+        } = saved
+        else {
+            return Err(wrong_backend(saved, self.kind()));
+        };
+        let _ = host;
+        if collision.collision.body_count as usize != uploaded.len()
+            && collision.collision.body_count != 0
+        {
+            return Err(corrupt_device(format!(
+                "{} bodies on the GPU, {} handles",
+                collision.collision.body_count,
+                uploaded.len()
+            )));
+        }
+        self.collision
+            .collision
+            .load_state(collision)
+            .map_err(corrupt_device)?;
+        self.collision.uploaded = uploaded.clone();
+        Ok(())
     }
 
     fn device_buffer_bytes(&self) -> u64 {

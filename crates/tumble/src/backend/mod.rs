@@ -173,17 +173,14 @@ pub(crate) trait StepBackend: fmt::Debug + Send + Sync {
         let _ = id;
     }
 
-    /// What the backend keeps between steps besides the host arrays, for a snapshot. Errs
-    /// on backends whose state snapshots do not hold.
-    fn save(&self) -> Result<BackendSnapshot, Error> {
-        Err(no_snapshot(self.kind()))
-    }
+    /// What the backend keeps between steps besides the host arrays, for a snapshot (on the
+    /// GPU backends read back from the device: blocking). Errs when the state cannot be read
+    /// (a failed device, or a step that left a state out of bounds).
+    fn save(&self) -> Result<BackendSnapshot, Error>;
 
-    /// Takes the state `save` gave (on a backend just made for the snapshot's config).
-    fn load(&mut self, saved: &BackendSnapshot) -> Result<(), Error> {
-        let _ = saved;
-        Err(no_snapshot(self.kind()))
-    }
+    /// Takes the state `save` gave, on a backend just made for the snapshot's config, beside
+    /// `host`, the host arrays restored with it. Errs when the state does not fit them.
+    fn load(&mut self, saved: &BackendSnapshot, host: &Host) -> Result<(), Error>;
 
     /// Which backend this is.
     fn kind(&self) -> Backend;
@@ -291,15 +288,6 @@ mod device {
     pub(super) fn hybrid(config: &WorldConfig) -> Result<Box<dyn StepBackend>, Error> {
         let _ = config;
         Err(unavailable(Backend::Hybrid, WITHOUT_GPU))
-    }
-}
-
-/// The error of a snapshot of `backend`, which snapshots do not support.
-fn no_snapshot(backend: Backend) -> Error {
-    Error::InvalidValue {
-        field: "backend",
-        value: format!("{backend:?}"),
-        expected: "Backend::Cpu (snapshots do not hold the GPU backends' device state yet)",
     }
 }
 

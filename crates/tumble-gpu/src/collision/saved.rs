@@ -1,0 +1,46 @@
+//! The collision stages' state between steps, saved and loaded (see
+//! `crate::step::GpuWorldState`).
+
+use super::GpuCollision;
+use crate::GpuError;
+use crate::step::SavedCollision;
+
+impl GpuCollision {
+    /// Everything the next step reads: the buffers (poses, velocities, shapes, groups, both
+    /// pair parities with their manifolds, points and impulses), the parity and the pair
+    /// capacity (blocking).
+    pub fn save_state(&self) -> Result<SavedCollision, GpuError> {
+        Ok(SavedCollision {
+            body_count: self.body_count,
+            pair_capacity: self.pair_capacity,
+            long_extent: self.long_extent,
+            steps: self.steps,
+            history_resets: self.history_resets,
+            buffers: if self.body_count == 0 {
+                Vec::new()
+            } else {
+                self.pool.save()?
+            },
+        })
+    }
+
+    /// Takes the state [`Self::save_state`] gave, sizing the buffers as it says. Errs when
+    /// it does not fit this stage (a buffer it does not hold, a size the device cannot bind,
+    /// more bodies than the engine takes), naming the part.
+    pub fn load_state(&mut self, saved: &SavedCollision) -> Result<(), GpuError> {
+        if saved.body_count > crate::MAX_BODIES {
+            return Err(GpuError::InvalidInput {
+                field: "saved body_count".into(),
+                value: saved.body_count.to_string(),
+            });
+        }
+        if saved.body_count > 0 {
+            self.long_extent = saved.long_extent;
+            self.allocate(saved.body_count, saved.pair_capacity)?;
+            self.pool.load(&saved.buffers)?;
+        }
+        self.steps = saved.steps;
+        self.history_resets = saved.history_resets;
+        Ok(())
+    }
+}

@@ -3,16 +3,19 @@
 //! pyramids of several sizes and several sweep counts.
 //!
 //! ```sh
-//! cargo run --release -p tumble-benches --bin dispatch_probe -- 4,12,24,50 1,4 wide,fused all,in-use
+//! cargo run --release -p tumble-benches --bin dispatch_probe -- 4,12,24,50 1,4 wide,fused all,in-use per-body,by-color
 //! ```
 //!
 //! The first argument lists pyramid heights, the second biased iterations per substep (one
 //! relax iteration each, 4 substeps), the third the solver paths (`wide`, `fused`), the
 //! fourth how many colors the wide path dispatches one by one (`all` 24, `in-use` as many as
-//! a recent step used; the default). Each scene settles for 30 steps, then 10 are profiled.
+//! a recent step used; the default), the fifth how the warm start visits the colors
+//! (`per-body`, one dispatch and one for the overflow set, the default; `by-color`, one per
+//! color as the other passes). Each scene settles for 30 steps, then 10 are profiled.
 //! The solve pass records `4 * (2 + (K + 1) * (2 + iterations))` dispatches for K colors
-//! dispatched one by one (each pass closes with one dispatch for the colors beyond K and the
-//! overflow set), so a solve time that hardly grows from the smallest pyramid to the largest
+//! dispatched one by one with the colored warm start (each pass closes with one dispatch for
+//! the colors beyond K and the overflow set), and `4 * (4 + (K + 1) * (1 + iterations))` with
+//! the per-body one, so a solve time that hardly grows from the smallest pyramid to the largest
 //! is the cost of the dispatches and their barriers, and the growth with the height is the
 //! cost of the constraints. The last column hashes every pose and velocity after the
 //! profiled steps, so two builds or settings meant to compute the same result can be
@@ -22,7 +25,7 @@ use std::collections::BTreeMap;
 
 use tumble_benches::gpu_pool::contact_counts;
 use tumble_gpu::GpuContext;
-use tumble_gpu::solver::SolvePath;
+use tumble_gpu::solver::{SolvePath, WarmStartSweep};
 use tumble_gpu::step::{ColorDispatch, GpuWorldConfig, PathPolicy, ReadRequest};
 use tumble_solver::SolverConfig;
 use tumble_tests::scene_support::gpu_world_of;
@@ -81,22 +84,32 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ("in-use", ColorDispatch::InUse),
         ],
     )?;
+    let warm_starts = choices(
+        args.next(),
+        "per-body",
+        &[
+            ("per-body", WarmStartSweep::PerBody),
+            ("by-color", WarmStartSweep::ByColor),
+        ],
+    )?;
     let ctx = GpuContext::new()?;
     println!("device: {} ({:?})", ctx.info.name, ctx.info.backend);
     println!(
-        "| height | bodies | manifolds | iterations | path | colors dispatched | solve dispatches | solve ms | per dispatch us | prepare ms | color ms | solver stages ms | collision ms | GPU total ms | pose bits |"
+        "| height | bodies | manifolds | iterations | path | warm start | colors dispatched | solve dispatches | solve ms | per dispatch us | prepare ms | color ms | solver stages ms | collision ms | GPU total ms | pose bits |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for &h in &heights {
         let scene = tumble_scenes::pyramid(h as usize);
         let bodies = scene.bodies.len();
         let mut settings = Vec::new();
         for &i in &iterations {
             for &p in &paths {
-                settings.extend(dispatch_modes.iter().map(|&m| (i, p, m)));
+                for &m in &dispatch_modes {
+                    settings.extend(warm_starts.iter().map(|&w| (i, p, m, w)));
+                }
             }
         }
-        for (iters, path, color_dispatch) in settings {
+        for (iters, path, color_dispatch, warm_start_sweep) in settings {
             let mut world = gpu_world_of(
                 &ctx,
                 &scene,
@@ -104,6 +117,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     timestamps: true,
                     path: PathPolicy::Always(path),
                     color_dispatch,
+                    warm_start_sweep,
                     solver: SolverConfig {
                         substeps: SUBSTEPS,
                         iterations: iters,
@@ -133,12 +147,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .map(|n| ms(n))
                 .sum();
             let colors = world.solver().color_dispatches();
-            let dispatches = match path {
-                SolvePath::Wide => SUBSTEPS * (2 + (colors + 1) * (2 + iters)),
-                SolvePath::Fused => 1,
+            let dispatches = match (path, warm_start_sweep) {
+                (SolvePath::Wide, WarmStartSweep::ByColor) => {
+                    SUBSTEPS * (2 + (colors + 1) * (2 + iters))
+                }
+                (SolvePath::Wide, WarmStartSweep::PerBody) => {
+                    SUBSTEPS * (4 + (colors + 1) * (1 + iters))
+                }
+                (SolvePath::Fused, _) => 1,
             };
             println!(
-                "| {h} | {} | {manifolds} | {iters} | {path:?} | {colors} | {dispatches} | {:.3} | {:.1} | {:.3} | {:.3} | {solver:.3} | {:.3} | {total:.3} | {bits:016x} |",
+                "| {h} | {} | {manifolds} | {iters} | {path:?} | {warm_start_sweep:?} | {colors} | {dispatches} | {:.3} | {:.1} | {:.3} | {:.3} | {solver:.3} | {:.3} | {total:.3} | {bits:016x} |",
                 bodies,
                 ms("solve") + ms("solve_fused"),
                 (ms("solve") + ms("solve_fused")) * 1e3 / f64::from(dispatches),

@@ -15,12 +15,12 @@ use crate::{GpuContext, GpuError, StageTimer};
 use super::color::ColorGroups;
 use super::constants::{
     COLOR_OFFSETS_LEN, COLOR_SLOTS, COLOR_TALLY_LEN, CONSTRAINT_ROWS, EMPTY_COLOR,
-    GRAPH_COLOR_COUNT, TALLY_COUNTS,
+    GRAPH_COLOR_COUNT, OVERFLOW_COLOR, TALLY_COUNTS,
 };
 use super::constraint_store::{constraints_by_manifold, store_stride};
 use super::effects::{Effects, effect_overrides};
 use super::layout::{ColorPass, ColorSlot, GpuConstraint, GpuSolverBody, GpuTilt, SolverParams};
-use super::path::{FusedMemory, SolvePath};
+use super::path::{FusedMemory, SolvePath, WarmStartSweep};
 use super::pipelines::{SolverPipelines, pass_kernels};
 use super::solve_color::PassKind;
 
@@ -67,6 +67,7 @@ struct BindGroups {
     radix: RadixBindGroups,
     prepare_bodies: wgpu::BindGroup,
     prepare_contacts: [wgpu::BindGroup; 2],
+    warm_start_bodies: wgpu::BindGroup,
     integrate_velocities: wgpu::BindGroup,
     integrate_positions: wgpu::BindGroup,
     finalize_bodies: wgpu::BindGroup,
@@ -89,6 +90,8 @@ pub struct GpuSolver {
     /// Graph colors each pass dispatches one by one; the tail takes the rest
     /// ([`Self::set_color_dispatches`]).
     color_dispatches: u32,
+    /// How the wide path's warm start visits the graph colors ([`WarmStartSweep`]).
+    warm_start: WarmStartSweep,
     radix: RadixSort,
     pool: BufferPool,
     params: wgpu::Buffer,
@@ -144,6 +147,7 @@ impl GpuSolver {
             pipelines,
             passes,
             color_dispatches: GRAPH_COLOR_COUNT,
+            warm_start: WarmStartSweep::default(),
             radix,
             pool: BufferPool::new(ctx),
             params,
@@ -182,6 +186,12 @@ impl GpuSolver {
         Ok(())
     }
 
+    /// How the wide path's warm start visits the graph colors from the next step on
+    /// ([`WarmStartSweep`]; the same bits either way).
+    pub fn set_warm_start_sweep(&mut self, sweep: WarmStartSweep) {
+        self.warm_start = sweep;
+    }
+
     /// Graph colors each wide pass dispatches one by one ([`Self::set_color_dispatches`]).
     pub fn color_dispatches(&self) -> u32 {
         self.color_dispatches
@@ -207,16 +217,6 @@ impl GpuSolver {
         self.pool.bytes()
     }
 
-    /// The pipelines in use.
-    pub fn pipelines(&self) -> &SolverPipelines {
-        &self.pipelines
-    }
-
-    /// The effects compiled in.
-    pub fn effects(&self) -> Effects {
-        self.effects
-    }
-
     /// The solver's pooled buffers (for saving and restoring a world's state).
     pub(crate) fn pool(&self) -> &BufferPool {
         &self.pool
@@ -235,6 +235,16 @@ impl GpuSolver {
     /// Sets the parity a saved world had (0 or 1).
     pub(crate) fn set_parity(&mut self, parity: usize) {
         self.parity = parity % 2;
+    }
+
+    /// The pipelines in use.
+    pub fn pipelines(&self) -> &SolverPipelines {
+        &self.pipelines
+    }
+
+    /// The effects compiled in.
+    pub fn effects(&self) -> Effects {
+        self.effects
     }
 
     /// Switches to pipelines with `effects` (bind groups are rebuilt on the next record).
@@ -443,7 +453,22 @@ impl GpuSolver {
                     let mut pass = timer.begin_pass(encoder, "solve");
                     k.integrate_velocities
                         .dispatch(&mut pass, &groups.integrate_velocities, n);
-                    sweep(&mut pass, PassKind::WarmStart);
+                    match self.warm_start {
+                        WarmStartSweep::PerBody => {
+                            k.warm_start_bodies
+                                .dispatch(&mut pass, &groups.warm_start_bodies, n);
+                            // The overflow set after every color, in one thread, as in the
+                            // colored sweep.
+                            let warm = PassKind::WarmStart.index();
+                            self.passes[warm].dispatch_workgroups(
+                                &mut pass,
+                                &groups.passes[warm][OVERFLOW_COLOR as usize],
+                                1,
+                                1,
+                            );
+                        }
+                        WarmStartSweep::ByColor => sweep(&mut pass, PassKind::WarmStart),
+                    }
                     for _ in 0..params.iterations {
                         sweep(&mut pass, PassKind::Solve);
                     }

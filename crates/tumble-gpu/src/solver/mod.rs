@@ -26,4 +26,4 @@ pub mod store;
 pub use effects::{Effects, effect_overrides};
 pub use gpu_solver::{GpuSolver, SolverInputs};
 pub use params::StepParams;
-pub use path::{FusedMemory, SolvePath};
+pub use path::{FusedMemory, SolvePath, WarmStartSweep};

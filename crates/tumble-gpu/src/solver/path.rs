@@ -64,3 +64,15 @@ impl FusedMemory {
         wanted && bodies <= super::fused::FUSED_SHARED_BODIES
     }
 }
+
+/// How the wide path applies the warm start of the graph colors each substep. Both compute the
+/// same bits (`warm_start_bodies.wgsl` says why); the choice is about speed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum WarmStartSweep {
+    /// One dispatch, one thread per body walking its constraints in color order (the
+    /// default: one dispatch per substep instead of one per color).
+    #[default]
+    PerBody,
+    /// One dispatch per color, one thread per constraint, as the other passes.
+    ByColor,
+}

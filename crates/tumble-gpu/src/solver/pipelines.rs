@@ -12,7 +12,7 @@ use super::color::{
 use super::effects::{Effects, effect_overrides};
 use super::fused::{SOLVE_FUSED, SOLVE_FUSED_SHARED};
 use super::integrate::{FINALIZE_BODIES, INTEGRATE_POSITIONS, INTEGRATE_VELOCITIES};
-use super::prepare::{PREPARE_BODIES, PREPARE_CONTACTS};
+use super::prepare::{PREPARE_BODIES, PREPARE_CONTACTS, WARM_START_BODIES};
 use super::solve_color::{PassKind, SOLVE_COLOR};
 use super::store::STORE_IMPULSES;
 
@@ -35,6 +35,8 @@ pipelines! {
         prepare_bodies: PREPARE_BODIES,
         /// Constraints from manifolds.
         prepare_contacts: PREPARE_CONTACTS,
+        /// The graph colors' warm start, one thread per body.
+        warm_start_bodies: WARM_START_BODIES,
         /// Velocities by one substep.
         integrate_velocities: INTEGRATE_VELOCITIES,
         /// Deltas by one substep.

@@ -17,6 +17,10 @@ pub static PREPARE_BODIES: KernelSpec = KernelSpec::new(file("solver/prepare_bod
 /// Kernel: one thread per constraint slot.
 pub static PREPARE_CONTACTS: KernelSpec = KernelSpec::new(file("solver/prepare_contacts.wgsl"));
 
+/// Kernel: one thread per body, the warm-start pass of the graph colors (the per-body
+/// lists `prepare_contacts` writes into the coloring's marks).
+pub static WARM_START_BODIES: KernelSpec = KernelSpec::new(file("solver/warm_start_bodies.wgsl"));
+
 /// A body's solver state at the start of a step, from its CPU form.
 pub fn solver_body(body: &Body) -> GpuSolverBody {
     let m = body.inverse_mass_axes();

@@ -6,7 +6,7 @@ use tumble_solver::SolverConfig;
 use crate::GpuError;
 use crate::collision::CollisionConfig;
 use crate::error::invalid;
-use crate::solver::{FusedMemory, SolvePath};
+use crate::solver::{FusedMemory, SolvePath, WarmStartSweep};
 
 /// How each step chooses between the wide and the fused solver paths.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -60,6 +60,9 @@ pub struct GpuWorldConfig {
     /// How many colors the wide path dispatches one by one ([`ColorDispatch`]; the same bits
     /// either way).
     pub color_dispatch: ColorDispatch,
+    /// How the wide path's warm start visits the graph colors ([`WarmStartSweep`]; the same
+    /// bits either way).
+    pub warm_start_sweep: WarmStartSweep,
 }
 
 impl Default for GpuWorldConfig {
@@ -79,6 +82,7 @@ impl Default for GpuWorldConfig {
             skip_idle_steps: true,
             fused_memory: FusedMemory::Auto,
             color_dispatch: ColorDispatch::InUse,
+            warm_start_sweep: WarmStartSweep::PerBody,
         }
     }
 }

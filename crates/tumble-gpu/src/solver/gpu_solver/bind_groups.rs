@@ -60,6 +60,7 @@ impl GpuSolver {
             radix,
             prepare_bodies: k.prepare_bodies.bind_named(ctx, buffer(0)),
             prepare_contacts: both(&k.prepare_contacts),
+            warm_start_bodies: k.warm_start_bodies.bind_named(ctx, buffer(0)),
             integrate_velocities: k.integrate_velocities.bind_named(ctx, buffer(0)),
             integrate_positions: k.integrate_positions.bind_named(ctx, buffer(0)),
             finalize_bodies: k.finalize_bodies.bind_named(ctx, buffer(0)),

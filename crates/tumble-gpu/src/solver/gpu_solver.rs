@@ -453,21 +453,20 @@ impl GpuSolver {
                     let mut pass = timer.begin_pass(encoder, "solve");
                     k.integrate_velocities
                         .dispatch(&mut pass, &groups.integrate_velocities, n);
-                    match self.warm_start {
-                        WarmStartSweep::PerBody => {
-                            k.warm_start_bodies
-                                .dispatch(&mut pass, &groups.warm_start_bodies, n);
-                            // The overflow set after every color, in one thread, as in the
-                            // colored sweep.
-                            let warm = PassKind::WarmStart.index();
-                            self.passes[warm].dispatch_workgroups(
-                                &mut pass,
-                                &groups.passes[warm][OVERFLOW_COLOR as usize],
-                                1,
-                                1,
-                            );
-                        }
-                        WarmStartSweep::ByColor => sweep(&mut pass, PassKind::WarmStart),
+                    if self.warm_start.per_body(self.ctx.info.device_type) {
+                        k.warm_start_bodies
+                            .dispatch(&mut pass, &groups.warm_start_bodies, n);
+                        // The overflow set after every color, in one thread, as in the
+                        // colored sweep.
+                        let warm = PassKind::WarmStart.index();
+                        self.passes[warm].dispatch_workgroups(
+                            &mut pass,
+                            &groups.passes[warm][OVERFLOW_COLOR as usize],
+                            1,
+                            1,
+                        );
+                    } else {
+                        sweep(&mut pass, PassKind::WarmStart);
                     }
                     for _ in 0..params.iterations {
                         sweep(&mut pass, PassKind::Solve);

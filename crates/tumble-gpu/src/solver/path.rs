@@ -66,13 +66,31 @@ impl FusedMemory {
 }
 
 /// How the wide path applies the warm start of the graph colors each substep. Both compute the
-/// same bits (`warm_start_bodies.wgsl` says why); the choice is about speed.
+/// same bits (`warm_start_bodies.wgsl` says why); the choice is about speed and is fixed per
+/// device, never made from timing.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum WarmStartSweep {
-    /// One dispatch, one thread per body walking its constraints in color order (the
-    /// default: one dispatch per substep instead of one per color).
+    /// [`Self::PerBody`] on GPUs, [`Self::ByColor`] on CPU adapters: lavapipe runs the
+    /// per-body kernel slower than the per-color dispatches (a pyramid of 12's solve took 295
+    /// against 204 ms), since each constraint is loaded by both of its bodies' threads and a
+    /// body's constraints one after another, while a GPU saves the launch and barrier of
+    /// each color's dispatch.
     #[default]
+    Auto,
+    /// One dispatch, one thread per body walking its constraints in color order (one
+    /// dispatch per substep instead of one per color).
     PerBody,
     /// One dispatch per color, one thread per constraint, as the other passes.
     ByColor,
+}
+
+impl WarmStartSweep {
+    /// Whether the warm start on `device_type` runs per body.
+    pub fn per_body(self, device_type: wgpu::DeviceType) -> bool {
+        match self {
+            WarmStartSweep::Auto => device_type != wgpu::DeviceType::Cpu,
+            WarmStartSweep::PerBody => true,
+            WarmStartSweep::ByColor => false,
+        }
+    }
 }

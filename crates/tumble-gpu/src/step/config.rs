@@ -82,7 +82,7 @@ impl Default for GpuWorldConfig {
             skip_idle_steps: true,
             fused_memory: FusedMemory::Auto,
             color_dispatch: ColorDispatch::InUse,
-            warm_start_sweep: WarmStartSweep::PerBody,
+            warm_start_sweep: WarmStartSweep::Auto,
         }
     }
 }

@@ -1,7 +1,7 @@
 //! `Backend::Cpu`: every stage on the CPU, the reference.
 
 use tumble_broad::BroadPhase;
-use tumble_solver::{Body, Contact, ContactCache, PairKey, Stage, stages};
+use tumble_solver::{Body, Contact, ContactCache, PairKey, SolveBuffers, Stage, stages};
 
 use super::pipeline::{self, Collided, Collision, StepBodies};
 use super::{Host, StepArgs, StepBackend};
@@ -16,6 +16,8 @@ pub(crate) struct CpuCollision {
     grid: BroadPhase,
     /// Last step's impulses by body pair, for warm starting.
     cache: ContactCache,
+    /// The solve stage's buffers, kept between steps.
+    solve: SolveBuffers,
     /// Last step's candidate pairs from the broad phase, by handle.
     pairs: Vec<(BodyHandle, BodyHandle)>,
 }
@@ -58,6 +60,10 @@ impl Collision for CpuCollision {
     ) -> Result<(), Error> {
         self.cache.store(keys, contacts, bodies);
         Ok(())
+    }
+
+    fn solve_buffers(&mut self) -> Option<&mut SolveBuffers> {
+        Some(&mut self.solve)
     }
 }
 

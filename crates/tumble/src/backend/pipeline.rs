@@ -10,7 +10,9 @@
 //! starting.
 
 use tumble_geometry::Real;
-use tumble_solver::{Body, BodyState, Contact, Gathered, PairKey, Stage, bounds, stages};
+use tumble_solver::{
+    Body, BodyState, Contact, Gathered, PairKey, SolveBuffers, Stage, bounds, stages,
+};
 
 use super::{Host, StepArgs};
 use crate::stats::StageClock;
@@ -68,6 +70,13 @@ pub(crate) trait Collision {
         solved: usize,
         bodies: &[Body],
     ) -> Result<(), Error>;
+
+    /// The solve stage's working memory, kept between steps (the constraints alone are
+    /// megabytes on a large pile); `None` solves with fresh buffers each step. Either gives
+    /// the same bits.
+    fn solve_buffers(&mut self) -> Option<&mut SolveBuffers> {
+        None
+    }
 }
 
 /// One step of `host` on the CPU stages, collision by `collision`.
@@ -147,7 +156,9 @@ pub(crate) fn step(
     };
     let coloring = stages::color(&contacts, bodies, config.solver.order, &config.gravity);
     clock.lap(Stage::Color);
-    let solved = tumble_solver::solve_with_effects(
+    let mut fresh = SolveBuffers::default();
+    let solve_buffers = collision.solve_buffers().unwrap_or(&mut fresh);
+    let solved = tumble_solver::solve_with_buffers(
         bodies,
         states,
         &mut contacts,
@@ -156,6 +167,7 @@ pub(crate) fn step(
         dt,
         &config.gravity,
         effects,
+        solve_buffers,
     );
     clock.lap(Stage::Solve);
     // Nothing is committed yet (poses, the contact cache, sleep): a state out of bounds

@@ -2,8 +2,8 @@
 //!
 //! - a step that would carry a body past a bound is refused with the body's handle and the
 //!   quantity, leaving every pose and velocity bit and the step count as they were (Cpu with
-//!   both solvers, with and without sleeping bodies, and Hybrid); on `Backend::Gpu` the state
-//!   is found when it reaches the host, named the same way, and every later step refuses;
+//!   both solvers, with and without sleeping bodies, Hybrid, and Gpu, whose motion check
+//!   finds it when the step is done and copies the device state back);
 //! - seeded sequences of a few thousand world calls mixing extreme finite values (1e30,
 //!   1e-30, subnormals, 1e6, -0.0) never panic, every `Err` leaves the world bitwise
 //!   unchanged, and every accepted step leaves every pose and velocity finite.
@@ -126,27 +126,77 @@ fn cpu_refuses_a_step_past_the_position_bound_while_bodies_sleep() {
     assert!(world.is_sleeping(sleeper).unwrap());
 }
 
-/// On `Backend::Gpu` the step is not waited for: the state out of bounds is found when it
-/// reaches the host, named by handle and quantity, never copied into the host arrays, and
-/// every later step and write refuses with the same error.
+/// A floor with a cube landing on it under gravity (so contacts and their warm starts carry
+/// from step to step), and a cube 12 m short of the position bound moving outward at
+/// 300 m/s: 5 m a step, so the third step would carry it past the bound.
+fn gpu_world_with_late_runaway() -> (World, BodyHandle, BodyHandle) {
+    let mut cfg = config(Backend::Gpu, SolverConfig::default());
+    cfg.gravity = Vec3::new(0.0, -9.81, 0.0);
+    let mut world = World::new(cfg).unwrap();
+    let cube = floor_and_cube(&mut world);
+    let runaway = world
+        .add_body(
+            BodyDesc::dynamic()
+                .translation(MAX_POSITION - 12.0, 0.0, 0.0)
+                .linear_velocity(Vec3::new(300.0, 0.0, 0.0)),
+        )
+        .unwrap();
+    (world, cube, runaway)
+}
+
+/// On `Backend::Gpu` a step that leaves a body past `MAX_POSITION` is refused like on the
+/// host backends: `InvalidStep` naming the body's handle and the quantity, found by the GPU's
+/// motion check when the step is done, and the step undone (the device state copied back
+/// from the checkpoint taken at its start). The world is then bit for bit as before the
+/// step, and steps on exactly as a twin world that never took the bad step.
 #[test]
-fn gpu_names_the_body_whose_state_left_the_bounds() {
+fn gpu_refuses_a_step_past_the_position_bound_and_undoes_it() {
     if !have_gpu() {
         return;
     }
-    let (mut world, runaway) = runaway_world(config(Backend::Gpu, SolverConfig::default()));
-    world.step().unwrap();
-    let named = |e: &Error| matches!(e, Error::InvalidGpuState { body, quantity: "position", .. } if *body == runaway);
-    let e = match world.pose(runaway) {
-        Ok(p) => panic!("read {p:?} after one step from x = MAX_POSITION - 2 at 300 m/s"),
-        Err(e) => e,
-    };
-    assert!(named(&e), "{e}");
-    let e = world.step().unwrap_err();
-    assert!(named(&e), "{e}");
-    let cube = world.handles()[1];
-    let e = world.set_linear_velocity(cube, Vec3::x()).unwrap_err();
-    assert!(named(&e), "{e}");
+    let (mut world, cube, runaway) = gpu_world_with_late_runaway();
+    let (mut twin, _, _) = gpu_world_with_late_runaway();
+    for _ in 0..2 {
+        world.step().unwrap();
+        twin.step().unwrap();
+    }
+    // The cube touches the floor: the warm starts carried matter to the next steps.
+    assert!(
+        world
+            .contacts()
+            .iter()
+            .any(|c| c.body_a == cube || c.body_b == cube),
+        "the cube has no contact"
+    );
+    let before = snapshot(&world);
+    let err = world.step().unwrap_err();
+    let message = err.to_string();
+    expect_refused(Err(err), runaway, "position");
+    assert!(
+        message.contains(&format!("{runaway:?}")) && message.contains("position"),
+        "{message}"
+    );
+    assert_eq!(
+        snapshot(&world),
+        before,
+        "the refused step changed the world"
+    );
+    assert_eq!(world.step_count(), 2);
+    // Taken again unchanged, the step computes the same state and is refused the same way.
+    expect_refused(world.step(), runaway, "position");
+    assert_eq!(snapshot(&world), before);
+    // Turned back, the body steps again, and the world computes what the twin (which never
+    // took the bad step) computes from the same calls, bit for bit, warm starts included.
+    for w in [&mut world, &mut twin] {
+        w.set_linear_velocity(runaway, Vec3::new(-300.0, 0.0, 0.0))
+            .unwrap();
+        for _ in 0..3 {
+            w.step().unwrap();
+        }
+    }
+    assert_eq!(world.step_count(), 5);
+    assert_eq!(snapshot(&world), snapshot(&twin));
+    assert!(world.pose(runaway).unwrap().translation.x < MAX_POSITION - 12.0);
 }
 
 /// Values the random calls draw from: ordinary ones, and extreme finite ones on both sides

@@ -196,11 +196,7 @@ impl BufferPool {
 
     /// Records a copy of every state buffer into the same-named buffer of `shadow` (made to
     /// match first): a checkpoint on the device that [`Self::copy_back`] restores.
-    pub fn record_checkpoint(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        shadow: &mut BufferPool,
-    ) -> Result<(), GpuError> {
+    pub fn record_checkpoint(&self, encoder: &mut wgpu::CommandEncoder, shadow: &mut BufferPool) {
         for (name, buffer) in self.state_buffers() {
             let fits = shadow
                 .buffers
@@ -217,32 +213,20 @@ impl BufferPool {
             }
             encoder.copy_buffer_to_buffer(buffer, 0, &shadow.buffers[name], 0, buffer.size());
         }
-        Ok(())
     }
 
-    /// Records the copy of `shadow`'s checkpoint back into this pool's buffers. Errs, copying
-    /// nothing, when a buffer was reallocated since the checkpoint.
-    pub fn copy_back(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        shadow: &BufferPool,
-    ) -> Result<(), GpuError> {
-        let buffers = self.state_buffers();
-        for (name, buffer) in &buffers {
-            if shadow
-                .buffers
-                .get(name)
-                .is_none_or(|b| b.size() != buffer.size())
-            {
-                return Err(GpuError::InvalidInput {
-                    field: "checkpoint".into(),
-                    value: format!("buffer {name} reallocated since"),
-                });
+    /// Records the copy of `shadow`'s checkpoint back into this pool's buffers. A buffer
+    /// allocated or grown since the checkpoint (whose earlier contents the checkpoint does not
+    /// hold at its size) is cleared instead: a new buffer starts zeroed, and the step that
+    /// grew it would find it so again.
+    pub fn copy_back(&self, encoder: &mut wgpu::CommandEncoder, shadow: &BufferPool) {
+        for (name, buffer) in self.state_buffers() {
+            match shadow.buffers.get(name) {
+                Some(saved) if saved.size() == buffer.size() => {
+                    encoder.copy_buffer_to_buffer(saved, 0, buffer, 0, buffer.size());
+                }
+                _ => encoder.clear_buffer(buffer, 0, None),
             }
         }
-        for (name, buffer) in buffers {
-            encoder.copy_buffer_to_buffer(&shadow.buffers[name], 0, buffer, 0, buffer.size());
-        }
-        Ok(())
     }
 }

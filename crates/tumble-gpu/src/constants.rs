@@ -111,6 +111,7 @@ pub fn shader_constants() -> Vec<(&'static str, f64)> {
         WITNESS_TOL,
         SEGMENT_DEGENERATE_RATIO,
         SEGMENT_PARALLEL_SIN_SQ,
+        MAX_POSITION = tumble_solver::bounds::MAX_POSITION,
         ID_KIND_FACE_A = id::KIND_FACE_A,
         ID_KIND_FACE_B = id::KIND_FACE_B,
         ID_KIND_EDGE = id::KIND_EDGE,

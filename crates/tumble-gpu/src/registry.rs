@@ -23,6 +23,7 @@ pub static KERNELS: LazyLock<Vec<&'static KernelSpec>> = LazyLock::new(|| {
         &kernels::contact_events::CONTACT_ENDS,
         &solver::solve_color::SOLVE_COLOR,
         &kernels::cast_rays::CAST_RAYS,
+        &kernels::check_motion::CHECK_MOTION,
     ];
     [
         CollisionKernels::SPECS,

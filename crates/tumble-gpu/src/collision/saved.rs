@@ -3,6 +3,7 @@
 
 use super::GpuCollision;
 use crate::GpuError;
+use crate::buffer_pool::BufferPool;
 use crate::step::SavedCollision;
 
 impl GpuCollision {
@@ -42,5 +43,35 @@ impl GpuCollision {
         self.steps = saved.steps;
         self.history_resets = saved.history_resets;
         Ok(())
+    }
+
+    /// The steps recorded and the history resets (the parity and the event stage's check).
+    pub(crate) fn step_state(&self) -> (u64, u64) {
+        (self.steps, self.history_resets)
+    }
+
+    /// Puts back what [`Self::step_state`] gave (a step undone).
+    pub(crate) fn set_step_state(&mut self, (steps, history_resets): (u64, u64)) {
+        self.steps = steps;
+        self.history_resets = history_resets;
+    }
+
+    /// The bodies' `WorkList` (count = bodies).
+    pub(crate) fn body_work(&self) -> &wgpu::Buffer {
+        self.pool.get(super::buffers::BODY_WORK)
+    }
+
+    /// Records a copy of the state buffers into `shadow` ([`BufferPool::record_checkpoint`]).
+    pub(crate) fn record_checkpoint(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        shadow: &mut BufferPool,
+    ) {
+        self.pool.record_checkpoint(encoder, shadow);
+    }
+
+    /// Records the copy of `shadow` back ([`BufferPool::copy_back`]).
+    pub(crate) fn copy_back(&self, encoder: &mut wgpu::CommandEncoder, shadow: &BufferPool) {
+        self.pool.copy_back(encoder, shadow);
     }
 }

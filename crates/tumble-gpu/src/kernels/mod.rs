@@ -8,6 +8,7 @@ use crate::layout::{GpuAabb, GpuPose, GpuShape, GpuVelocity};
 
 pub mod carry_impulses;
 pub mod cast_rays;
+pub mod check_motion;
 pub mod choose_axis;
 pub mod collide_cuboids;
 pub mod compact_touching;

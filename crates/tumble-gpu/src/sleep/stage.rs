@@ -215,6 +215,34 @@ impl GpuSleep {
         Ok(())
     }
 
+    /// The bodies queued to wake at the start of the next step.
+    pub(crate) fn queued(&self) -> &[u32] {
+        &self.queued
+    }
+
+    /// Puts back a queue [`Self::queued`] gave (a step undone).
+    pub(crate) fn set_queued(&mut self, queued: Vec<u32>) {
+        self.queued = queued;
+    }
+
+    /// Records a copy of the state buffers into `shadow` (none while off).
+    pub(crate) fn record_checkpoint(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        shadow: &mut BufferPool,
+    ) {
+        if self.is_enabled() {
+            self.pool.record_checkpoint(encoder, shadow);
+        }
+    }
+
+    /// Records the copy of `shadow` back (nothing while off).
+    pub(crate) fn copy_back(&self, encoder: &mut wgpu::CommandEncoder, shadow: &BufferPool) {
+        if self.is_enabled() {
+            self.pool.copy_back(encoder, shadow);
+        }
+    }
+
     /// Turns the stage off, waking every sleeping body first, in a submit of its own: `restore`
     /// holds the solver's bodies and the collision shapes to restore them in (`None` for a
     /// world without body buffers yet).

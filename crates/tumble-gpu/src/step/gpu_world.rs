@@ -35,6 +35,7 @@ pub use draw::DrawBuffers;
 pub use saved::{GpuWorldState, SavedCollision, SavedIdle, SavedStats};
 
 mod bodies;
+mod checked;
 mod draw;
 mod host_contacts;
 mod reads;
@@ -91,6 +92,8 @@ pub struct GpuWorld {
     idle: IdleSteps,
     /// The contact-event stage, while events are on.
     events: Option<EventStage>,
+    /// The motion check and the last step's checkpoint, while the check is on.
+    check: Option<checked::MotionCheck>,
 }
 
 impl GpuWorld {
@@ -128,6 +131,7 @@ impl GpuWorld {
             sleep: GpuSleep::new(ctx),
             idle: IdleSteps::default(),
             events: None,
+            check: None,
         })
     }
 
@@ -296,6 +300,7 @@ impl GpuWorld {
             self.steps += 1;
             return Ok(());
         }
+        let before = self.before_step();
         self.take_stats()?;
         let path = self.choose_path();
         if self.config.skip_idle_steps && self.idle.can_skip() {
@@ -311,6 +316,7 @@ impl GpuWorld {
         let params = self.params();
         let mut encoder = self.ctx.encoder("tumble step");
         self.timer.reset();
+        self.record_checkpoint(&mut encoder, before);
         self.record_wakes_and_impulses(&mut encoder);
         // The step's stages in the one order every backend runs them. A recorder may record
         // several consecutive stages (the collision stages share their parity and clears, the
@@ -347,6 +353,7 @@ impl GpuWorld {
         if let Some(events) = &mut self.events {
             events.record(&self.ctx, &mut encoder, &self.collision);
         }
+        self.record_motion_check(&mut encoder);
         self.source = ContactSource::Collision;
         self.finish_step(encoder, path, true)
     }

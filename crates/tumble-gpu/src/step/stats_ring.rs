@@ -64,6 +64,8 @@ pub struct StatsRing {
     ctx: GpuContext,
     slots: Vec<Slot>,
     next: usize,
+    /// What the last [`StatsRing::take_lagged`] returned, for [`StatsRing::undo_last`].
+    last_taken: Option<StepStats>,
 }
 
 impl StatsRing {
@@ -86,6 +88,7 @@ impl StatsRing {
             ctx: ctx.clone(),
             slots,
             next: 0,
+            last_taken: None,
         }
     }
 
@@ -94,8 +97,10 @@ impl StatsRing {
     pub fn take_lagged(&mut self) -> Result<Option<StepStats>, GpuError> {
         let slot = &mut self.slots[self.next];
         if let Some(stats) = slot.preset.take() {
+            self.last_taken = Some(stats);
             return Ok(Some(stats));
         }
+        self.last_taken = None;
         let Some((index, mapped)) = slot.pending.take() else {
             return Ok(None);
         };
@@ -105,7 +110,24 @@ impl StatsRing {
         status.map_err(GpuError::Device)?;
         let stats = Self::decode(slot)?;
         slot.buffer.unmap();
+        self.last_taken = Some(stats);
         Ok(Some(stats))
+    }
+
+    /// Undoes the last step's take and record: its own stats (waited for) are dropped and the
+    /// stats it took are the next taken again (a step rolled back).
+    pub fn undo_last(&mut self) -> Result<(), GpuError> {
+        self.next = (self.next + STATS_LAG - 1) % STATS_LAG;
+        let slot = &mut self.slots[self.next];
+        if let Some((index, mapped)) = slot.pending.take() {
+            let map_lock = || mapped.lock().expect("stats map lock");
+            self.ctx.wait_until(Some(index), || map_lock().is_some())?;
+            if matches!(map_lock().take(), Some(Ok(()))) {
+                slot.buffer.unmap();
+            }
+        }
+        slot.preset = self.last_taken.take();
+        Ok(())
     }
 
     /// The stats of the steps not yet taken, in the order [`Self::take_lagged`] will take

@@ -27,6 +27,10 @@ use crate::{
     WorldConfig,
 };
 
+mod check;
+
+use check::check_results;
+
 fn failed(e: impl std::fmt::Display) -> Error {
     unavailable(Backend::Gpu, e)
 }
@@ -63,30 +67,6 @@ pub(crate) struct GpuBackend {
     uploaded_last_step: bool,
 }
 
-/// The error for the first moving body whose pose or velocities, as the GPU step left them,
-/// leave their bounds ([`bounds::check_motion`]).
-fn check_results(
-    host: &Host,
-    handles: &[BodyHandle],
-    poses: &[Pose],
-    velocities: &[BodyState],
-) -> Option<Error> {
-    (0..poses.len().min(velocities.len())).find_map(|d| {
-        if host.bodies.get(d).is_none_or(|b| b.kind == BodyKind::Fixed) {
-            return None;
-        }
-        let (p, v) = (&poses[d], &velocities[d]);
-        bounds::check_motion(p, &v.linear_velocity, &v.angular_velocity).map(|e| {
-            Error::InvalidGpuState {
-                body: handles[d],
-                quantity: e.quantity,
-                value: e.value,
-                expected: e.expected,
-            }
-        })
-    })
-}
-
 impl GpuBackend {
     /// The GPU world for `config`. Errs when no GPU is available.
     pub(crate) fn new(config: &WorldConfig) -> Result<Self, Error> {
@@ -103,6 +83,8 @@ impl GpuBackend {
             },
         )
         .map_err(failed)?;
+        let mut gpu = gpu;
+        gpu.set_motion_check(true).map_err(failed)?;
         Ok(Self {
             gpu: Mutex::new(gpu),
             uploaded: Vec::new(),
@@ -212,6 +194,7 @@ impl StepBackend for GpuBackend {
         let asked = self.asked();
         let host_current = self.unread.as_ref().is_none_or(|u| u.motion_in_host);
         let gpu = self.gpu.get_mut().map_err(|_| poisoned())?;
+        let uploaded_before = self.uploaded_last_step;
         self.uploaded_last_step = self.uploaded != handles;
         let changed = std::mem::take(&mut self.changed);
         if self.uploaded != handles {
@@ -248,14 +231,19 @@ impl StepBackend for GpuBackend {
         reads.sleeping &= effects.sleep;
         gpu.request_reads(reads.request());
         gpu.step().map_err(failed)?;
-        self.last_asked = asked;
+        // What the step replaces, kept until its motion check passes.
+        let previous = (
+            self.unread.take(),
+            std::mem::replace(&mut self.last_asked, asked),
+            host.stats,
+        );
         self.unread = Some(Unread::new(gpu.steps(), handles.to_vec(), reads));
         // The counts and times come from the step's results, read when asked for.
         host.stats = StepStats {
             bodies: host.bodies.len(),
             ..Default::default()
         };
-        Ok(())
+        self.check_step(host, handles, previous, host_current, uploaded_before)
     }
 
     fn set_contact_events(&mut self, on: bool) -> Result<(), Error> {

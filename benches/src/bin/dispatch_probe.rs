@@ -147,13 +147,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .map(|n| ms(n))
                 .sum();
             let colors = world.solver().color_dispatches();
-            let dispatches = match (path, warm_start_sweep) {
-                (SolvePath::Wide, WarmStartSweep::ByColor) => {
-                    SUBSTEPS * (2 + (colors + 1) * (2 + iters))
-                }
-                (SolvePath::Wide, WarmStartSweep::PerBody) => {
-                    SUBSTEPS * (4 + (colors + 1) * (1 + iters))
-                }
+            let per_body = warm_start_sweep.per_body(ctx.info.device_type);
+            let dispatches = match (path, per_body) {
+                (SolvePath::Wide, false) => SUBSTEPS * (2 + (colors + 1) * (2 + iters)),
+                (SolvePath::Wide, true) => SUBSTEPS * (4 + (colors + 1) * (1 + iters)),
                 (SolvePath::Fused, _) => 1,
             };
             println!(

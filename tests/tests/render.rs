@@ -439,6 +439,7 @@ fn pair_overlay_draws_the_broad_phase_pairs_touching_or_not() {
         pairs: true,
         ..Overlay::NONE
     };
+    let mut host_renderer = Renderer::new(&ctx, overlay_config()).expect("renderer");
     for backend in [Backend::Cpu, Backend::Hybrid, Backend::Gpu] {
         let mut world = World::new(WorldConfig {
             gravity: Vec3::zeros(),
@@ -459,8 +460,15 @@ fn pair_overlay_draws_the_broad_phase_pairs_touching_or_not() {
         if backend != Backend::Gpu {
             assert_eq!(world.broad_phase_pairs(), &[(a, b)], "{backend:?}");
         }
-        let ctx = world.gpu_context().unwrap_or_else(|| ctx.clone());
-        let mut renderer = Renderer::new(&ctx, overlay_config()).expect("renderer");
+        // The host worlds share one renderer (building one compiles its pipelines); the GPU
+        // world is drawn on its own device, from its buffers.
+        let mut own = None;
+        let renderer = match world.gpu_context() {
+            Some(world_ctx) => {
+                own.insert(Renderer::new(&world_ctx, overlay_config()).expect("renderer"))
+            }
+            None => &mut host_renderer,
+        };
         let image = renderer.render(&world, &cam, &pairs).unwrap();
         let plain = renderer.render(&world, &cam, &Overlay::NONE).unwrap();
         assert_eq!(count_near(&plain, palette.pair), 0, "{backend:?}");

@@ -129,8 +129,8 @@ fn cpu_refuses_a_step_past_the_position_bound_while_bodies_sleep() {
 /// A floor with a cube landing on it under gravity (so contacts and their warm starts carry
 /// from step to step), and a cube 12 m short of the position bound moving outward at
 /// 300 m/s: 5 m a step, so the third step would carry it past the bound.
-fn gpu_world_with_late_runaway() -> (World, BodyHandle, BodyHandle) {
-    let mut cfg = config(Backend::Gpu, SolverConfig::default());
+fn world_with_late_runaway(backend: Backend) -> (World, BodyHandle, BodyHandle) {
+    let mut cfg = config(backend, SolverConfig::default());
     cfg.gravity = Vec3::new(0.0, -9.81, 0.0);
     let mut world = World::new(cfg).unwrap();
     let cube = floor_and_cube(&mut world);
@@ -144,18 +144,16 @@ fn gpu_world_with_late_runaway() -> (World, BodyHandle, BodyHandle) {
     (world, cube, runaway)
 }
 
-/// On `Backend::Gpu` a step that leaves a body past `MAX_POSITION` is refused like on the
-/// host backends: `InvalidStep` naming the body's handle and the quantity, found by the GPU's
-/// motion check when the step is done, and the step undone (the device state copied back
-/// from the checkpoint taken at its start). The world is then bit for bit as before the
-/// step, and steps on exactly as a twin world that never took the bad step.
-#[test]
-fn gpu_refuses_a_step_past_the_position_bound_and_undoes_it() {
-    if !have_gpu() {
-        return;
-    }
-    let (mut world, cube, runaway) = gpu_world_with_late_runaway();
-    let (mut twin, _, _) = gpu_world_with_late_runaway();
+/// A step that would leave a body past `MAX_POSITION` is refused with `InvalidStep` naming
+/// the body's handle and the quantity, and undone: on `Backend::Gpu` found by the GPU's motion
+/// check when the step is done and the device state copied back from the checkpoint taken at
+/// its start; on `Cpu` and `Hybrid` found by the host before anything is committed (Hybrid's
+/// GPU pair history is not put back, and the twin shows it makes no difference). The world
+/// is then bit for bit as before the step, and steps on exactly as a twin world that never
+/// took the bad step (warm starts and pair matching included).
+fn late_runaway_step_is_undone(backend: Backend) {
+    let (mut world, cube, runaway) = world_with_late_runaway(backend);
+    let (mut twin, _, _) = world_with_late_runaway(backend);
     for _ in 0..2 {
         world.step().unwrap();
         twin.step().unwrap();
@@ -195,8 +193,27 @@ fn gpu_refuses_a_step_past_the_position_bound_and_undoes_it() {
         }
     }
     assert_eq!(world.step_count(), 5);
-    assert_eq!(snapshot(&world), snapshot(&twin));
+    assert_eq!(snapshot(&world), snapshot(&twin), "{backend:?}");
     assert!(world.pose(runaway).unwrap().translation.x < MAX_POSITION - 12.0);
+}
+
+#[test]
+fn cpu_undoes_a_step_past_the_position_bound_as_if_never_taken() {
+    late_runaway_step_is_undone(Backend::Cpu);
+}
+
+#[test]
+fn gpu_refuses_a_step_past_the_position_bound_and_undoes_it() {
+    if have_gpu() {
+        late_runaway_step_is_undone(Backend::Gpu);
+    }
+}
+
+#[test]
+fn hybrid_undoes_a_step_past_the_position_bound_with_its_gpu_pair_history_kept() {
+    if have_gpu() {
+        late_runaway_step_is_undone(Backend::Hybrid);
+    }
 }
 
 /// Values the random calls draw from: ordinary ones, and extreme finite ones on both sides

@@ -5,10 +5,13 @@
 //! ```text
 //! cargo run --release -p tumble-benches --bin collision_stage_times -- [--csv] [bodies...]
 //! ```
-//! Default body counts: 1000 10000 100000. Set `TUMBLE_ADAPTER` to pick an adapter. With
+//! Default body counts: 1000 10000 100000; `--help` lists the flags. Set `TUMBLE_ADAPTER` to pick an adapter. With
 //! `--csv` the rows are printed as CSV (the committed results in `benches/results/`).
 
 use std::time::Instant;
+
+use clap::Parser;
+use tumble_benches::cli::count;
 
 use tumble_benches::random_pile;
 use tumble_geometry::Aabb;
@@ -34,19 +37,19 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// Per-stage GPU times of the collision stages on random piles.
+#[derive(Parser, Debug)]
+struct Args {
+    /// Print the rows as CSV (the committed results in `benches/results/`).
+    #[arg(long)]
+    csv: bool,
+    /// Body counts, one random pile each.
+    #[arg(default_values_t = [1000, 10_000, 100_000], value_parser = count())]
+    counts: Vec<usize>,
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let csv = args.iter().any(|a| a == "--csv");
-    let counts: Vec<usize> = args
-        .iter()
-        .filter(|a| *a != "--csv")
-        .map(|a| a.parse())
-        .collect::<Result<_, _>>()?;
-    let counts = if counts.is_empty() {
-        vec![1000, 10_000, 100_000]
-    } else {
-        counts
-    };
+    let Args { csv, counts } = Args::parse();
     let ctx = GpuContext::new()?;
     // Quoted: adapter names contain commas.
     let adapter = format!("\"{} ({:?})\"", ctx.info.name, ctx.info.backend);

@@ -6,7 +6,8 @@
 //! cargo run --release -p tumble-benches --bin dispatch_probe -- 4,12,24,50 1,4 wide,fused all,in-use per-body,by-color
 //! ```
 //!
-//! The first argument lists pyramid heights, the second biased iterations per substep (one
+//! `--help` lists the arguments and their values; an unknown value is an error. The first
+//! argument lists pyramid heights, the second biased iterations per substep (one
 //! relax iteration each, 4 substeps), the third the solver paths (`wide`, `fused`), the
 //! fourth how many colors the wide path dispatches one by one (`all` 24, `in-use` as many as
 //! a recent step used; the default), the fifth how the warm start visits the colors
@@ -23,6 +24,8 @@
 
 use std::collections::BTreeMap;
 
+use clap::{Parser, ValueEnum};
+
 use tumble_benches::gpu_pool::contact_counts;
 use tumble_gpu::GpuContext;
 use tumble_gpu::solver::{SolvePath, WarmStartSweep};
@@ -37,61 +40,100 @@ const PROFILED_STEPS: usize = 10;
 /// Substeps per step, as in the speed targets.
 const SUBSTEPS: u32 = 4;
 
-fn list(arg: Option<String>, default: &str) -> Result<Vec<u32>, std::num::ParseIntError> {
-    arg.as_deref()
-        .unwrap_or(default)
-        .split(',')
-        .map(str::parse)
-        .collect()
+/// A solver path to probe.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum PathArg {
+    /// One dispatch per color and pass.
+    Wide,
+    /// One single-workgroup dispatch.
+    Fused,
 }
 
-/// The comma-separated names in `arg` (or `default`), each looked up in `known`.
-fn choices<T: Copy>(
-    arg: Option<String>,
-    default: &str,
-    known: &[(&str, T)],
-) -> Result<Vec<T>, String> {
-    arg.as_deref()
-        .unwrap_or(default)
-        .split(',')
-        .map(|name| {
-            known
-                .iter()
-                .find(|(n, _)| *n == name)
-                .map(|&(_, value)| value)
-                .ok_or_else(|| {
-                    let names: Vec<&str> = known.iter().map(|(n, _)| *n).collect();
-                    format!("unknown value {name}: one of {}", names.join(", "))
-                })
-        })
-        .collect()
+/// How many colors the wide path dispatches one by one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum ColorsArg {
+    /// All 24.
+    All,
+    /// As many as a recent step used (the default).
+    InUse,
+}
+
+/// How the wide path's warm start visits the colors.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum WarmStartArg {
+    /// One dispatch, one thread per body (and one for the overflow set).
+    PerBody,
+    /// One dispatch per color.
+    ByColor,
+}
+
+/// Per-pass GPU times of the wide and fused solver paths on pyramids (arguments are
+/// positional, each a comma-separated list).
+#[derive(Parser, Debug)]
+struct Args {
+    /// Pyramid heights.
+    #[arg(action = clap::ArgAction::Set, num_args = 1, value_delimiter = ',', default_value = "4,12,24,50", value_parser = clap::value_parser!(u32).range(1..))]
+    heights: Vec<u32>,
+    /// Biased iterations per substep (one relax iteration each, 4 substeps).
+    #[arg(action = clap::ArgAction::Set, num_args = 1, value_delimiter = ',', default_value = "1,4", value_parser = clap::value_parser!(u32).range(1..))]
+    iterations: Vec<u32>,
+    /// Solver paths.
+    #[arg(
+        action = clap::ArgAction::Set,
+        num_args = 1,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "wide"
+    )]
+    paths: Vec<PathArg>,
+    /// Colors the wide path dispatches one by one.
+    #[arg(
+        action = clap::ArgAction::Set,
+        num_args = 1,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "in-use"
+    )]
+    colors: Vec<ColorsArg>,
+    /// Warm starts of the wide path.
+    #[arg(
+        action = clap::ArgAction::Set,
+        num_args = 1,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "per-body"
+    )]
+    warm_starts: Vec<WarmStartArg>,
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut args = std::env::args().skip(1);
-    let heights = list(args.next(), "4,12,24,50")?;
-    let iterations = list(args.next(), "1,4")?;
-    let paths = choices(
-        args.next(),
-        "wide",
-        &[("wide", SolvePath::Wide), ("fused", SolvePath::Fused)],
-    )?;
-    let dispatch_modes = choices(
-        args.next(),
-        "in-use",
-        &[
-            ("all", ColorDispatch::All),
-            ("in-use", ColorDispatch::InUse),
-        ],
-    )?;
-    let warm_starts = choices(
-        args.next(),
-        "per-body",
-        &[
-            ("per-body", WarmStartSweep::PerBody),
-            ("by-color", WarmStartSweep::ByColor),
-        ],
-    )?;
+    let args = Args::parse();
+    let heights = args.heights;
+    let iterations = args.iterations;
+    let paths: Vec<SolvePath> = args
+        .paths
+        .iter()
+        .map(|p| match p {
+            PathArg::Wide => SolvePath::Wide,
+            PathArg::Fused => SolvePath::Fused,
+        })
+        .collect();
+    let dispatch_modes: Vec<ColorDispatch> = args
+        .colors
+        .iter()
+        .map(|c| match c {
+            ColorsArg::All => ColorDispatch::All,
+            ColorsArg::InUse => ColorDispatch::InUse,
+        })
+        .collect();
+    let warm_starts: Vec<WarmStartSweep> = args
+        .warm_starts
+        .iter()
+        .map(|w| match w {
+            WarmStartArg::PerBody => WarmStartSweep::PerBody,
+            WarmStartArg::ByColor => WarmStartSweep::ByColor,
+        })
+        .collect();
     let ctx = GpuContext::new()?;
     println!("device: {} ({:?})", ctx.info.name, ctx.info.backend);
     println!(

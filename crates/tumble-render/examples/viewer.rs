@@ -3,7 +3,9 @@
 //! Right drag orbits, the wheel zooms, a left drag picks the body under the mouse and pulls it
 //! (its velocity is set each step towards the mouse on the plane facing the camera). Space
 //! pauses, S steps once while paused, B switches between `Backend::Cpu` and `Backend::Gpu`
-//! (the bodies' poses and velocities carry over). The title shows the step time and counts.
+//! (the bodies' poses and velocities carry over). A status line in the picture's top left
+//! corner (and the title) shows the scene, backend, paused or running, the step time and the
+//! counts.
 //!
 //! Each frame is drawn by tumble-render (from the GPU world's own buffers on `Backend::Gpu`)
 //! and its picture is copied into the window's surface on a device of the window's own.
@@ -19,7 +21,7 @@ use std::time::Instant;
 
 use tumble::nalgebra::Vector4;
 use tumble::{Backend, BodyHandle, Point3, QueryFilter, Vec3, World, WorldConfig};
-use tumble_render::{Camera, Image, Overlay, RenderConfig, Renderer};
+use tumble_render::{Camera, Image, Overlay, RenderConfig, Renderer, status};
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
@@ -350,11 +352,31 @@ impl App {
             self.world.step().map_err(|e| e.to_string())?;
             self.step_ms = started.elapsed().as_secs_f64() * 1e3;
         }
+        let s = self.world.stats();
+        let state = if self.paused { "paused" } else { "running" };
+        let status = status_line(&[
+            format!(
+                "{} on {:?}, {state}",
+                self.args.scene,
+                self.world.config().backend
+            ),
+            format!(
+                "step {:.2} ms, {} bodies",
+                self.step_ms,
+                self.world.body_count()
+            ),
+            format!(
+                "{} pairs, {} manifolds, {} points",
+                s.pairs, s.manifolds, s.contact_points
+            ),
+        ]);
+        self.renderer
+            .set_status_line(Some(status))
+            .map_err(|e| e.to_string())?;
         let image = self
             .renderer
             .render(&self.world, &self.orbit.camera(), &Overlay::CONTACTS)
             .map_err(|e| e.to_string())?;
-        let s = self.world.stats();
         let title = format!(
             "tumble viewer: {} on {:?}, step {:.2} ms, {} bodies, {} pairs, {} manifolds, {} points, {} colors{}",
             self.args.scene,
@@ -378,6 +400,19 @@ impl App {
         self.frame += 1;
         Ok(())
     }
+}
+
+/// The status line's text: `lines` with characters other than printable ASCII replaced by
+/// `?` and cut to the characters that fit the picture's width (a scene file's long path).
+fn status_line(lines: &[String]) -> String {
+    let columns = ((WIDTH - 2 * status::MARGIN) / status::CELL) as usize;
+    let fit = |line: &String| -> String {
+        line.chars()
+            .map(|c| if status::glyph(c).is_some() { c } else { '?' })
+            .take(columns)
+            .collect()
+    };
+    lines.iter().map(fit).collect::<Vec<_>>().join("\n")
 }
 
 /// Copies `image` into the window's next surface texture and presents it.

@@ -19,6 +19,8 @@
 //! `Backend::Gpu` (one manifold slot per candidate pair) and from [`World::contacts`],
 //! [`World::broad_phase_pairs`] and [`World::contact_colors`] elsewhere. The picture comes back as an [`Image`], written as PNG with
 //! [`Image::write_png`].
+//! [`Renderer::set_status_line`] adds a line of text on a dark band in the picture's top left
+//! corner ([`status`]); there is none by default.
 //!
 //! A picture of a cube at rest on the origin, seen from above and to the side:
 //!
@@ -61,6 +63,7 @@ mod config;
 mod image;
 mod pipelines;
 mod renderer;
+pub mod status;
 
 pub use camera::Camera;
 pub use image::Image;

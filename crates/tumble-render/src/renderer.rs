@@ -62,6 +62,8 @@ pub struct Renderer {
     readback: wgpu::Buffer,
     bodies: BodyBuffers,
     last_source: Option<Source>,
+    /// Drawn into every picture by [`crate::status::draw`], when set.
+    status_line: Option<String>,
 }
 
 impl Renderer {
@@ -295,6 +297,7 @@ impl Renderer {
             readback,
             bodies: BodyBuffers::new(ctx),
             last_source: None,
+            status_line: None,
         })
     }
 
@@ -321,6 +324,23 @@ impl Renderer {
     /// Where the last frame's bodies came from (`None` before the first frame).
     pub fn last_source(&self) -> Option<Source> {
         self.last_source
+    }
+
+    /// Sets the text drawn on a dark band into the top left corner of every picture from
+    /// now on ([`crate::status`]); `None` (the default) draws none. An `Err` names a line
+    /// that is empty, has characters other than printable ASCII and `'\n'`, or does not fit
+    /// the picture, and keeps the line as it was.
+    pub fn set_status_line(&mut self, line: Option<String>) -> Result<(), RenderError> {
+        if let Some(text) = &line {
+            crate::status::validate(text, self.config.width, self.config.height)?;
+        }
+        self.status_line = line;
+        Ok(())
+    }
+
+    /// The status line drawn into the pictures, if any.
+    pub fn status_line(&self) -> Option<&str> {
+        self.status_line.as_deref()
     }
 
     /// The aspect ratio of the pictures (width over height).
@@ -491,7 +511,11 @@ impl Renderer {
             },
         );
         self.ctx.queue.submit([encoder.finish()]);
-        self.read_picture()
+        let mut image = self.read_picture()?;
+        if let Some(text) = &self.status_line {
+            crate::status::draw(&mut image, text)?;
+        }
+        Ok(image)
     }
 
     /// Waits for the frame and copies it out of the readback buffer, row by row.

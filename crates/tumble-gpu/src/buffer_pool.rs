@@ -31,6 +31,9 @@ pub struct BufferPool {
     ctx: GpuContext,
     buffers: HashMap<&'static str, wgpu::Buffer>,
     generation: u64,
+    /// Buffers every step rewrites before any kernel or host read of that step looks at
+    /// them (scratch of one step): left out of checkpoints ([`Self::with_per_step`]).
+    per_step: &'static [&'static str],
 }
 
 impl BufferPool {
@@ -40,7 +43,24 @@ impl BufferPool {
             ctx: ctx.clone(),
             buffers: HashMap::new(),
             generation: 0,
+            per_step: &[],
         }
+    }
+
+    /// The pool with `names` declared scratch of one step: every step writes them in full
+    /// (as far as that step reads them) before reading them, so a checkpoint need not copy
+    /// them, and a step rolled back and run again finds them as it would have. Snapshots still
+    /// hold them.
+    pub fn with_per_step(mut self, names: &'static [&'static str]) -> Self {
+        self.per_step = names;
+        self
+    }
+
+    /// The state buffers a checkpoint copies: all but the per-step scratch.
+    fn checkpoint_buffers(&self) -> Vec<(&'static str, &wgpu::Buffer)> {
+        let mut out = self.state_buffers();
+        out.retain(|(name, _)| !self.per_step.contains(name));
+        out
     }
 
     /// Makes `name` at least `bytes` long with `usage`; true when it was (re)allocated.
@@ -197,7 +217,7 @@ impl BufferPool {
     /// Records a copy of every state buffer into the same-named buffer of `shadow` (made to
     /// match first): a checkpoint on the device that [`Self::copy_back`] restores.
     pub fn record_checkpoint(&self, encoder: &mut wgpu::CommandEncoder, shadow: &mut BufferPool) {
-        for (name, buffer) in self.state_buffers() {
+        for (name, buffer) in self.checkpoint_buffers() {
             let fits = shadow
                 .buffers
                 .get(name)
@@ -220,7 +240,7 @@ impl BufferPool {
     /// hold at its size) is cleared instead: a new buffer starts zeroed, and the step that
     /// grew it would find it so again.
     pub fn copy_back(&self, encoder: &mut wgpu::CommandEncoder, shadow: &BufferPool) {
-        for (name, buffer) in self.state_buffers() {
+        for (name, buffer) in self.checkpoint_buffers() {
             match shadow.buffers.get(name) {
                 Some(saved) if saved.size() == buffer.size() => {
                     encoder.copy_buffer_to_buffer(saved, 0, buffer, 0, buffer.size());

@@ -39,6 +39,17 @@ const COLOR_ARGS: &str = "color_args";
 const SORT_KEYS: [&str; 2] = ["color_sort_keys_0", "color_sort_keys_1"];
 const SORT_VALUES: [&str; 2] = ["color_sort_values_0", "color_sort_values_1"];
 const SORT_TILES: &str = "color_sort_tiles";
+/// The solver's buffers that every step rewrites before reading (left out of checkpoints):
+/// the constraint store (prepare_contacts writes every slot a step visits), the coloring's
+/// marks and undecided lists (the marks cleared at the start of each step), the sort keys of
+/// the order by color. The largest is the constraint store, 368 bytes per pair slot.
+const PER_STEP: [&str; 5] = [
+    CONSTRAINTS,
+    COLOR_MARKS,
+    COLOR_SCRATCH,
+    SORT_KEYS[0],
+    SORT_KEYS[1],
+];
 /// Bits of the color sort's keys: every color slot and `EMPTY_COLOR` (one past them).
 const COLOR_SORT_BITS: u32 = index_bits(EMPTY_COLOR + 1);
 
@@ -149,7 +160,7 @@ impl GpuSolver {
             color_dispatches: GRAPH_COLOR_COUNT,
             warm_start: WarmStartSweep::default(),
             radix,
-            pool: BufferPool::new(ctx),
+            pool: BufferPool::new(ctx).with_per_step(&PER_STEP),
             params,
             last_params: None,
             pass_colors,

@@ -214,8 +214,9 @@ impl BufferPool {
         Ok(())
     }
 
-    /// Records a copy of every state buffer into the same-named buffer of `shadow` (made to
-    /// match first): a checkpoint on the device that [`Self::copy_back`] restores.
+    /// Records a copy of every state buffer but the per-step scratch ([`Self::with_per_step`])
+    /// into the same-named buffer of `shadow` (made to match first): a checkpoint on the
+    /// device that [`Self::copy_back`] restores.
     pub fn record_checkpoint(&self, encoder: &mut wgpu::CommandEncoder, shadow: &mut BufferPool) {
         for (name, buffer) in self.checkpoint_buffers() {
             let fits = shadow
@@ -238,7 +239,9 @@ impl BufferPool {
     /// Records the copy of `shadow`'s checkpoint back into this pool's buffers. A buffer
     /// allocated or grown since the checkpoint (whose earlier contents the checkpoint does not
     /// hold at its size) is cleared instead: a new buffer starts zeroed, and the step that
-    /// grew it would find it so again.
+    /// grew it would find it so again. The per-step scratch keeps what the undone step left
+    /// (and its size): the next step rewrites it before reading it, but a host read of it
+    /// before that step (e.g. `GpuSolver::read_constraints`) sees the undone step's values.
     pub fn copy_back(&self, encoder: &mut wgpu::CommandEncoder, shadow: &BufferPool) {
         for (name, buffer) in self.checkpoint_buffers() {
             match shadow.buffers.get(name) {

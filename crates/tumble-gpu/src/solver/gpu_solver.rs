@@ -203,6 +203,11 @@ impl GpuSolver {
         self.warm_start = sweep;
     }
 
+    /// How the wide path's warm start visits the graph colors ([`Self::set_warm_start_sweep`]).
+    pub fn warm_start_sweep(&self) -> WarmStartSweep {
+        self.warm_start
+    }
+
     /// Graph colors each wide pass dispatches one by one ([`Self::set_color_dispatches`]).
     pub fn color_dispatches(&self) -> u32 {
         self.color_dispatches
@@ -360,7 +365,9 @@ impl GpuSolver {
     }
 
     /// The first `count` manifolds' constraints after the last recorded step, by manifold
-    /// index, read from the store and the order by color. Blocks.
+    /// index, read from the store and the order by color. Blocks. After a step undone by the
+    /// world's motion check the store (left out of the checkpoint) still holds the undone
+    /// step's constraints until the next step, so read them only after a step that stood.
     pub fn read_constraints(&self, count: u32) -> Result<Vec<GpuConstraint>, GpuError> {
         if count == 0 {
             return Ok(Vec::new());

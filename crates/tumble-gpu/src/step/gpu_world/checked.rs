@@ -2,8 +2,10 @@
 //! (or its centre beyond `MAX_POSITION`) is found and undone.
 //!
 //! With the check on ([`GpuWorld::set_motion_check`]), each recorded step begins with a copy
-//! of every state buffer of the stages' pools into a shadow pool on the device (a checkpoint:
-//! device-to-device copies, no host traffic), and ends with `check_motion`, which flags the
+//! of the state buffers of the stages' pools into a shadow pool on the device (a checkpoint:
+//! device-to-device copies, no host traffic; each pool's per-step scratch, which every step
+//! rewrites before reading, is left out: [`crate::buffer_pool::BufferPool::with_per_step`]),
+//! and ends with `check_motion`, which flags the
 //! first body out of bounds in a 4-byte buffer copied back with the step.
 //! [`GpuWorld::motion_flag`] waits for that copy; only when it is set does the host read the
 //! state ([`GpuWorld::read_now`]) and call [`GpuWorld::roll_back`], which copies the

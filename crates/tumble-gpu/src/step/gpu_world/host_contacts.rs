@@ -5,6 +5,7 @@ use tumble_solver::{Body, Contact};
 
 use super::*;
 use crate::buffer_pool::bytes_of;
+use crate::solver::WarmStartSweep;
 
 impl GpuWorld {
     /// One step of the solver stages on manifolds made by the host (the CPU narrow phase):
@@ -113,8 +114,18 @@ impl GpuWorld {
             body_count: n,
             contact_capacity: capacity,
         };
-        self.solver
-            .record(&mut encoder, &mut self.timer, &inputs, &params.params, path)?;
+        // Host manifolds may pair two bodies neither of which is dynamic on the device (fixed,
+        // kinematic, or asleep there), which the broad phase never pairs. The per-body warm
+        // start visits a constraint only from its dynamic bodies, so it would leave such a
+        // constraint's running normal-impulse total out (no velocity changes either way); the
+        // colored sweep visits every constraint, so host steps take it.
+        let sweep = self.solver.warm_start_sweep();
+        self.solver.set_warm_start_sweep(WarmStartSweep::ByColor);
+        let recorded =
+            self.solver
+                .record(&mut encoder, &mut self.timer, &inputs, &params.params, path);
+        self.solver.set_warm_start_sweep(sweep);
+        recorded?;
         self.source = ContactSource::Host;
         if let Some(events) = &mut self.events {
             events.forget();

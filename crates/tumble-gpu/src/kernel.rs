@@ -357,10 +357,15 @@ impl Kernel {
         let reflection = spec.reflection()?;
         let device = &ctx.device;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        let desc = wgpu::ShaderModuleDescriptor {
             label: Some(spec.name),
             source: wgpu::ShaderSource::Wgsl(reflection.text.as_str().into()),
-        });
+        };
+        // SAFETY: `runtime_checks` keeps naga's bounds checks; it only leaves out the loop
+        // counter naga adds to every loop, whose one job is to end a loop that would never
+        // end. Every loop of the crate's WGSL ends by its own condition (see
+        // `runtime_checks`), so the counter has nothing to catch.
+        let shader = unsafe { device.create_shader_module_trusted(desc, runtime_checks()) };
         let entries: Vec<wgpu::BindGroupLayoutEntry> = reflection
             .bindings
             .iter()
@@ -480,13 +485,46 @@ impl Kernel {
     }
 }
 
+/// The checks naga compiles into every kernel: its bounds checks (an index past an array's
+/// end reads zero and skips the write), without the counter `force_loop_bounding` adds to
+/// each loop to break out of one that never ends. `TUMBLE_SHADER_LOOP_BOUNDING=1` puts the
+/// counters back.
+///
+/// Every loop in `shaders/` ends by its own condition: `for` loops up to constants, to the
+/// solver's iteration and substep counts, and to counts and offsets the kernels or the host
+/// wrote, which never exceed a buffer's element count (far from `u32::MAX`, so no index
+/// wraps); the coloring's `COLOR_ROUNDS`; strides that halve; a binary search that halves its
+/// range (`match_pairs`); an insertion sort that moves left (`common/reduce.wgsl`); and the
+/// sweep's tile loop, which advances one workgroup of boxes per turn and stops at the last
+/// box (`sweep_pairs`). The counters cost time on every turn: on an H200 (Vulkan, driver
+/// 580.159.04) they were 10 to 15% of the GPU step of the packed pyramids of 24 to 100, in
+/// the collision, coloring and prepare kernels; on lavapipe about 17% of the solve
+/// (docs/gpu-solver.md, "Loop counters"). The results are the same bits either way: the
+/// counters never fire.
+pub(crate) fn runtime_checks() -> wgpu::ShaderRuntimeChecks {
+    let loop_bounding = std::env::var("TUMBLE_SHADER_LOOP_BOUNDING").as_deref() == Ok("1");
+    wgpu::ShaderRuntimeChecks {
+        force_loop_bounding: loop_bounding,
+        ..wgpu::ShaderRuntimeChecks::checked()
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::kernel_name;
+    use super::{kernel_name, runtime_checks};
 
     #[test]
     fn a_kernel_is_named_after_its_file() {
         assert_eq!(kernel_name("match_pairs.wgsl"), "match_pairs");
         assert_eq!(kernel_name("solver/solve_color.wgsl"), "solve_color");
+    }
+
+    #[test]
+    fn kernels_keep_bounds_checks_and_leave_out_loop_counters_unless_asked() {
+        let checks = runtime_checks();
+        // Bounds checks are what keeps a bad index inside its buffer: never off.
+        assert!(checks.bounds_checks);
+        let asked = std::env::var("TUMBLE_SHADER_LOOP_BOUNDING").as_deref() == Ok("1");
+        assert_eq!(checks.force_loop_bounding, asked);
     }
 }

@@ -60,6 +60,9 @@ pub(crate) fn cell_size(aabbs: &[Aabb], sample: &mut Vec<Real>) -> Real {
 pub(crate) struct Corners {
     /// Per box, in input order: the cell of its lower corner (grid boxes only).
     pub(crate) cell: Vec<[i32; 3]>,
+    /// Per box, in input order: bit `k` set when its upper corner lies one cell above its
+    /// lower corner on axis `k` (grid boxes only; on the other axes both lie in one cell).
+    pub(crate) span: Vec<u8>,
     /// The lowest and highest of them on each axis.
     pub(crate) lo: [i32; 3],
     pub(crate) hi: [i32; 3],
@@ -70,7 +73,7 @@ pub(crate) struct Corners {
 /// Sorts each box into grid, side list or never, for the cell function `cell` at
 /// `inv = 1 / cell size`: a grid box spans at most two cells on every axis (by the same
 /// function the grid uses, so the search's bound holds whatever the rounding). Records the
-/// grid boxes' lower-corner cells in `corners`.
+/// grid boxes' lower-corner cells and spans in `corners`.
 pub(crate) fn classify(
     aabbs: &[Aabb],
     inv: Real,
@@ -81,9 +84,12 @@ pub(crate) fn classify(
     kind.clear();
     corners.cell.clear();
     corners.cell.resize(aabbs.len(), [0; 3]);
+    corners.span.clear();
+    corners.span.resize(aabbs.len(), 0);
     let (mut lo, mut hi) = ([i32::MAX; 3], [i32::MIN; 3]);
     let mut count = 0;
-    kind.extend(aabbs.iter().zip(&mut corners.cell).map(|(b, corner)| {
+    let slots = corners.cell.iter_mut().zip(&mut corners.span);
+    kind.extend(aabbs.iter().zip(slots).map(|(b, (corner, span))| {
         let bounds = [b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z];
         if bounds.iter().any(|v| v.is_nan()) {
             return Kind::Never;
@@ -92,9 +98,12 @@ pub(crate) fn classify(
             return Kind::Side;
         }
         let c: [i32; 3] = std::array::from_fn(|k| cell(b.min[k], inv));
-        if (0..3).any(|k| cell(b.max[k], inv) - c[k] > 1) {
+        let d: [i32; 3] = std::array::from_fn(|k| cell(b.max[k], inv) - c[k]);
+        if d.iter().any(|&d| d > 1) {
             return Kind::Side;
         }
+        // `d` is 0 or 1 (`max >= min` and the cell function is monotone).
+        *span = (d[0] | (d[1] << 1) | (d[2] << 2)) as u8;
         for k in 0..3 {
             lo[k] = lo[k].min(c[k]);
             hi[k] = hi[k].max(c[k]);

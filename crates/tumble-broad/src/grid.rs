@@ -21,119 +21,19 @@
 //! key, so it is taken from its own row only, once.
 //!
 //! The boxes are queried in bucket order, so that neighbouring queries read neighbouring
-//! memory; each box keeps its partners `j > i` as a sorted run, and the runs are written
-//! out in order of `i`, merged with the side list's pairs: the list comes out sorted
-//! without a sort of the whole list. Nothing depends on timing or threads: the result is
-//! the same set in the same order on every run.
+//! memory; in a dense grid each box visits only the forward half of its neighbour cells, so
+//! each pair is found once (`grid_query.rs`). The pairs found are then grouped by their
+//! lower index (a counting sort), each group's partners sorted, and the groups written out
+//! in order, merged with the side list's pairs: the list comes out sorted without a sort of
+//! the whole list. Nothing depends on timing or threads: the result is the same set in the
+//! same order on every run.
 
 use tumble_geometry::{Aabb, Real};
 
 use crate::cell_size::{Corners, Kind, cell_size, classify};
 use crate::filter::{CollisionGroups, Filter, check_flags, check_groups};
+use crate::grid_query::{Buckets, Entry, Layout, cell, query_dense, query_hashed, row_key};
 use crate::{BroadPhaseError, collect_pairs};
-
-/// Cell coordinates are clamped to `±CELL_LIMIT`, so that `lo - 1` cannot overflow; the
-/// clamp is monotone, which is all the search needs.
-const CELL_LIMIT: Real = (1 << 30) as Real;
-
-/// The cell of coordinate `x` for `inv = 1 / h`: `floor(x / h)`, clamped. Monotone in `x`.
-#[inline]
-fn cell(x: Real, inv: Real) -> i32 {
-    // Clamped first, so the truncation is exact and cannot saturate; truncation rounds
-    // towards zero, one less below zero gives the floor (no libm call).
-    let v = (x * inv).clamp(-CELL_LIMIT, CELL_LIMIT);
-    let t = v as i32;
-    t - i32::from((t as Real) > v)
-}
-
-/// The bucket hash of the row of cells `(cy, cz)`; cell `cx` of that row goes to bucket
-/// `row_hash + cx` (modulo the table size), so a row's neighbouring cells are neighbouring
-/// buckets.
-#[inline]
-fn row_hash(cy: i32, cz: i32) -> u32 {
-    let mut h = (cy as u32).wrapping_mul(0x9E37_79B1) ^ (cz as u32).wrapping_mul(0x85EB_CA77);
-    h ^= h >> 15;
-    h = h.wrapping_mul(0x2C1B_3C6D);
-    h ^ (h >> 12)
-}
-
-/// The exact identity of a row of cells, to tell its boxes from those of other rows hashed
-/// into the same buckets.
-#[inline]
-fn row_key(cy: i32, cz: i32) -> u64 {
-    (u64::from(cy as u32) << 32) | u64::from(cz as u32)
-}
-
-/// One grid box, as stored in bucket order: its bounds and index, one 32-byte line.
-#[derive(Clone, Copy, Debug, Default)]
-#[repr(C, align(32))]
-struct Entry {
-    min: [Real; 3],
-    max: [Real; 3],
-    id: u32,
-}
-
-/// Dense grids of at most this many cells per grid box are used as they are; larger ones
-/// (a sparse or widely spread scene) are hashed into about one bucket per box.
-const DENSE_CELLS_PER_BOX: u64 = 8;
-
-/// How cells map to buckets.
-#[derive(Clone, Copy, Debug, Default)]
-struct Layout {
-    /// One bucket per cell of the boxes' bounding grid, x fastest, then y, then z: no two
-    /// cells share a bucket. Otherwise rows of cells are hashed (`row_hash`).
-    dense: bool,
-    /// Dense: the lowest cell on each axis.
-    origin: [i32; 3],
-    /// Dense: cells per axis.
-    dims: [i32; 3],
-    /// Number of buckets (hashed: a power of two).
-    buckets: usize,
-}
-
-impl Layout {
-    /// The layout for grid boxes whose lower corners lie in the cells `lo..=hi`.
-    fn new(lo: [i32; 3], hi: [i32; 3], boxes: usize) -> Self {
-        let dims: [i64; 3] = std::array::from_fn(|k| i64::from(hi[k]) - i64::from(lo[k]) + 1);
-        let cells = dims.iter().map(|&d| d.max(1) as u64).product::<u64>();
-        if boxes > 0 && cells <= DENSE_CELLS_PER_BOX * boxes as u64 + 64 {
-            Layout {
-                dense: true,
-                origin: lo,
-                dims: dims.map(|d| d as i32),
-                buckets: cells as usize,
-            }
-        } else {
-            Layout {
-                dense: false,
-                buckets: boxes.next_power_of_two().max(16),
-                ..Layout::default()
-            }
-        }
-    }
-
-    /// The bucket of cell `c` (dense: a cell within the bounds).
-    #[inline]
-    fn bucket(&self, c: [i32; 3]) -> usize {
-        if self.dense {
-            let [x, y, z]: [usize; 3] = std::array::from_fn(|k| (c[k] - self.origin[k]) as usize);
-            x + self.dims[0] as usize * (y + self.dims[1] as usize * z)
-        } else {
-            (row_hash(c[1], c[2]).wrapping_add(c[0] as u32) as usize) & (self.buckets - 1)
-        }
-    }
-}
-
-/// The grid boxes sorted by bucket.
-#[derive(Clone, Debug, Default)]
-struct Buckets {
-    layout: Layout,
-    /// `start[b]..start[b + 1]`: the boxes of bucket `b`, in `entry` and `row`.
-    start: Vec<u32>,
-    entry: Vec<Entry>,
-    /// The row key of each entry's cell.
-    row: Vec<u64>,
-}
 
 /// The broad phase the step uses: a hashed uniform grid with a side list for oversized
 /// boxes (see the module documentation of `grid.rs`), with reusable buffers, so that a
@@ -155,11 +55,12 @@ pub struct BroadPhase {
     side: Vec<u32>,
     /// Every pair with a side-list box in it, sorted.
     side_pairs: Vec<(u32, u32)>,
-    /// The partners `j > i` found in the grid, box after box in bucket order, each box's run
-    /// sorted.
+    /// The pairs `(i, j)`, `i < j`, found in the grid, in the order found.
+    found: Vec<(u32, u32)>,
+    /// Per box `i`, `first[i]..first[i + 1]`: its grid partners `j > i` in `partners`.
+    first: Vec<u32>,
+    /// The grid partners grouped by `i` (the counting sort of `found`), each group sorted.
     partners: Vec<u32>,
-    /// Per box, in input order: where its run of `partners` starts and ends.
-    run: Vec<(u32, u32)>,
     /// Scratch for the cell-size choice.
     sample: Vec<Real>,
     /// The cell size of the last query.
@@ -242,8 +143,9 @@ impl BroadPhase {
         classify(aabbs, inv, cell, &mut self.kind, &mut self.corners);
         self.build_grid(aabbs);
         self.pair_side_boxes(aabbs, is_static);
-        self.query_grid(aabbs.len(), inv, is_static);
-        self.emit(out);
+        self.query_grid(inv);
+        self.group(aabbs.len());
+        self.emit(out, is_static);
     }
 
     /// Counting sort of the grid boxes by bucket.
@@ -281,10 +183,16 @@ impl BroadPhase {
                 let s = &mut g.start[self.bucket[i] as usize];
                 *s -= 1;
                 let at = *s as usize;
+                let bucket = self.bucket[i] as usize;
                 g.entry[at] = Entry {
                     min: [b.min.x, b.min.y, b.min.z],
                     max: [b.max.x, b.max.y, b.max.z],
                     id: i as u32,
+                    cell: if g.layout.dense {
+                        Entry::pack(bucket, self.corners.span[i])
+                    } else {
+                        0
+                    },
                 };
                 if !g.layout.dense {
                     let c = self.corners.cell[i];
@@ -323,42 +231,64 @@ impl BroadPhase {
         self.side_pairs.sort_unstable();
     }
 
-    /// The wanted partners `j > i` of every grid box `i`, queried in bucket order (so that
-    /// neighbouring queries read neighbouring memory), each box's run sorted.
-    fn query_grid(&mut self, n: usize, inv: Real, is_static: Option<Filter<'_>>) {
-        self.run.clear();
-        self.run.resize(n, (0, 0));
+    /// Every overlapping pair of grid boxes, once, into `found`.
+    fn query_grid(&mut self, inv: Real) {
+        self.found.clear();
+        if self.grid.layout.dense {
+            query_dense(&self.grid, &mut self.found);
+        } else {
+            query_hashed(&self.grid, inv, &mut self.found);
+        }
+    }
+
+    /// Groups the found pairs by their lower index (a counting sort into `partners`), each
+    /// group sorted.
+    fn group(&mut self, n: usize) {
+        self.first.clear();
+        self.first.resize(n + 1, 0);
+        for &(i, _) in &self.found {
+            self.first[i as usize] += 1;
+        }
+        // Inclusive prefix sums: `first[i]` is the end of group `i`; the scatter below moves
+        // it back to the group's start.
+        let mut sum = 0;
+        for f in &mut self.first[..n] {
+            sum += *f;
+            *f = sum;
+        }
+        self.first[n] = sum;
         self.partners.clear();
-        let g = &self.grid;
-        for a in &g.entry {
-            let first = self.partners.len();
-            if g.layout.dense {
-                query_dense(g, a, inv, &mut self.partners);
-            } else {
-                query_hashed(g, a, inv, &mut self.partners);
-            }
-            if let Some(filter) = is_static.filter(|f| f.may_drop(a.id)) {
-                let mut kept = first;
-                for k in first..self.partners.len() {
+        self.partners.resize(self.found.len(), 0);
+        for &(i, j) in &self.found {
+            let f = &mut self.first[i as usize];
+            *f -= 1;
+            self.partners[*f as usize] = j;
+        }
+        for w in self.first.windows(2) {
+            sort_small(&mut self.partners[w[0] as usize..w[1] as usize]);
+        }
+    }
+
+    /// The pairs in order of `i`: each box's grid partners (filtered) merged with its
+    /// side-list pairs.
+    fn emit(&mut self, out: &mut Vec<(u32, u32)>, is_static: Option<Filter<'_>>) {
+        out.reserve(self.partners.len() + self.side_pairs.len());
+        let mut side = self.side_pairs.as_slice();
+        for (i, w) in self.first.windows(2).enumerate() {
+            let i = i as u32;
+            let (s, mut e) = (w[0] as usize, w[1] as usize);
+            if let Some(filter) = is_static.filter(|f| f.may_drop(i)) {
+                let mut kept = s;
+                for k in s..e {
                     let j = self.partners[k];
-                    if filter.wants(a.id, j) {
+                    if filter.wants(i, j) {
                         self.partners[kept] = j;
                         kept += 1;
                     }
                 }
-                self.partners.truncate(kept);
+                e = kept;
             }
-            self.partners[first..].sort_unstable();
-            self.run[a.id as usize] = (first as u32, self.partners.len() as u32);
-        }
-    }
-
-    /// The pairs in order of `i`: each box's grid run merged with its side-list pairs.
-    fn emit(&self, out: &mut Vec<(u32, u32)>) {
-        let mut side = self.side_pairs.as_slice();
-        for (i, &(s, e)) in self.run.iter().enumerate() {
-            let i = i as u32;
-            let grid = &self.partners[s as usize..e as usize];
+            let grid = &self.partners[s..e];
             let k = side.iter().take_while(|p| p.0 == i).count();
             if k == 0 {
                 out.extend(grid.iter().map(|&j| (i, j)));
@@ -381,98 +311,23 @@ impl BroadPhase {
     }
 }
 
-/// Pushes onto `partners` every grid box `j > i` that overlaps `a` (box `i`) in a dense
-/// grid: each cell has its own bucket, and the query is clipped to the grid's bounds.
+/// Sorts a group of partners: insertion sort for the few partners a box has in a pile (a
+/// dozen or so), the library's sort beyond.
 #[inline]
-fn query_dense(g: &Buckets, a: &Entry, inv: Real, partners: &mut Vec<u32>) {
-    let l = &g.layout;
-    let lo = a.min.map(|v| cell(v, inv));
-    let hi = a.max.map(|v| cell(v, inv));
-    let from: [i32; 3] = std::array::from_fn(|k| (lo[k] - 1).max(l.origin[k]));
-    let to: [i32; 3] = std::array::from_fn(|k| hi[k].min(l.origin[k] + l.dims[k] - 1));
-    if from[0] > to[0] {
+fn sort_small(v: &mut [u32]) {
+    if v.len() > 24 {
+        v.sort_unstable();
         return;
     }
-    let run = (to[0] - from[0] + 1) as usize;
-    // At most 3 x 3 rows for a grid box: their runs of boxes first, then one pass over them.
-    let mut rows = [(0usize, 0usize); 9];
-    let mut count = 0;
-    let mut total = 0;
-    for cz in from[2]..=to[2] {
-        for cy in from[1]..=to[1] {
-            let first = l.bucket([from[0], cy, cz]);
-            let (s, e) = (g.start[first] as usize, g.start[first + run] as usize);
-            rows[count] = (s, e);
-            count += 1;
-            total += e - s;
+    for k in 1..v.len() {
+        let x = v[k];
+        let mut at = k;
+        while at > 0 && v[at - 1] > x {
+            v[at] = v[at - 1];
+            at -= 1;
         }
+        v[at] = x;
     }
-    // Branch-free: every candidate is written, the count moves on a hit only (half the
-    // neighbours of a box in a pile come after it: a branch would mispredict).
-    let mut kept = partners.len();
-    partners.resize(kept + total, 0);
-    for &(s, e) in &rows[..count] {
-        for b in &g.entry[s..e] {
-            partners[kept] = b.id;
-            kept += usize::from(overlaps(a, b));
-        }
-    }
-    partners.truncate(kept);
-}
-
-/// As `query_dense` in a hashed grid: rows of cells share buckets, so a box is taken only
-/// from the row of cells it is stored in (once each).
-#[inline]
-fn query_hashed(g: &Buckets, a: &Entry, inv: Real, partners: &mut Vec<u32>) {
-    let lo = a.min.map(|v| cell(v, inv));
-    let hi = a.max.map(|v| cell(v, inv));
-    let buckets = g.layout.buckets;
-    let mask = (buckets - 1) as u32;
-    // Cells along x per row: `lo - 1 ..= hi`, 2 or 3 for a grid box.
-    let run = (hi[0] - lo[0] + 2) as usize;
-    for cz in lo[2] - 1..=hi[2] {
-        for cy in lo[1] - 1..=hi[1] {
-            let first = (row_hash(cy, cz).wrapping_add((lo[0] - 1) as u32) & mask) as usize;
-            let end = first + run;
-            let key = row_key(cy, cz);
-            if end <= buckets {
-                scan_row(g, g.start[first]..g.start[end], a, key, partners);
-            } else {
-                scan_row(g, g.start[first]..g.start[buckets], a, key, partners);
-                scan_row(g, g.start[0]..g.start[end - buckets], a, key, partners);
-            }
-        }
-    }
-}
-
-/// The closed-interval test of `a` against the bucket-sorted boxes `range` of row `key`.
-#[inline]
-fn scan_row(
-    g: &Buckets,
-    range: std::ops::Range<u32>,
-    a: &Entry,
-    key: u64,
-    partners: &mut Vec<u32>,
-) {
-    let range = range.start as usize..range.end as usize;
-    for (b, &row) in g.entry[range.clone()].iter().zip(&g.row[range]) {
-        if overlaps(a, b) && row == key {
-            partners.push(b.id);
-        }
-    }
-}
-
-/// `b` comes after `a` and overlaps it: `Aabb::intersects`, closed intervals.
-#[inline]
-fn overlaps(a: &Entry, b: &Entry) -> bool {
-    // Non-short-circuit `&`: branch-free but for the rare hit.
-    (b.id > a.id)
-        & (b.min[0] <= a.max[0])
-        & (a.min[0] <= b.max[0])
-        & (b.min[1] <= a.max[1])
-        & (a.min[1] <= b.max[1])
-        & (b.min[2] <= a.max[2])
-        & (a.min[2] <= b.max[2])
 }
 
 /// Every overlapping pair `(i, j)`, `i < j`, sorted ascending, by the step's broad phase

@@ -35,6 +35,7 @@ mod cell_size;
 mod error;
 mod filter;
 mod grid;
+mod grid_query;
 #[cfg(test)]
 mod grid_tests;
 mod motion;

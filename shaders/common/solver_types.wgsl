@@ -137,7 +137,7 @@ struct SolverParams {
 // Which color a per-color pass visits. 16 bytes.
 struct ColorPass {
     color: u32,
-    // 1: the tail, every constraint from `color` on in one thread (solve_color.wgsl).
+    // 1: the tail, every constraint from `color` on in one thread (solve_color_pass.wgsl).
     tail: u32,
     _pad1: u32,
     _pad2: u32,

@@ -98,7 +98,7 @@ fn workgroup_size_comes_from_the_host_constant() {
         let spec = k.spec;
         let (module, _) = spec.check_specialized(&k.overrides).unwrap();
         let size = module.entry_points[0].workgroup_size;
-        let expected = if spec.name == "solve_color" {
+        let expected = if matches!(spec.name, "solve_color" | "solve_color_immediate") {
             tumble_gpu::solver::constants::COLOR_PASS_WORKGROUP_SIZE
         } else {
             tumble_gpu::WORKGROUP_SIZE

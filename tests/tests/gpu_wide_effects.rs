@@ -28,7 +28,7 @@
 
 use tumble_geometry::{Cuboid, Pose, Real, Rot, Vec3};
 use tumble_gpu::solver::prepare::PREPARE_CONTACTS;
-use tumble_gpu::solver::solve_color::{PassKind, SOLVE_COLOR};
+use tumble_gpu::solver::solve_color::{PassKind, SOLVE_COLOR, SOLVE_COLOR_IMMEDIATE};
 use tumble_gpu::solver::store::STORE_IMPULSES;
 use tumble_gpu::solver::{Effects, SolvePath, effect_overrides};
 use tumble_gpu::step::{GpuWorld, GpuWorldConfig, PathPolicy, ReadRequest};
@@ -387,7 +387,9 @@ fn specialized_spirv(spec: &'static KernelSpec, effects: Effects, pass: Option<u
 /// The wide path's per-contact kernels, each with its `PASS` values.
 fn contact_kernels() -> Vec<(&'static KernelSpec, Option<u32>)> {
     let mut kernels = vec![(&PREPARE_CONTACTS, None), (&STORE_IMPULSES, None)];
-    kernels.extend(PassKind::ALL.iter().map(|p| (&SOLVE_COLOR, Some(p.code()))));
+    for spec in [&SOLVE_COLOR, &SOLVE_COLOR_IMMEDIATE] {
+        kernels.extend(PassKind::ALL.iter().map(|p| (spec, Some(p.code()))));
+    }
     kernels
 }
 

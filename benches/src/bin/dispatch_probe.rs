@@ -20,16 +20,17 @@
 //! is the cost of the dispatches and their barriers, and the growth with the height is the
 //! cost of the constraints. The last column hashes every pose and velocity after the
 //! profiled steps, so two builds or settings meant to compute the same result can be
-//! compared bit for bit.
+//! compared bit for bit. `--no-immediates` opens the device without immediate data, for the
+//! wide path's fallback (a bind group per color) on an adapter that has it.
 
 use std::collections::BTreeMap;
 
 use clap::{Parser, ValueEnum};
 
 use tumble_benches::gpu_pool::contact_counts;
-use tumble_gpu::GpuContext;
 use tumble_gpu::solver::{SolvePath, WarmStartSweep};
 use tumble_gpu::step::{ColorDispatch, GpuWorldConfig, PathPolicy, ReadRequest};
+use tumble_gpu::{GpuContext, GpuOptions};
 use tumble_solver::SolverConfig;
 use tumble_tests::scene_support::gpu_world_of;
 
@@ -104,6 +105,10 @@ struct Args {
         default_value = "per-body"
     )]
     warm_starts: Vec<WarmStartArg>,
+    /// Open the device without immediate data, so the wide path binds a uniform per color
+    /// (`solve_color`) even where the adapter has it.
+    #[arg(long)]
+    no_immediates: bool,
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -134,8 +139,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             WarmStartArg::ByColor => WarmStartSweep::ByColor,
         })
         .collect();
-    let ctx = GpuContext::new()?;
-    println!("device: {} ({:?})", ctx.info.name, ctx.info.backend);
+    let mut ctx = GpuContext::new()?;
+    if args.no_immediates {
+        ctx = GpuContext::with_options(&GpuOptions {
+            adapter_name: Some(ctx.info.name.clone()),
+            timestamps: ctx.has_timestamps,
+            limits: Some(tumble_gpu::wgpu::Limits {
+                max_immediate_size: 0,
+                ..ctx.adapter.limits()
+            }),
+        })?;
+    }
+    println!(
+        "device: {} ({:?}), immediate data: {}",
+        ctx.info.name, ctx.info.backend, ctx.has_immediates
+    );
     println!(
         "| height | bodies | manifolds | iterations | path | warm start | colors dispatched | solve dispatches | solve ms | per dispatch us | prepare ms | color ms | solver stages ms | collision ms | GPU total ms | pose bits |"
     );
@@ -239,15 +257,21 @@ fn pose_bits(world: &mut tumble_gpu::step::GpuWorld) -> Result<u64, Box<dyn std:
 
 /// Where a step's wall time goes on the host, timestamps off, default path choice: recording
 /// and submitting (`step`), then waiting for the poses (`wait_snapshot`, which includes the GPU
-/// time), medians over 30 steps after 30 settling ones.
+/// time), medians over 30 steps after 30 settling ones. The host CPU column is the time the
+/// calling thread spent on a CPU inside `step` (Linux: `/proc/thread-self/schedstat`), which
+/// leaves out time blocked in the driver: on lavapipe, whose queue submit runs the kernels
+/// before it returns unless `MESA_VK_ENABLE_SUBMIT_THREAD=1` moves them to a thread of their
+/// own, the wall time of `step` is mostly the kernels', and this column is the recording's.
 fn host_times(
     ctx: &GpuContext,
     heights: &[u32],
     color_dispatch: ColorDispatch,
 ) -> Result<(), Box<dyn std::error::Error>> {
     println!("\ncolor dispatch {color_dispatch:?}:");
-    println!("\n| height | path | record and submit ms | wait for poses ms | step ms |");
-    println!("|---|---|---|---|---|");
+    println!(
+        "\n| height | path | record and submit ms | host CPU in step ms | wait for poses ms | step ms |"
+    );
+    println!("|---|---|---|---|---|---|");
     for &h in heights {
         let scene = tumble_scenes::pyramid(h as usize);
         let mut world = gpu_world_of(
@@ -267,12 +291,19 @@ fn host_times(
             ..Default::default()
         };
         let mut record = Vec::new();
+        let mut cpu = Vec::new();
         let mut wait = Vec::new();
         for k in 0..60 {
+            let cpu_start = thread_cpu_seconds();
             let start = std::time::Instant::now();
             world.request_reads(poses);
             world.step()?;
             let submitted = start.elapsed().as_secs_f64();
+            if let (Some(a), Some(b)) = (cpu_start, thread_cpu_seconds())
+                && k >= 30
+            {
+                cpu.push(b - a);
+            }
             world.wait_snapshot()?;
             let done = start.elapsed().as_secs_f64();
             if k >= 30 {
@@ -285,11 +316,24 @@ fn host_times(
             v[v.len() / 2] * 1e3
         };
         let (r, w) = (median(&mut record), median(&mut wait));
+        let c = if cpu.is_empty() {
+            "-".to_string()
+        } else {
+            format!("{:.3}", median(&mut cpu))
+        };
         println!(
-            "| {h} | {:?} | {r:.3} | {w:.3} | {:.3} |",
+            "| {h} | {:?} | {r:.3} | {c} | {w:.3} | {:.3} |",
             world.last_path().unwrap_or(SolvePath::Wide),
             r + w
         );
     }
     Ok(())
+}
+
+/// Seconds the calling thread has spent on a CPU (the first field of Linux's
+/// `/proc/thread-self/schedstat`, in nanoseconds); `None` where that file is missing.
+fn thread_cpu_seconds() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: u64 = text.split_whitespace().next()?.parse().ok()?;
+    Some(ns as f64 * 1e-9)
 }

@@ -29,6 +29,12 @@ pub fn require_gpu_value(value: Option<&str>) -> bool {
 /// last step's pairs and manifolds, and its outputs); WebGPU's default of 8 is too few.
 pub const REQUIRED_STORAGE_BUFFERS_PER_STAGE: u32 = 10;
 
+/// Bytes of immediate data the wide solver path sets per dispatch (one `ColorPass`): a
+/// device whose limit is smaller is opened without immediate data and binds a uniform per
+/// color instead ([`GpuContext::has_immediates`]).
+pub const REQUIRED_IMMEDIATE_BYTES: u32 =
+    std::mem::size_of::<crate::solver::layout::ColorPass>() as u32;
+
 /// The read timeout a context starts with ([`GpuContext::set_read_timeout`]): far beyond any
 /// step, so reaching it means a hung or lost device, not a slow one.
 pub const DEFAULT_READ_TIMEOUT: Duration = Duration::from_secs(60);
@@ -74,6 +80,11 @@ pub struct GpuContext {
     pub info: wgpu::AdapterInfo,
     /// True when per-pass timestamp queries were enabled.
     pub has_timestamps: bool,
+    /// True when the device has immediate data ([`wgpu::Features::IMMEDIATES`]) for at least
+    /// [`REQUIRED_IMMEDIATE_BYTES`]: the wide solver path then names each per-color
+    /// dispatch's color with immediate data instead of a bind group per color (the same
+    /// bits, less host time recording a step; docs/gpu-solver.md).
+    pub has_immediates: bool,
     /// The pipelines built on this device.
     pub(crate) pipelines: crate::kernel::PipelineCache,
     /// Device loss and uncaptured errors, as the device's callbacks reported them.
@@ -182,11 +193,17 @@ impl GpuContext {
         }
         let has_timestamps =
             timestamps && adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
-        let required_features = if has_timestamps {
-            wgpu::Features::TIMESTAMP_QUERY
-        } else {
-            wgpu::Features::empty()
-        };
+        // Immediate data where the adapter has it and the limits asked for leave room for
+        // one `ColorPass` (limits with `max_immediate_size: 0` open a device without it).
+        let has_immediates = adapter.features().contains(wgpu::Features::IMMEDIATES)
+            && limits.max_immediate_size >= REQUIRED_IMMEDIATE_BYTES;
+        let mut required_features = wgpu::Features::empty();
+        if has_timestamps {
+            required_features |= wgpu::Features::TIMESTAMP_QUERY;
+        }
+        if has_immediates {
+            required_features |= wgpu::Features::IMMEDIATES;
+        }
         // The adapter's own limits: large scenes need its full storage-binding size, not
         // WebGPU's portable 128 MiB default.
         let descriptor = wgpu::DeviceDescriptor {
@@ -226,6 +243,7 @@ impl GpuContext {
             queue,
             info,
             has_timestamps,
+            has_immediates,
             pipelines: Default::default(),
             health,
             read_timeout: Arc::new(AtomicU64::new(DEFAULT_READ_TIMEOUT.as_nanos() as u64)),

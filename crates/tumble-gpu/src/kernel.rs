@@ -33,7 +33,9 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
 use crate::layout::WORK_LIST_GROUPS_OFFSET;
-use crate::shader::{Binding, ShaderSource, WgslFile, override_names, reflect_bindings};
+use crate::shader::{
+    Binding, ShaderSource, WgslFile, immediate_size, override_names, reflect_bindings,
+};
 use crate::{GpuContext, GpuError, constants};
 
 /// Declares a struct of built kernels, one `pub` [`Kernel`] field per spec (documented as
@@ -97,6 +99,8 @@ struct Reflection {
     names: Vec<String>,
     bindings: Vec<Binding>,
     overrides: Vec<String>,
+    /// Bytes of immediate data (`var<immediate>`), 0 for none.
+    immediate_size: u32,
 }
 
 /// A kernel file's name: the last path segment without `.wgsl`.
@@ -211,6 +215,7 @@ impl KernelSpec {
                     names: found.iter().map(|b| b.name.clone()).collect(),
                     bindings: found.iter().map(|b| b.kind).collect(),
                     overrides: override_names(&module),
+                    immediate_size: immediate_size(&module),
                 })
             })
             .as_ref()
@@ -384,7 +389,7 @@ impl Kernel {
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(spec.name),
             bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
+            immediate_size: reflection.immediate_size,
         });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(spec.name),
@@ -457,6 +462,13 @@ impl Kernel {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, group, &[]);
         pass.dispatch_workgroups(x, y, 1);
+    }
+
+    /// Sets the pipeline and `group` on `pass` for the dispatches that follow, made on the
+    /// pass itself (a kernel with immediate data sets them between its dispatches).
+    pub fn set(&self, pass: &mut wgpu::ComputePass<'_>, group: &wgpu::BindGroup) {
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, group, &[]);
     }
 
     /// Dispatches with workgroup counts read on the GPU from `args` at byte `offset`

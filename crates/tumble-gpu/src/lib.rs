@@ -62,10 +62,12 @@ pub use naga;
 /// Re-export of the GPU API.
 pub use wgpu;
 
-/// The capabilities wgpu's own validator uses for our pipelines: the device enables no
-/// shader-affecting feature (timestamps are a pass-level feature), so naga's defaults.
+/// The capabilities wgpu's own validator uses for our pipelines: naga's defaults and
+/// immediate data, the one shader-affecting feature a device may enable (timestamps are a
+/// pass-level feature). Only `solve_color_immediate` uses it, and it is built only on
+/// devices that have it ([`GpuContext::has_immediates`]).
 pub fn validation_capabilities() -> naga::valid::Capabilities {
-    naga::valid::Capabilities::default()
+    naga::valid::Capabilities::default() | naga::valid::Capabilities::IMMEDIATES
 }
 
 /// The README's examples, compiled and run as doctests.

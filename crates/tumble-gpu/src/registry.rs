@@ -22,6 +22,7 @@ pub static KERNELS: LazyLock<Vec<&'static KernelSpec>> = LazyLock::new(|| {
         &kernels::contact_events::CONTACT_BEGINS,
         &kernels::contact_events::CONTACT_ENDS,
         &solver::solve_color::SOLVE_COLOR,
+        &solver::solve_color::SOLVE_COLOR_IMMEDIATE,
         &kernels::cast_rays::CAST_RAYS,
         &kernels::check_motion::CHECK_MOTION,
     ];

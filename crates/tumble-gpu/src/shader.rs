@@ -146,6 +146,17 @@ pub fn reflect_bindings(module: &naga::Module) -> Vec<ReflectedBinding> {
     found
 }
 
+/// Bytes of immediate data a parsed module declares (`var<immediate>`): the size its
+/// pipeline layout must give, 0 for a kernel without any.
+pub fn immediate_size(module: &naga::Module) -> u32 {
+    module
+        .global_variables
+        .iter()
+        .filter(|(_, var)| var.space == naga::AddressSpace::Immediate)
+        .map(|(_, var)| module.types[var.ty].inner.size(module.to_ctx()))
+        .sum()
+}
+
 /// Names of the `override` constants a parsed module declares.
 pub fn override_names(module: &naga::Module) -> Vec<String> {
     module

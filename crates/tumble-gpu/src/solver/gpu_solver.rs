@@ -15,16 +15,19 @@ use crate::{GpuContext, GpuError, StageTimer};
 use super::color::ColorGroups;
 use super::constants::{
     COLOR_OFFSETS_LEN, COLOR_SLOTS, COLOR_TALLY_LEN, CONSTRAINT_ROWS, EMPTY_COLOR,
-    GRAPH_COLOR_COUNT, OVERFLOW_COLOR, TALLY_COUNTS,
+    GRAPH_COLOR_COUNT, TALLY_COUNTS,
 };
 use super::constraint_store::{constraints_by_manifold, store_stride};
 use super::effects::{Effects, effect_overrides};
-use super::layout::{ColorPass, ColorSlot, GpuConstraint, GpuSolverBody, GpuTilt, SolverParams};
+use super::layout::{ColorSlot, GpuConstraint, GpuSolverBody, GpuTilt, SolverParams};
 use super::path::{FusedMemory, SolvePath, WarmStartSweep};
 use super::pipelines::{SolverPipelines, pass_kernels};
 use super::solve_color::PassKind;
 
 mod bind_groups;
+mod sweep;
+
+use sweep::PassGroups;
 
 // Named as the kernels' bindings are (`bind_groups`), but for the copies kept per parity.
 const SOLVER_BODIES: &str = "solver_bodies";
@@ -83,8 +86,8 @@ struct BindGroups {
     integrate_positions: wgpu::BindGroup,
     finalize_bodies: wgpu::BindGroup,
     store_impulses: [wgpu::BindGroup; 2],
-    /// `[pass][color slot]`.
-    passes: Vec<Vec<wgpu::BindGroup>>,
+    /// `solve_color`'s, by [`PassKind::index`].
+    passes: Vec<PassGroups>,
     solve_fused: [wgpu::BindGroup; 2],
     solve_fused_shared: [wgpu::BindGroup; 2],
 }
@@ -107,10 +110,13 @@ pub struct GpuSolver {
     pool: BufferPool,
     params: wgpu::Buffer,
     last_params: Option<SolverParams>,
+    /// The `ColorPass` uniforms of `solve_color` (none on a device with immediate data).
     pass_colors: Vec<wgpu::Buffer>,
     sort_passes: Vec<RadixPass>,
     parity: usize,
-    bind: Option<(BindKey, BindGroups)>,
+    /// The bind groups over the step buffers of the last two steps, the latest first
+    /// ([`Self::rebind`]).
+    bind: Vec<(BindKey, BindGroups)>,
     fused_memory: FusedMemory,
 }
 
@@ -129,25 +135,22 @@ impl GpuSolver {
             usage: UNIFORM_USAGE,
             mapped_at_creation: false,
         });
-        // One color per slot, then the tails from each slot on (`sweep_colors`).
-        let pass_colors = [0, 1]
-            .into_iter()
-            .flat_map(|tail| {
-                (0..COLOR_SLOTS).map(move |color| ColorPass {
-                    color,
-                    tail,
-                    ..Default::default()
+        // One color per slot, then the tails from each slot on (`PassGroups::Uniform`);
+        // none where the color goes in as immediate data.
+        let pass_colors = if ctx.has_immediates {
+            Vec::new()
+        } else {
+            sweep::all_color_passes()
+                .map(|pass| {
+                    ctx.device
+                        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                            label: Some("color pass"),
+                            contents: bytemuck::bytes_of(&pass),
+                            usage: wgpu::BufferUsages::UNIFORM,
+                        })
                 })
-            })
-            .map(|pass| {
-                ctx.device
-                    .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some("color pass"),
-                        contents: bytemuck::bytes_of(&pass),
-                        usage: wgpu::BufferUsages::UNIFORM,
-                    })
-            })
-            .collect();
+                .collect()
+        };
         // Colors and EMPTY_COLOR fit in one digit of COLOR_SORT_BITS: the order by color is one
         // counting pass.
         let radix = RadixSort::with_digit_bits(ctx, COLOR_SORT_BITS)?;
@@ -166,7 +169,7 @@ impl GpuSolver {
             pass_colors,
             sort_passes,
             parity: 0,
-            bind: None,
+            bind: Vec::with_capacity(2),
             fused_memory: FusedMemory::default(),
         })
     }
@@ -273,7 +276,7 @@ impl GpuSolver {
         if effect_overrides(&effects) != effect_overrides(&self.effects) {
             self.pipelines = SolverPipelines::new(&self.ctx, &effects)?;
             self.passes = pass_kernels(&self.ctx, &effects)?;
-            self.bind = None;
+            self.bind.clear();
         }
         self.effects = effects;
         Ok(())
@@ -419,7 +422,7 @@ impl GpuSolver {
         self.rebind(inputs);
         encoder.clear_buffer(self.pool.get(COLOR_MARKS), 0, None);
         encoder.clear_buffer(self.pool.get(COLOR_TALLY), 0, None);
-        let (_, groups) = self.bind.as_ref().expect("bound above");
+        let (_, groups) = self.bind.first().expect("bound above");
         let k = &self.pipelines;
         let p = self.parity;
         match path {
@@ -456,10 +459,9 @@ impl GpuSolver {
                 }
                 let args = self.pool.get(COLOR_ARGS);
                 let sweep = |pass: &mut wgpu::ComputePass<'_>, kind: PassKind| {
-                    sweep_colors(
+                    groups.passes[kind.index()].sweep(
                         pass,
                         &self.passes[kind.index()],
-                        &groups.passes[kind.index()],
                         args,
                         self.color_dispatches,
                     );
@@ -477,12 +479,7 @@ impl GpuSolver {
                         // The overflow set after every color, in one thread, as in the
                         // colored sweep.
                         let warm = PassKind::WarmStart.index();
-                        self.passes[warm].dispatch_workgroups(
-                            &mut pass,
-                            &groups.passes[warm][OVERFLOW_COLOR as usize],
-                            1,
-                            1,
-                        );
+                        groups.passes[warm].overflow(&mut pass, &self.passes[warm]);
                     } else {
                         sweep(&mut pass, PassKind::WarmStart);
                     }
@@ -511,7 +508,11 @@ impl GpuSolver {
         Ok(())
     }
 
-    /// Rebuilds the bind groups when a buffer or the pipelines changed.
+    /// Puts the bind groups over `inputs` first in [`Self::bind`], building them only when
+    /// neither of the last two steps' sets was over the same buffers. The collision stage
+    /// hands the solver its two parities' buffers on alternate steps, so keeping one set
+    /// rebuilt every bind group (over 200, one per pass and color) every step: on lavapipe
+    /// that was a third of the host's time recording a step (docs/gpu-solver.md).
     fn rebind(&mut self, inputs: &StepBuffers<'_>) {
         let key = BindKey {
             generation: self.pool.generation(),
@@ -524,11 +525,16 @@ impl GpuSolver {
                 inputs.contact_work.clone(),
             ],
         };
-        if self.bind.as_ref().is_some_and(|(k, _)| *k == key) {
+        if let Some(found) = self.bind.iter().position(|(k, _)| *k == key) {
+            self.bind[..=found].rotate_right(1);
             return;
         }
         let groups = self.make_bind_groups(inputs);
-        self.bind = Some((key, groups));
+        // Groups over buffers the pool has since replaced are never used again.
+        let generation = key.generation;
+        self.bind.retain(|(k, _)| k.generation == generation);
+        self.bind.truncate(1);
+        self.bind.insert(0, (key, groups));
     }
 }
 
@@ -538,21 +544,4 @@ impl GpuSolver {
 fn submit_so_far(ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder) {
     let recorded = std::mem::replace(encoder, ctx.encoder("tumble step (continued)"));
     ctx.queue.submit([recorded.finish()]);
-}
-
-/// One pass over every color: the first `colors` one dispatch each, sized on the GPU by
-/// `color_plan`, then the tail (the remaining colors and the overflow set) in one thread.
-/// `groups[c]` names color `c` and `groups[COLOR_SLOTS + c]` the tail from color `c` on.
-fn sweep_colors(
-    pass: &mut wgpu::ComputePass<'_>,
-    kernel: &Kernel,
-    groups: &[wgpu::BindGroup],
-    args: &wgpu::Buffer,
-    colors: u32,
-) {
-    let stride = std::mem::size_of::<DispatchArgs>() as u64;
-    for (slot, group) in groups[..colors as usize].iter().enumerate() {
-        kernel.dispatch_indirect(pass, group, args, slot as u64 * stride);
-    }
-    kernel.dispatch_workgroups(pass, &groups[(COLOR_SLOTS + colors) as usize], 1, 1);
 }

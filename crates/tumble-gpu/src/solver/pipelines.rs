@@ -13,7 +13,7 @@ use super::effects::{Effects, effect_overrides};
 use super::fused::{SOLVE_FUSED, SOLVE_FUSED_SHARED};
 use super::integrate::{FINALIZE_BODIES, INTEGRATE_POSITIONS, INTEGRATE_VELOCITIES};
 use super::prepare::{PREPARE_BODIES, PREPARE_CONTACTS, WARM_START_BODIES};
-use super::solve_color::{PassKind, SOLVE_COLOR};
+use super::solve_color::{PassKind, solve_color_spec};
 use super::store::STORE_IMPULSES;
 
 pipelines! {
@@ -73,7 +73,8 @@ impl SolverPipelines {
     }
 }
 
-/// The per-color pass kernels for `effects`, one per [`PassKind`] in [`PassKind::ALL`] order.
+/// The per-color pass kernels for `effects`, one per [`PassKind`] in [`PassKind::ALL`] order:
+/// `solve_color_immediate` on a device with immediate data, `solve_color` elsewhere.
 pub fn pass_kernels(ctx: &GpuContext, effects: &Effects) -> Result<Vec<Kernel>, GpuError> {
     PassKind::ALL
         .iter()
@@ -81,7 +82,7 @@ pub fn pass_kernels(ctx: &GpuContext, effects: &Effects) -> Result<Vec<Kernel>, 
             with_effects(
                 ctx,
                 effects,
-                &SOLVE_COLOR,
+                solve_color_spec(ctx.has_immediates),
                 &[("PASS", f64::from(pass.code()))],
             )
         })

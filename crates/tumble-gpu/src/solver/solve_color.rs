@@ -7,8 +7,24 @@ use crate::shader::file;
 
 use super::constants::{PASS_RELAX, PASS_RESTITUTION, PASS_SOLVE, PASS_WARM_START};
 
-/// Kernel: specialized per pass with the `PASS` override.
+/// Kernel: specialized per pass with the `PASS` override; the color is a uniform, one bind
+/// group per color (devices without immediate data).
 pub static SOLVE_COLOR: KernelSpec = KernelSpec::new(file("solver/solve_color.wgsl"));
+
+/// The same kernel with the color as immediate data, one bind group per pass (devices with
+/// [`crate::GpuContext::has_immediates`]).
+pub static SOLVE_COLOR_IMMEDIATE: KernelSpec =
+    KernelSpec::new(file("solver/solve_color_immediate.wgsl"));
+
+/// The per-color pass kernel a device runs: [`SOLVE_COLOR_IMMEDIATE`] where it has immediate
+/// data, [`SOLVE_COLOR`] elsewhere.
+pub fn solve_color_spec(immediates: bool) -> &'static KernelSpec {
+    if immediates {
+        &SOLVE_COLOR_IMMEDIATE
+    } else {
+        &SOLVE_COLOR
+    }
+}
 
 /// The passes a sweep over the colors can make.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -46,13 +46,16 @@ impl GpuSolver {
             .iter()
             .map(|&kind| {
                 let kernel = &self.passes[kind.index()];
+                if self.ctx.has_immediates {
+                    return PassGroups::Immediate(kernel.bind_named(ctx, buffer(0)));
+                }
                 let pass = |pass_color| {
                     kernel.bind_named(ctx, |name| match name {
                         "pass_color" => pass_color,
                         name => buffer(0)(name),
                     })
                 };
-                self.pass_colors.iter().map(pass).collect()
+                PassGroups::Uniform(self.pass_colors.iter().map(pass).collect())
             })
             .collect();
         BindGroups {

@@ -288,7 +288,9 @@ fn a_step_undone_on_the_wide_path_and_taken_again_gives_the_bits_of_one_never_un
     // lists, the color sort keys): every step must rewrite them before reading them. After an
     // undone step they hold that step's values, where a world that never took it holds the
     // step before's; if any were read before being rewritten, the steps after the undo would
-    // differ from the twin's. The wide path with the per-body warm start runs every one of
+    // differ from the twin's. It also leaves out every buffer kept in two parities (pairs,
+    // manifolds, contact points, local manifolds, colors, tilts): the undone step must have
+    // left last step's parity untouched and rewrite its own before reading it. The wide path with the per-body warm start runs every one of
     // them (the small scenes of the facade's bounds tests take the fused path).
     let config = GpuWorldConfig {
         warm_start_sweep: WarmStartSweep::PerBody,

@@ -87,6 +87,33 @@ pub const SWEEP_PARAMS: &str = "sweep params";
 /// `NarrowParams`.
 pub const NARROW_PARAMS: &str = "narrow params";
 
+/// The buffers kept in two parities, this step's and the last step's, left out of the step
+/// check's checkpoints ([`BufferPool::with_per_step`]). A step writes only its own parity:
+/// every kernel that reads the last step's copies binds them read-only (`match_pairs`,
+/// `carry_impulses`, `contact_begins`, `contact_ends`), so a step that is undone leaves them
+/// as they were, and its own parity, which held the step before last, is rewritten by the
+/// step taken again before anything reads it (rolling back the parity counter restores
+/// which is which). They are most of the collision stage's memory: a manifold, four contact
+/// points and a local manifold per pair slot and parity.
+pub const PARITY_BUFFERS: [&str; 16] = [
+    PAIR_A[0][0],
+    PAIR_A[0][1],
+    PAIR_A[1][0],
+    PAIR_A[1][1],
+    PAIR_B[0][0],
+    PAIR_B[0][1],
+    PAIR_B[1][0],
+    PAIR_B[1][1],
+    PAIR_WORK[0],
+    PAIR_WORK[1],
+    MANIFOLDS[0],
+    MANIFOLDS[1],
+    CONTACTS[0],
+    CONTACTS[1],
+    LOCAL_MANIFOLDS[0],
+    LOCAL_MANIFOLDS[1],
+];
+
 /// Makes every body-sized buffer hold `bodies`; true when any was reallocated.
 pub fn ensure_body_buffers(pool: &mut BufferPool, bodies: u32) -> Result<bool, GpuError> {
     let n = u64::from(bodies);

@@ -42,16 +42,23 @@ const COLOR_ARGS: &str = "color_args";
 const SORT_KEYS: [&str; 2] = ["color_sort_keys_0", "color_sort_keys_1"];
 const SORT_VALUES: [&str; 2] = ["color_sort_values_0", "color_sort_values_1"];
 const SORT_TILES: &str = "color_sort_tiles";
-/// The solver's buffers that every step rewrites before reading (left out of checkpoints):
-/// the constraint store (prepare_contacts writes every slot a step visits), the coloring's
-/// marks and undecided lists (the marks cleared at the start of each step), the sort keys of
-/// the order by color. The largest is the constraint store, 368 bytes per pair slot.
-const PER_STEP: [&str; 5] = [
+/// The solver's buffers left out of checkpoints. Those that every step rewrites before
+/// reading: the constraint store (prepare_contacts writes every slot a step visits), the
+/// coloring's marks and undecided lists (the marks cleared at the start of each step), the
+/// sort keys of the order by color; the largest is the constraint store, 368 bytes per pair
+/// slot. And the colors and tilts kept per parity: a step writes only its own parity and
+/// binds last step's read-only (`previous_colors`, `previous_tilts`), as the collision
+/// stage's parity buffers (`crate::collision::buffers::PARITY_BUFFERS`).
+const PER_STEP: [&str; 9] = [
     CONSTRAINTS,
     COLOR_MARKS,
     COLOR_SCRATCH,
     SORT_KEYS[0],
     SORT_KEYS[1],
+    COLOR_STATE[0],
+    COLOR_STATE[1],
+    TILTS[0],
+    TILTS[1],
 ];
 /// Bits of the color sort's keys: every color slot and `EMPTY_COLOR` (one past them).
 const COLOR_SORT_BITS: u32 = index_bits(EMPTY_COLOR + 1);

@@ -55,8 +55,10 @@ pub struct BroadPhase {
     side: Vec<u32>,
     /// Every pair with a side-list box in it, sorted.
     side_pairs: Vec<(u32, u32)>,
-    /// The pairs `(i, j)`, `i < j`, found in the grid, in the order found.
+    /// The pairs `(i, j)`, `i < j`, found in the grid, in the order found: the first
+    /// `found_len` (the rest is room kept from earlier calls).
     found: Vec<(u32, u32)>,
+    found_len: usize,
     /// Per box `i`, `first[i]..first[i + 1]`: its grid partners `j > i` in `partners`.
     first: Vec<u32>,
     /// The grid partners grouped by `i` (the counting sort of `found`), each group sorted.
@@ -231,45 +233,44 @@ impl BroadPhase {
         self.side_pairs.sort_unstable();
     }
 
-    /// Every overlapping pair of grid boxes, once, into `found`.
+    /// Every overlapping pair of grid boxes, once, into `found[..found_len]`.
     fn query_grid(&mut self, inv: Real) {
-        self.found.clear();
-        if self.grid.layout.dense {
-            query_dense(&self.grid, &mut self.found);
+        self.found_len = if self.grid.layout.dense {
+            query_dense(&self.grid, &mut self.found)
         } else {
-            query_hashed(&self.grid, inv, &mut self.found);
-        }
+            query_hashed(&self.grid, inv, &mut self.found)
+        };
     }
 
-    /// Groups the found pairs by their lower index (a counting sort into `partners`), each
-    /// group sorted.
+    /// Groups the found pairs by their lower index (a counting sort into `partners`); each
+    /// group is sorted as it is written out.
     fn group(&mut self, n: usize) {
+        let found = &self.found[..self.found_len];
         self.first.clear();
         self.first.resize(n + 1, 0);
-        for &(i, _) in &self.found {
-            self.first[i as usize] += 1;
+        self.partners.clear();
+        self.partners.resize(found.len(), 0);
+        // Plain slices, so that the loops keep their pointers in registers.
+        let (first, partners) = (&mut self.first[..], &mut self.partners[..]);
+        for &(i, _) in found {
+            first[i as usize] += 1;
         }
         // Inclusive prefix sums: `first[i]` is the end of group `i`; the scatter below moves
         // it back to the group's start.
         let mut sum = 0;
-        for f in &mut self.first[..n] {
+        for f in &mut first[..n] {
             sum += *f;
             *f = sum;
         }
-        self.first[n] = sum;
-        self.partners.clear();
-        self.partners.resize(self.found.len(), 0);
-        for &(i, j) in &self.found {
-            let f = &mut self.first[i as usize];
+        first[n] = sum;
+        for &(i, j) in found {
+            let f = &mut first[i as usize];
             *f -= 1;
-            self.partners[*f as usize] = j;
-        }
-        for w in self.first.windows(2) {
-            sort_small(&mut self.partners[w[0] as usize..w[1] as usize]);
+            partners[*f as usize] = j;
         }
     }
 
-    /// The pairs in order of `i`: each box's grid partners (filtered) merged with its
+    /// The pairs in order of `i`: each box's grid partners (filtered, sorted) merged with its
     /// side-list pairs.
     fn emit(&mut self, out: &mut Vec<(u32, u32)>, is_static: Option<Filter<'_>>) {
         out.reserve(self.partners.len() + self.side_pairs.len());
@@ -288,8 +289,15 @@ impl BroadPhase {
                 }
                 e = kept;
             }
-            let grid = &self.partners[s..e];
+            let grid = &mut self.partners[s..e];
             let k = side.iter().take_while(|p| p.0 == i).count();
+            if k == 0 && grid.len() <= RANKED {
+                if !grid.is_empty() {
+                    emit_ranked(i, grid, out);
+                }
+                continue;
+            }
+            grid.sort_unstable();
             if k == 0 {
                 out.extend(grid.iter().map(|&j| (i, j)));
                 continue;
@@ -311,23 +319,25 @@ impl BroadPhase {
     }
 }
 
-/// Sorts a group of partners: insertion sort for the few partners a box has in a pile (a
-/// dozen or so), the library's sort beyond.
+/// Groups of at most this many partners are sorted by rank (`emit_ranked`).
+const RANKED: usize = 16;
+
+/// Appends `(i, j)` for every `j` of `group` (distinct, at most `RANKED`) to `out`, in
+/// ascending `j`: each partner goes to its rank, the number of partners below it. Branch-free
+/// and a fixed number of lanes, where an insertion sort of the dozen partners a box has in a
+/// pile mispredicts about once per partner.
 #[inline]
-fn sort_small(v: &mut [u32]) {
-    if v.len() > 24 {
-        v.sort_unstable();
-        return;
+fn emit_ranked(i: u32, group: &[u32], out: &mut Vec<(u32, u32)>) {
+    // Padding lanes hold `u32::MAX`, which is no box index (they fit below it): never below
+    // a partner.
+    let mut lanes = [u32::MAX; RANKED];
+    lanes[..group.len()].copy_from_slice(group);
+    let mut sorted = [(0, 0); RANKED];
+    for &j in group {
+        let rank: u32 = lanes.iter().map(|&x| u32::from(x < j)).sum();
+        sorted[rank as usize] = (i, j);
     }
-    for k in 1..v.len() {
-        let x = v[k];
-        let mut at = k;
-        while at > 0 && v[at - 1] > x {
-            v[at] = v[at - 1];
-            at -= 1;
-        }
-        v[at] = x;
-    }
+    out.extend_from_slice(&sorted[..group.len()]);
 }
 
 /// Every overlapping pair `(i, j)`, `i < j`, sorted ascending, by the step's broad phase

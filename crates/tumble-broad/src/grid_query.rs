@@ -136,14 +136,16 @@ pub(crate) struct Buckets {
     pub(crate) row: Vec<u64>,
 }
 
-/// Every overlapping pair of grid boxes in a dense grid, each once, appended to `found` as
-/// `(lower index, higher index)`: each box against the boxes after it in its own cell and
-/// in the forward half of its neighbour cells.
-pub(crate) fn query_dense(g: &Buckets, found: &mut Vec<(u32, u32)>) {
+/// Every overlapping pair of grid boxes in a dense grid, each once, written to the start of
+/// `found` as `(lower index, higher index)`; returns how many. Each box is tested against the
+/// boxes after it in its own cell and in the forward half of its neighbour cells. `found`
+/// keeps its length (grown when short), so that a reused buffer is not refilled each call.
+pub(crate) fn query_dense(g: &Buckets, found: &mut Vec<(u32, u32)>) -> usize {
     let dims = g.layout.dims;
     // Bucket steps of one cell along y and z.
     let (y, z) = (dims[0] as usize, (dims[0] * dims[1]) as usize);
     let (start, entry) = (&g.start[..], &g.entry[..]);
+    let mut kept = 0;
     for (p, a) in entry.iter().enumerate() {
         let b = (a.cell & ((1 << BUCKET_BITS) - 1)) as usize;
         let span = a.cell >> BUCKET_BITS;
@@ -169,22 +171,25 @@ pub(crate) fn query_dense(g: &Buckets, found: &mut Vec<(u32, u32)>) {
         }
         let total: usize = ranges[..count].iter().map(|&(s, e)| e - s).sum();
         // Branch-free: every candidate is written, the count moves on a hit only.
-        let mut kept = found.len();
-        found.resize(kept + total, (0, 0));
+        if found.len() < kept + total {
+            found.resize(2 * (kept + total), (0, 0));
+        }
         for &(s, e) in &ranges[..count] {
             for c in &entry[s..e] {
                 found[kept] = (a.id.min(c.id), a.id.max(c.id));
                 kept += usize::from(overlaps(a, c));
             }
         }
-        found.truncate(kept);
     }
+    kept
 }
 
-/// Every overlapping pair of grid boxes in a hashed grid, appended to `found` as `(i, j)`,
-/// `i < j`: rows of cells share buckets, so a box is taken only from the row of cells it is
-/// stored in (once each), and each box keeps its partners after it.
-pub(crate) fn query_hashed(g: &Buckets, inv: Real, found: &mut Vec<(u32, u32)>) {
+/// Every overlapping pair of grid boxes in a hashed grid, as `(i, j)`, `i < j`, into `found`
+/// (cleared first); returns how many. Rows of cells share buckets, so a box is taken only
+/// from the row of cells it is stored in (once each), and each box keeps its partners after
+/// it.
+pub(crate) fn query_hashed(g: &Buckets, inv: Real, found: &mut Vec<(u32, u32)>) -> usize {
+    found.clear();
     let buckets = g.layout.buckets;
     let mask = (buckets - 1) as u32;
     for a in &g.entry {
@@ -206,6 +211,7 @@ pub(crate) fn query_hashed(g: &Buckets, inv: Real, found: &mut Vec<(u32, u32)>) 
             }
         }
     }
+    found.len()
 }
 
 /// The closed-interval test of `a` against the bucket-sorted boxes `range` of row `key`,

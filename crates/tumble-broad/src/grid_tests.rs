@@ -297,3 +297,36 @@ fn the_static_filter_and_reuse_match_the_reference() {
             .is_err()
     );
 }
+
+#[test]
+fn one_broad_phase_reused_across_scenes_of_every_size_forgets_the_last() {
+    // The grid keeps its buffer of found pairs at its longest between calls: a large dense
+    // scene, then a smaller one, a hashed one and an empty one through the same
+    // `BroadPhase` must each give exactly their own pairs (no pair left over from a longer
+    // call, none lost to a stale length).
+    let mut rng = ChaCha8Rng::seed_from_u64(700);
+    let big = uniform_boxes(&mut rng, 3_000, 0.0..(3_000.0 / 2.0_f32).cbrt(), 0.05..0.5);
+    let small = uniform_boxes(&mut rng, 200, 0.0..4.0, 0.05..0.5);
+    let spread = uniform_boxes(&mut rng, 300, -5_000.0..5_000.0, 1.0..400.0);
+    let mut bp = BroadPhase::new();
+    let mut out = Vec::new();
+    for (boxes, what) in [
+        (&big, "dense, 3,000 boxes"),
+        (&small, "dense, 200 boxes"),
+        (&spread, "hashed"),
+        (&Vec::new(), "empty"),
+        (&big, "dense again"),
+    ] {
+        bp.find_pairs(boxes, &mut out);
+        assert_eq!(out, brute_force_pairs(boxes), "{what}");
+    }
+    assert!(dense(&big) && dense(&small) && !dense(&spread));
+    assert!(
+        !brute_force_pairs(&spread).is_empty(),
+        "the hashed scene must have pairs"
+    );
+    assert!(
+        brute_force_pairs(&big).len() > 5 * brute_force_pairs(&small).len(),
+        "the first scene must leave a longer buffer than the second needs"
+    );
+}

@@ -21,3 +21,24 @@ pub fn cube_at(world: &mut World, x: Real, y: Real, z: Real) -> BodyHandle {
         .add_body(BodyDesc::dynamic().translation(x, y, z))
         .unwrap()
 }
+
+/// A world on `backend` with sleep on and the floor slab (20 m half extent), or `None` when the
+/// backend needs a GPU and there is none; without an adapter that is a failure under
+/// `TUMBLE_REQUIRE_GPU=1`, else a loud "skipped".
+pub fn sleepy_world(backend: Backend) -> Option<World> {
+    let mut config = WorldConfig::default();
+    config.effects.sleep = tumble::EffectSwitch::On;
+    config.backend = backend;
+    let mut world = match World::new(config) {
+        Ok(world) => world,
+        Err(e @ tumble::Error::BackendUnavailable { .. })
+            if std::env::var("TUMBLE_REQUIRE_GPU").as_deref() != Ok("1") =>
+        {
+            eprintln!("##### skipped {backend:?}: no GPU adapter ({e}) #####");
+            return None;
+        }
+        Err(e) => panic!("{backend:?}: {e}"),
+    };
+    add_floor(&mut world, 20.0);
+    Some(world)
+}

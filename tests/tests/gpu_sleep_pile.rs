@@ -10,9 +10,9 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use tumble::TIME_TO_SLEEP;
 use tumble::prelude::*;
-use tumble::{EffectSwitch, TIME_TO_SLEEP};
-use tumble_tests::facade::add_floor;
+use tumble_tests::facade::sleepy_world;
 
 /// Half extent of the boxes, m.
 const HALF: Real = 0.25;
@@ -32,20 +32,7 @@ const LIMIT_STEPS: usize = (10.0 / DT) as usize;
 /// sideways by up to 8 mm and tilted by up to 0.02 rad about each axis (seeded), so that the
 /// boxes fall, land unevenly and must settle before they can sleep. `None` without an adapter.
 fn pile_world() -> Option<(World, Vec<BodyHandle>)> {
-    let mut config = WorldConfig::default();
-    config.effects.sleep = EffectSwitch::On;
-    config.backend = Backend::Gpu;
-    let mut world = match World::new(config) {
-        Ok(world) => world,
-        Err(e @ tumble::Error::BackendUnavailable { .. })
-            if std::env::var("TUMBLE_REQUIRE_GPU").as_deref() != Ok("1") =>
-        {
-            eprintln!("##### skipped: no GPU adapter ({e}) #####");
-            return None;
-        }
-        Err(e) => panic!("Backend::Gpu: {e}"),
-    };
-    add_floor(&mut world, 20.0);
+    let mut world = sleepy_world(Backend::Gpu)?;
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let (ox, oz) = (
         (NX as Real - 1.0) * PITCH / 2.0,

@@ -1,8 +1,8 @@
 //! Sleep: islands at rest leave the step, and wake only when something reaches them.
 
+use tumble::TIME_TO_SLEEP;
 use tumble::prelude::*;
-use tumble::{EffectSwitch, TIME_TO_SLEEP};
-use tumble_tests::facade::{add_floor, cube_at};
+use tumble_tests::facade::{cube_at, sleepy_world};
 
 /// Columns per side of the test pool, and boxes per column.
 const SIDE: usize = 3;
@@ -14,26 +14,6 @@ const SPACING: Real = 1.5;
 /// The backends whose sleep stage is the CPU's (`Backend::Gpu` sleeps on the GPU:
 /// gpu_sleep.rs).
 const BACKENDS: [Backend; 2] = [Backend::Cpu, Backend::Hybrid];
-
-/// A world on `backend` with sleep on and a floor, or `None` when the backend needs a GPU and
-/// there is none (a failure under `TUMBLE_REQUIRE_GPU=1`).
-fn sleepy_world(backend: Backend) -> Option<World> {
-    let mut config = WorldConfig::default();
-    config.effects.sleep = EffectSwitch::On;
-    config.backend = backend;
-    let mut world = match World::new(config) {
-        Ok(world) => world,
-        Err(e @ tumble::Error::BackendUnavailable { .. })
-            if std::env::var("TUMBLE_REQUIRE_GPU").as_deref() != Ok("1") =>
-        {
-            eprintln!("skipped {backend:?}: {e}");
-            return None;
-        }
-        Err(e) => panic!("{backend:?}: {e}"),
-    };
-    add_floor(&mut world, 20.0);
-    Some(world)
-}
 
 /// `SIDE x SIDE` columns of `HEIGHT` unit cubes, each cube 1 cm above the one below; the
 /// handles by column.

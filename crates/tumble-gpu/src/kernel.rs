@@ -510,7 +510,7 @@ impl Kernel {
 /// sweep's tile loop, which advances one workgroup of boxes per turn and stops at the last
 /// box (`sweep_pairs`). The counters cost time on every turn: on an H200 (Vulkan, driver
 /// 580.159.04) they were 10 to 15% of the GPU step of the packed pyramids of 24 to 100, in
-/// the collision, coloring and prepare kernels; on lavapipe about 17% of the solve
+/// the collision, coloring and prepare kernels; on lavapipe 20 to 25% of the solve
 /// (docs/gpu-solver.md, "Loop counters"). The results are the same bits either way: the
 /// counters never fire.
 pub(crate) fn runtime_checks() -> wgpu::ShaderRuntimeChecks {

@@ -11,7 +11,8 @@
 //! Each row reports the median and the 90th percentile of the wall time of `step()` after a
 //! warm-up, and the largest horizontal drift of any dynamic body at the end, so that a faster
 //! row can be checked for holding its stack just as well. GPU rows include the GPU work: a
-//! step's poses are read back before the clock stops.
+//! step's poses are read back before the clock stops. Tumble's rows also note each stage's
+//! mean time over the timed steps (`StepStats::timings`).
 
 use std::time::Instant;
 
@@ -20,6 +21,7 @@ use tumble::EffectOverrides;
 use tumble::prelude::*;
 use tumble_benches::cli::{SceneName, count};
 use tumble_scenes::{RapierOptions, Scene, build_rapier_with};
+use tumble_solver::Stage;
 
 /// Steps run before timing starts: pipelines compile, buffers grow, caches warm up.
 const WARMUP_STEPS: usize = 10;
@@ -120,6 +122,8 @@ fn run_tumble(scene: &Scene, backend: Backend, substeps: u32, steps: usize) -> R
     };
     let (mut world, handles) = World::from_scene(scene, config)?;
     let mut ms = Vec::with_capacity(steps);
+    // Each stage's time summed over the timed steps (one step's reading is noisy).
+    let mut stage_sum = [std::time::Duration::ZERO; Stage::ALL.len()];
     for i in 0..WARMUP_STEPS + steps {
         let t0 = Instant::now();
         world.step()?;
@@ -127,6 +131,10 @@ fn run_tumble(scene: &Scene, backend: Backend, substeps: u32, steps: usize) -> R
         world.pose(handles[handles.len() - 1])?;
         if i >= WARMUP_STEPS {
             ms.push(t0.elapsed().as_secs_f64() * 1e3);
+            let timings = world.stats().timings;
+            for (sum, (_, d)) in stage_sum.iter_mut().zip(timings.iter()) {
+                *sum += d;
+            }
         }
     }
     let poses = handles
@@ -137,19 +145,17 @@ fn run_tumble(scene: &Scene, backend: Backend, substeps: u32, steps: usize) -> R
         })
         .collect::<Result<Vec<_>, Error>>()?;
     let stats = world.stats();
-    let t = &stats.timings;
-    let to_ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
+    let stage_ms: Vec<String> = Stage::ALL
+        .iter()
+        .zip(&stage_sum)
+        .map(|(s, d)| format!("{} {:.2}", s.name(), d.as_secs_f64() * 1e3 / steps as f64))
+        .collect();
     let note = format!(
-        "{} pairs, {} contacts, {} colors; last step ms: aabb {:.2} broad {:.2} narrow {:.2} color {:.2} solve {:.2} finish {:.2}",
+        "{} pairs, {} contacts, {} colors; mean stage ms: {}",
         stats.pairs,
         stats.contact_points,
         stats.colors,
-        to_ms(t.update_aabbs),
-        to_ms(t.broad_phase),
-        to_ms(t.narrow_phase),
-        to_ms(t.color),
-        to_ms(t.solve),
-        to_ms(t.finish)
+        stage_ms.join(" ")
     );
     Ok(Run {
         ms,

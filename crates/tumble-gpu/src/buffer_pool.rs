@@ -125,6 +125,14 @@ impl BufferPool {
     pub fn bytes(&self) -> u64 {
         self.buffers.values().map(|b| b.size()).sum()
     }
+
+    /// Every buffer's name and size in bytes, in name order (for memory reports; the sizes
+    /// sum to [`Self::bytes`]).
+    pub fn sizes(&self) -> Vec<(&'static str, u64)> {
+        let mut out: Vec<_> = self.buffers.iter().map(|(&n, b)| (n, b.size())).collect();
+        out.sort_unstable_by_key(|(n, _)| *n);
+        out
+    }
 }
 
 /// One pooled buffer's contents as saved by [`BufferPool::save`]: its name, its size in

@@ -206,6 +206,14 @@ impl World {
         self.backend.device_buffer_bytes()
     }
 
+    /// On `Backend::Gpu`, each GPU buffer behind [`Self::device_buffer_bytes`] as (pool,
+    /// buffer name, bytes): the stages' pools and the step check's shadow copies
+    /// (`tumble_gpu::step::GpuWorld::buffer_sizes`; docs/gpu.md, "Memory per body"). Empty on
+    /// the other backends.
+    pub fn device_buffer_sizes(&self) -> Vec<(&'static str, &'static str, u64)> {
+        self.backend.device_buffer_sizes()
+    }
+
     /// Drops last step's contacts that involve `removed`, keeping the rest by handle (the host
     /// arrays must be up to date: see `StepBackend::sync_all`).
     pub(crate) fn forget_contacts_of(&mut self, removed: BodyHandle) {

@@ -517,4 +517,9 @@ impl GpuCollision {
     pub fn buffer_bytes(&self) -> u64 {
         self.pool.bytes()
     }
+
+    /// The stage's pooled device buffers by name, with their sizes in bytes.
+    pub fn buffer_sizes(&self) -> Vec<(&'static str, u64)> {
+        self.pool.sizes()
+    }
 }

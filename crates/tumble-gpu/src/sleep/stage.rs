@@ -92,9 +92,9 @@ impl GpuSleep {
         }
     }
 
-    /// Bytes of the stage's pooled device buffers (for memory reports).
-    pub(crate) fn buffer_bytes(&self) -> u64 {
-        self.pool.bytes()
+    /// The stage's pooled device buffers by name, with their sizes in bytes.
+    pub(crate) fn buffer_sizes(&self) -> Vec<(&'static str, u64)> {
+        self.pool.sizes()
     }
 
     /// True when the stage runs in each step.

@@ -238,11 +238,6 @@ impl GpuSolver {
             .in_workgroup(bodies, self.ctx.info.device_type)
     }
 
-    /// Bytes of the solver's pooled device buffers (for memory reports).
-    pub(crate) fn buffer_bytes(&self) -> u64 {
-        self.pool.bytes()
-    }
-
     /// The solver's pooled buffers (for saving and restoring a world's state).
     pub(crate) fn pool(&self) -> &BufferPool {
         &self.pool

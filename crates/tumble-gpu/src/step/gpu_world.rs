@@ -216,13 +216,30 @@ impl GpuWorld {
     }
 
     /// Bytes of the device buffers the world's stages hold in their pools (bodies, collision,
-    /// solver, sleep): what the world costs in GPU memory, readback staging and small
-    /// parameter blocks aside.
+    /// solver, sleep) and, with the motion check on, its shadow copies of them: what the world
+    /// costs in GPU memory, readback staging and small parameter blocks aside. The sum of
+    /// [`Self::buffer_sizes`].
     pub fn buffer_bytes(&self) -> u64 {
-        self.pool.bytes()
-            + self.collision.buffer_bytes()
-            + self.solver.buffer_bytes()
-            + self.sleep.buffer_bytes()
+        self.buffer_sizes().iter().map(|&(_, _, bytes)| bytes).sum()
+    }
+
+    /// Every pooled device buffer of the world as (pool, buffer name, bytes): the pools
+    /// `world`, `collision`, `solver`, `sleep` and, with the motion check on, the shadow
+    /// copies the check keeps of them (`check world`, ...). For memory reports
+    /// (docs/gpu.md, "Memory per body").
+    pub fn buffer_sizes(&self) -> Vec<(&'static str, &'static str, u64)> {
+        let stages = [
+            ("world", self.pool.sizes()),
+            ("collision", self.collision.buffer_sizes()),
+            ("solver", self.solver.pool().sizes()),
+            ("sleep", self.sleep.buffer_sizes()),
+        ];
+        let mut out: Vec<_> = stages
+            .into_iter()
+            .flat_map(|(pool, sizes)| sizes.into_iter().map(move |(n, b)| (pool, n, b)))
+            .collect();
+        out.extend(self.shadow_sizes());
+        out
     }
 
     /// Steps whose work was skipped because they would repeat an idle step (see

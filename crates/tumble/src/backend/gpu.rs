@@ -532,6 +532,10 @@ impl StepBackend for GpuBackend {
         self.gpu.lock().map_or(0, |g| g.buffer_bytes())
     }
 
+    fn device_buffer_sizes(&self) -> Vec<(&'static str, &'static str, u64)> {
+        self.gpu.lock().map_or(Vec::new(), |g| g.buffer_sizes())
+    }
+
     fn draw_buffers(&self) -> Option<(tumble_gpu::GpuContext, tumble_gpu::step::DrawBuffers)> {
         let gpu = self.gpu.lock().ok()?;
         Some((gpu.context().clone(), gpu.draw_buffers()?))

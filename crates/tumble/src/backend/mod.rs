@@ -196,6 +196,12 @@ pub(crate) trait StepBackend: fmt::Debug + Send + Sync {
         0
     }
 
+    /// The device buffers behind [`Self::device_buffer_bytes`] as (pool, buffer, bytes);
+    /// empty unless the whole step is on the GPU.
+    fn device_buffer_sizes(&self) -> Vec<(&'static str, &'static str, u64)> {
+        Vec::new()
+    }
+
     /// The device and buffers holding the bodies' state, when it lives on a GPU (see
     /// [`crate::World::gpu_draw_buffers`]).
     #[cfg(feature = "gpu")]

@@ -88,6 +88,25 @@ impl GpuWorld {
         Ok(())
     }
 
+    /// The check's shadow copies by pool (world, collision, solver, sleep) and buffer name,
+    /// with their sizes in bytes; empty while the check is off.
+    pub(super) fn shadow_sizes(&self) -> Vec<(&'static str, &'static str, u64)> {
+        let Some(check) = &self.check else {
+            return Vec::new();
+        };
+        let pools = [
+            "check world",
+            "check collision",
+            "check solver",
+            "check sleep",
+        ];
+        pools
+            .into_iter()
+            .zip(&check.shadow)
+            .flat_map(|(pool, shadow)| shadow.sizes().into_iter().map(move |(n, b)| (pool, n, b)))
+            .collect()
+    }
+
     /// The host-side state before a step (while the check is on).
     pub(super) fn before_step(&self) -> Option<Before> {
         self.check.as_ref()?;

@@ -116,6 +116,21 @@ impl BufferPool {
             .unwrap_or_else(|| panic!("buffer {name} used before it was allocated"))
     }
 
+    /// Whether `name` has been [`ensure`](Self::ensure)d.
+    pub fn contains(&self, name: &'static str) -> bool {
+        self.buffers.contains_key(name)
+    }
+
+    /// Drops the buffers `names` (those not held are skipped); bumps the generation when any
+    /// was held.
+    pub fn remove(&mut self, names: &[&'static str]) {
+        let before = self.buffers.len();
+        self.buffers.retain(|name, _| !names.contains(name));
+        if self.buffers.len() != before {
+            self.generation += 1;
+        }
+    }
+
     /// Counts reallocations; bind groups built at an older generation must be rebuilt.
     pub fn generation(&self) -> u64 {
         self.generation

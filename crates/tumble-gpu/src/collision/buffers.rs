@@ -155,18 +155,40 @@ pub fn ensure_pair_buffers(pool: &mut BufferPool, capacity: u32) -> Result<bool,
         ];
         grew |= pool.ensure_all(&parity, STORAGE_USAGE)?;
     }
-    let tiles = u64::from(capacity.div_ceil(crate::WORKGROUP_SIZE));
     let shared = [
         (PAIR_TILES, bytes_of::<u32>(tile_count_len(capacity))),
         (PREVIOUS_INDEX, bytes_of::<u32>(n)),
+    ];
+    grew |= pool.ensure_all(&shared, STORAGE_USAGE)?;
+    Ok(grew | pool.ensure(SCATTER_PARAMS, 16, UNIFORM_USAGE)?)
+}
+
+/// The dense list of the manifolds in contact, which only a readback asking for `touching`
+/// writes (`GpuWorld`'s step never does): allocated on the first such readback, so a world
+/// that never asks for it does not hold (and its step check does not copy) a manifold and
+/// four points per pair slot for nothing.
+pub const TOUCHING_BUFFERS: [&str; 5] = [
+    TOUCHING_TILES,
+    TOUCHING_COUNTS,
+    TOUCHING,
+    TOUCHING_MANIFOLDS,
+    TOUCHING_POINTS,
+];
+
+/// Makes the dense touching list ([`TOUCHING_BUFFERS`]) hold `capacity` pairs; true when any
+/// was reallocated.
+pub fn ensure_touching_buffers(pool: &mut BufferPool, capacity: u32) -> Result<bool, GpuError> {
+    let n = u64::from(capacity);
+    let points = n * u64::from(MAX_MANIFOLD_POINTS);
+    let tiles = u64::from(capacity.div_ceil(crate::WORKGROUP_SIZE));
+    let sizes = [
         (TOUCHING_TILES, bytes_of::<[u32; 2]>(tiles)),
         (TOUCHING_COUNTS, bytes_of::<TouchingCounts>(1)),
         (TOUCHING, bytes_of::<GpuTouching>(n)),
         (TOUCHING_MANIFOLDS, bytes_of::<GpuManifold>(n)),
         (TOUCHING_POINTS, bytes_of::<GpuContact>(points)),
     ];
-    grew |= pool.ensure_all(&shared, STORAGE_USAGE)?;
-    Ok(grew | pool.ensure(SCATTER_PARAMS, 16, UNIFORM_USAGE)?)
+    pool.ensure_all(&sizes, STORAGE_USAGE)
 }
 
 /// The buffers one step's stages hand to each other: the world's bodies and what the

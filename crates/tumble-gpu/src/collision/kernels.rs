@@ -62,6 +62,13 @@ pub struct ParityGroups {
     pub collide: wgpu::BindGroup,
     /// `carry_impulses` from the other parity.
     pub carry: wgpu::BindGroup,
+    /// The compaction's, once its buffers exist ([`TOUCHING_BUFFERS`]).
+    pub touching: Option<TouchingGroups>,
+}
+
+/// Bind groups of the touching compaction, for one parity.
+#[derive(Debug)]
+pub struct TouchingGroups {
     /// `count_touching` over this parity's manifolds.
     pub count_touching: wgpu::BindGroup,
     /// `scan_touching` of this parity's pair count.
@@ -172,9 +179,11 @@ pub fn build_groups(
             name => pair(p)(name),
         }),
         carry: kernels.carry_impulses.bind_named(ctx, pair(p)),
-        count_touching: kernels.count_touching.bind_named(ctx, pair(p)),
-        scan_touching: kernels.scan_touching.bind_named(ctx, pair(p)),
-        write_touching: kernels.write_touching.bind_named(ctx, pair(p)),
+        touching: pool.contains(TOUCHING).then(|| TouchingGroups {
+            count_touching: kernels.count_touching.bind_named(ctx, pair(p)),
+            scan_touching: kernels.scan_touching.bind_named(ctx, pair(p)),
+            write_touching: kernels.write_touching.bind_named(ctx, pair(p)),
+        }),
     });
     CollisionGroups {
         generation: pool.generation(),

@@ -171,6 +171,9 @@ pub struct GpuCollision {
     /// Times last step's pairs were dropped ([`Self::forget_history`]): kernels comparing a
     /// step with the one before (contact events) know the comparison is void when it changed.
     history_resets: u64,
+    /// Whether the dense touching list is held ([`buffers::TOUCHING_BUFFERS`]: from the first
+    /// readback that asks for it on).
+    touching_buffers: bool,
 }
 
 impl GpuCollision {
@@ -194,6 +197,7 @@ impl GpuCollision {
             readback_touching: READBACK_MIN_PAIRS,
             last_touching: TouchingCounts::default(),
             history_resets: 0,
+            touching_buffers: false,
         })
     }
 
@@ -305,6 +309,9 @@ impl GpuCollision {
         let mut reset = bodies != self.body_count;
         reset |= ensure_body_buffers(&mut self.pool, bodies)?;
         reset |= ensure_pair_buffers(&mut self.pool, capacity)?;
+        if self.touching_buffers {
+            ensure_touching_buffers(&mut self.pool, capacity)?;
+        }
         self.body_count = bodies;
         self.pair_capacity = capacity;
         let queue = &self.ctx.queue;

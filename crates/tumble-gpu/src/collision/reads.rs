@@ -15,8 +15,11 @@ impl GpuCollision {
     ) -> Result<ReadbackPlan, GpuError> {
         let parity = self.last_parity();
         if request.touching {
+            self.touching_buffers = true;
+            ensure_touching_buffers(&mut self.pool, self.pair_capacity)?;
             self.ensure_groups();
             let g = &self.groups.as_ref().expect("built above").parity[parity];
+            let g = g.touching.as_ref().expect("its buffers were made above");
             let k = &self.kernels;
             let work = self.pool.get(PAIR_WORK[parity]);
             let mut timer = StageTimer::disabled(&self.ctx);

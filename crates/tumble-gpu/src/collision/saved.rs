@@ -2,6 +2,7 @@
 //! `crate::step::GpuWorldState`).
 
 use super::GpuCollision;
+use super::buffers::{TOUCHING, TOUCHING_BUFFERS};
 use crate::GpuError;
 use crate::buffer_pool::BufferPool;
 use crate::step::SavedCollision;
@@ -37,6 +38,13 @@ impl GpuCollision {
         }
         if saved.body_count > 0 {
             self.long_extent = saved.long_extent;
+            // The dense touching list is held as the saved stage held it, so that both pools
+            // name the same buffers.
+            let touching = saved.buffers.iter().any(|b| b.name == TOUCHING);
+            if !touching {
+                self.pool.remove(&TOUCHING_BUFFERS);
+            }
+            self.touching_buffers = touching;
             self.allocate(saved.body_count, saved.pair_capacity)?;
             self.pool.load(&saved.buffers)?;
         }

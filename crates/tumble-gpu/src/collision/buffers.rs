@@ -4,7 +4,8 @@
 //! `n % 2` while the other set still holds step `n - 1`, whose sorted pairs `match_pairs`
 //! searches and whose impulses and local manifolds `carry_impulses` reads. Each parity's pair arrays have two
 //! copies, the radix sort's ping-pong; the sorted result lands in copy
-//! [`PAIR_RESULT_COPY`] (the pair sort always runs an even number of passes).
+//! [`PAIR_RESULT_COPY`] (the pair sort always runs an even number of passes); the other copy
+//! is scratch of the sort alone, one buffer for both parities.
 //!
 //! A buffer that the kernels bind under one name is called by that name, so that the bind
 //! groups look the kernels' arguments up by binding name (`kernels::build_groups`); the
@@ -49,10 +50,17 @@ pub const BODY_TILES: &str = "body sort tiles";
 pub const LONG_BOXES: &str = "long_boxes";
 /// The sweep's append counter.
 pub const PAIR_COUNTER: &str = "counter";
-/// First bodies of the pairs, `[parity][copy]`.
-pub const PAIR_A: [[&str; 2]; 2] = [["pair a 0.0", "pair a 0.1"], ["pair a 1.0", "pair a 1.1"]];
-/// Second bodies of the pairs, `[parity][copy]`.
-pub const PAIR_B: [[&str; 2]; 2] = [["pair b 0.0", "pair b 0.1"], ["pair b 1.0", "pair b 1.1"]];
+/// First bodies of the pairs, `[parity][copy]`. Copy 1 is only the pair sort's ping-pong
+/// scratch, dead once the sort has left its result in copy 0, so both parities share it.
+pub const PAIR_A: [[&str; 2]; 2] = [
+    ["pair a 0.0", "pair a scratch"],
+    ["pair a 1.0", "pair a scratch"],
+];
+/// Second bodies of the pairs, `[parity][copy]` (copy 1 shared, as [`PAIR_A`]'s).
+pub const PAIR_B: [[&str; 2]; 2] = [
+    ["pair b 0.0", "pair b scratch"],
+    ["pair b 1.0", "pair b scratch"],
+];
 /// The pairs' `WorkList`, per parity.
 pub const PAIR_WORK: [&str; 2] = ["pair work list 0", "pair work list 1"];
 /// Tile counts of the pair sort.

@@ -38,9 +38,10 @@ use scenes::*;
 #[derive(Args, Debug)]
 pub struct BenchGpuArgs {
     /// Scenes, comma-separated: stackN, pyramidH (packed, tumble-scenes' builder), poolN (N
-    /// unit cubes in columns of 16 on a floor), nexus_pyramidH [default: stack20, pyramid24,
-    /// pyramid50, pyramid100, nexus_pyramid50, pool1000000; with --quick: stack20, pyramid8,
-    /// pool10000].
+    /// unit cubes in columns of 16 on a floor), droppoolN (N boxes of mixed sizes dropped into
+    /// a walled pool), nexus_pyramidH; N may end in k or m (pool1m, droppool10k) [default:
+    /// stack20, pyramid24, pyramid50, pyramid100, nexus_pyramid50, pool1000000, droppool1m;
+    /// with --quick: stack20, pyramid8, pool10000, droppool10k].
     #[arg(long, value_delimiter = ',', value_name = "LIST")]
     pub scenes: Option<Vec<String>>,
     /// Engines, comma-separated: gpu, rapier, cpu, hybrid.
@@ -235,7 +236,54 @@ mod tests {
     }
 
     #[test]
+    fn the_dropped_pool_holds_n_boxes_of_mixed_sizes_apart_inside_its_walls() {
+        let scene = drop_pool(2000);
+        // Floor, four walls, then the boxes.
+        assert_eq!(scene.bodies.len(), 2005);
+        assert!(scene.validate().is_ok());
+        let boxes = &scene.bodies[5..];
+        let aabb = |b: &BodySpec| {
+            let (p, h) = (b.position, b.half_extents);
+            (
+                [p[0] - h[0], p[1] - h[1], p[2] - h[2]],
+                [p[0] + h[0], p[1] + h[1], p[2] + h[2]],
+            )
+        };
+        let tumble_scenes::SceneCheck::Contained { min, max } = scene.check else {
+            panic!("the pool is checked for containment");
+        };
+        for b in boxes {
+            let (lo, hi) = aabb(b);
+            // Inside the walls and above the floor from the start.
+            assert!((0..3).all(|k| lo[k] > min[k] && hi[k] < max[k]), "{b:?}");
+        }
+        // Boxes start apart: no two axis-aligned boxes overlap (each is inside its own cell,
+        // DROP_SIDE_GAP from its sides; a brute-force check of all pairs of the first layer
+        // and the next one).
+        let check = &boxes[..boxes.len().min(300)];
+        for (i, a) in check.iter().enumerate() {
+            let (alo, ahi) = aabb(a);
+            for b in &check[i + 1..] {
+                let (blo, bhi) = aabb(b);
+                assert!(
+                    (0..3).any(|k| ahi[k] <= blo[k] || bhi[k] <= alo[k]),
+                    "{a:?} {b:?}"
+                );
+            }
+        }
+        // Mixed sizes: the extents spread over most of DROP_HALF's range.
+        let halves: Vec<f32> = boxes.iter().map(|b| b.half_extents[1]).collect();
+        let (small, large) = halves
+            .iter()
+            .fold((f32::INFINITY, 0.0f32), |(s, l), &h| (s.min(h), l.max(h)));
+        assert!(small < 0.27 && large > 0.58, "{small} {large}");
+    }
+
+    #[test]
     fn scene_names_give_the_benchmark_sizes() {
+        assert_eq!(scene_named("pool10k").unwrap().bodies.len(), 10_001);
+        assert_eq!(scene_named("droppool1k").unwrap().bodies.len(), 1_005);
+        assert!(scene_named("pool1x").is_err());
         assert_eq!(scene_named("pyramid24").unwrap().bodies.len(), 4_901);
         assert_eq!(scene_named("stack20").unwrap().bodies.len(), 21);
         assert!(scene_named("nexus_pyramid50").is_err());

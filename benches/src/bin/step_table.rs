@@ -12,7 +12,8 @@
 //! warm-up, and the largest horizontal drift of any dynamic body at the end, so that a faster
 //! row can be checked for holding its stack just as well. GPU rows include the GPU work: a
 //! step's poses are read back before the clock stops. Tumble's rows also note each stage's
-//! mean time over the timed steps (`StepStats::timings`).
+//! mean time over the timed steps (`StepStats::timings`) and a hash of the final poses' bits,
+//! so that two builds can be checked for computing the same step.
 
 use std::time::Instant;
 
@@ -144,6 +145,7 @@ fn run_tumble(scene: &Scene, backend: Backend, substeps: u32, steps: usize) -> R
             Ok(([p.x, p.y, p.z], world.kind(h)? == BodyKind::Dynamic))
         })
         .collect::<Result<Vec<_>, Error>>()?;
+    let hash = pose_hash(&world, &handles)?;
     let stats = world.stats();
     let stage_ms: Vec<String> = Stage::ALL
         .iter()
@@ -151,7 +153,7 @@ fn run_tumble(scene: &Scene, backend: Backend, substeps: u32, steps: usize) -> R
         .map(|(s, d)| format!("{} {:.2}", s.name(), d.as_secs_f64() * 1e3 / steps as f64))
         .collect();
     let note = format!(
-        "{} pairs, {} contacts, {} colors; mean stage ms: {}",
+        "{} pairs, {} contacts, {} colors; pose hash {hash:#018x}; mean stage ms: {}",
         stats.pairs,
         stats.contact_points,
         stats.colors,
@@ -162,6 +164,27 @@ fn run_tumble(scene: &Scene, backend: Backend, substeps: u32, steps: usize) -> R
         drift: horizontal_drift(scene, &poses),
         note,
     })
+}
+
+/// FNV-1a over the bits of every body's final position and rotation, in handle order: two
+/// builds that compute the same bits print the same hash (`tests/tests/golden_hash.rs` hashes
+/// the same way).
+fn pose_hash(world: &World, handles: &[BodyHandle]) -> Result<u64, Error> {
+    const OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+    const PRIME: u64 = 0x0000_0100_0000_01b3;
+    let mut hash = OFFSET;
+    for &h in handles {
+        let pose = world.pose(h)?;
+        let q = pose.rotation.quaternion();
+        let v = pose.translation.vector;
+        for c in [v.x, v.y, v.z, q.i, q.j, q.k, q.w] {
+            for byte in c.to_bits().to_le_bytes() {
+                hash ^= u64::from(byte);
+                hash = hash.wrapping_mul(PRIME);
+            }
+        }
+    }
+    Ok(hash)
 }
 
 fn run_rapier(scene: &Scene, substeps: u32, steps: usize) -> Run {

@@ -3,8 +3,9 @@
 //! `XDG_RUNTIME_DIR=/tmp TUMBLE_REQUIRE_GPU=1 cargo run --release -p tumble-tests --example gpu_memory -- [scene ...] [steps=N]`
 //!
 //! Scenes: `pyramidH` (packed, tumble-scenes' builder), `poolN` (N unit cubes dropped into a
-//! walled pool, `tumble_scenes::builders::pool`), `stackN` (default: pyramid24 pool10000),
-//! steps 3. Prints each buffer (its pool, name, bytes and bytes per body, largest first) and
+//! walled pool, `tumble_scenes::builders::pool`), `stackN`, or a scene file `NAME.json` (such
+//! as those `cargo xtask bench-gpu --write-scenes DIR` writes) (default: pyramid24
+//! pool10000), steps 3. Prints each buffer (its pool, name, bytes and bytes per body, largest first) and
 //! the total per body; docs/gpu.md ("Memory per body") has the figures.
 
 use tumble::prelude::*;
@@ -16,7 +17,11 @@ fn scene(name: &str) -> Scene {
             .parse()
             .unwrap_or_else(|_| panic!("scene {name:?}: expected a number after {prefix:?}"))
     };
-    if name.starts_with("pyramid") {
+    if name.ends_with(".json") {
+        let text = std::fs::read_to_string(name)
+            .unwrap_or_else(|e| panic!("reading the scene file {name}: {e}"));
+        Scene::from_json(&text).unwrap_or_else(|e| panic!("the scene file {name}: {e}"))
+    } else if name.starts_with("pyramid") {
         scenes::pyramid(number("pyramid"))
     } else if name.starts_with("pool") {
         scenes::pool(number("pool"))

@@ -1,10 +1,9 @@
 //! Contact persistence: last step's impulses, keyed by body pair and matched by feature id.
 
-use std::collections::HashMap;
-
+use rayon::prelude::*;
 use tumble_geometry::{FeatureKind, MAX_MANIFOLD_POINTS, Manifold, Pose, Real, Vec3};
 
-use crate::pair_hash::PairBuildHasher;
+use crate::pair_table::PairTable;
 use crate::{Body, Contact, PointImpulse};
 
 /// Farthest a point may move in body A's frame and still inherit an impulse when its feature
@@ -44,10 +43,29 @@ pub struct CachedManifold {
     pub len: u8,
 }
 
+/// Stored manifolds below which the cache is written on the calling thread: one costs some
+/// tens of nanoseconds, a rayon task a few microseconds.
+const PARALLEL_MIN_STORE: usize = 2048;
+
+/// Manifolds per rayon task when the cache is written in parallel.
+const STORE_PER_TASK: usize = 512;
+
 /// Impulses of the last step's manifolds, looked up by pair.
+///
+/// The step's pairs sit in two flat arrays in the order they were stored (the keys, and what
+/// each manifold left), with a table of slot numbers by key beside them ([`PairTable`]). All
+/// three are written on the thread pool and keep their memory from step to step; what a
+/// lookup answers does not depend on the number of threads.
 #[derive(Clone, Debug, Default)]
 pub struct ContactCache {
-    manifolds: HashMap<PairKey, CachedManifold, PairBuildHasher>,
+    /// The stored pair of each slot.
+    keys: Vec<PairKey>,
+    /// What the manifold of each slot left behind, parallel to `keys`.
+    manifolds: Vec<CachedManifold>,
+    /// The slot of each stored pair (the last one when a pair was stored twice).
+    table: PairTable,
+    /// Distinct stored pairs.
+    len: usize,
 }
 
 impl ContactCache {
@@ -58,20 +76,130 @@ impl ContactCache {
 
     /// Number of cached pairs.
     pub fn len(&self) -> usize {
-        self.manifolds.len()
+        self.len
     }
 
     /// True when nothing is cached.
     pub fn is_empty(&self) -> bool {
-        self.manifolds.is_empty()
+        self.len == 0
+    }
+
+    /// What the pair `key` left behind last step, if it had a manifold.
+    #[inline]
+    pub fn get(&self, key: &PairKey) -> Option<&CachedManifold> {
+        self.table
+            .get(&self.keys, key)
+            .map(|slot| &self.manifolds[slot])
     }
 
     /// Last step's feature for `key`, for the narrow phase's hysteresis.
     pub fn previous_feature(&self, key: &PairKey) -> Option<(FeatureKind, u32)> {
-        self.manifolds.get(key).map(|m| (m.kind, m.feature))
+        self.get(key).map(|m| (m.kind, m.feature))
     }
 
-    /// Last step's impulses for the points of `manifold`, whose body A is at `pose_a`.
+    /// Last step's impulses for the points of `manifold`, whose body A is at `pose_a`
+    /// ([`CachedManifold::warm_start`] on the pair's entry; zero when it has none).
+    pub fn warm_start(
+        &self,
+        key: &PairKey,
+        manifold: &Manifold,
+        pose_a: &Pose,
+    ) -> [PointImpulse; MAX_MANIFOLD_POINTS] {
+        match self.get(key) {
+            Some(old) => old.warm_start(manifold, pose_a),
+            None => [PointImpulse::default(); MAX_MANIFOLD_POINTS],
+        }
+    }
+
+    /// Last step's tilt impulse of the pair ([`CachedManifold::warm_tilt`]; zero when it has
+    /// no entry).
+    pub fn warm_tilt(&self, key: &PairKey, manifold: &Manifold, pose_a: &Pose) -> Vec3 {
+        self.get(key)
+            .map_or_else(Vec3::zeros, |old| old.warm_tilt(manifold, pose_a))
+    }
+
+    /// Replaces the cache with this step's contacts; `keys[i]` is `contacts[i]`'s pair and
+    /// `bodies` must still hold the poses the manifolds were computed from. A pair given
+    /// twice keeps its later manifold.
+    pub fn store(&mut self, keys: &[PairKey], contacts: &[Contact], bodies: &[Body]) {
+        let n = keys.len().min(contacts.len());
+        let (keys, contacts) = (&keys[..n], &contacts[..n]);
+        let cached = |c: &Contact| CachedManifold::of(c, &bodies[c.body_a as usize].pose);
+        if n >= PARALLEL_MIN_STORE && rayon::current_num_threads() > 1 {
+            contacts
+                .par_iter()
+                .with_min_len(STORE_PER_TASK)
+                .map(cached)
+                .collect_into_vec(&mut self.manifolds);
+        } else {
+            self.manifolds.clear();
+            self.manifolds.extend(contacts.iter().map(cached));
+        }
+        self.keys.clear();
+        self.keys.extend_from_slice(keys);
+        self.len = self.table.rebuild(&self.keys);
+    }
+
+    /// Every cached pair with what it left behind, sorted by pair key (a copy of the cache
+    /// that does not depend on the table's layout).
+    pub fn entries(&self) -> Vec<(PairKey, CachedManifold)> {
+        let mut out: Vec<_> = self
+            .table
+            .slots()
+            .map(|s| (self.keys[s], self.manifolds[s]))
+            .collect();
+        out.sort_unstable_by_key(|(k, _)| *k);
+        out
+    }
+
+    /// A cache holding exactly `entries` (as [`ContactCache::entries`] gave them).
+    pub fn from_entries(entries: impl IntoIterator<Item = (PairKey, CachedManifold)>) -> Self {
+        let (keys, manifolds): (Vec<PairKey>, Vec<CachedManifold>) = entries.into_iter().unzip();
+        let mut table = PairTable::default();
+        let len = table.rebuild(&keys);
+        Self {
+            keys,
+            manifolds,
+            table,
+            len,
+        }
+    }
+
+    /// Forgets every pair involving `id` (a removed body).
+    pub fn forget_body(&mut self, id: u64) {
+        let kept = |k: &PairKey| k.0 != id && k.1 != id;
+        let mut keep = self.keys.iter().map(kept);
+        self.manifolds.retain(|_| keep.next().unwrap_or(false));
+        self.keys.retain(kept);
+        self.len = self.table.rebuild(&self.keys);
+    }
+}
+
+impl CachedManifold {
+    /// What `contact` leaves behind, its body A at `pose_a` (the pose the manifold came
+    /// from): points and normal in A's frame, feature ids, impulses.
+    pub fn of(contact: &Contact, pose_a: &Pose) -> Self {
+        let m = &contact.manifold;
+        let mut ids = [0u32; MAX_MANIFOLD_POINTS];
+        let mut local_points = [Vec3::zeros(); MAX_MANIFOLD_POINTS];
+        for (i, p) in m.points().iter().enumerate() {
+            ids[i] = p.id;
+            local_points[i] = pose_a.inverse_transform_point(&p.position).coords;
+        }
+        CachedManifold {
+            kind: m.kind,
+            feature: m.feature,
+            ids,
+            local_points,
+            local_normal: pose_a.rotation.inverse_transform_vector(&m.normal),
+            impulses: contact.impulses,
+            tilt_impulse: contact.tilt_impulse,
+            len: m.len,
+        }
+    }
+
+    /// These impulses carried to the points of this step's `manifold` of the same pair, whose
+    /// body A is at `pose_a`.
     ///
     /// A point inherits the impulse of the old point with the same feature id under the same
     /// reference feature (ids are only comparable then). Failing that, it inherits from the
@@ -79,14 +207,11 @@ impl ContactCache {
     /// normal turned by less than the angle of [`PERSIST_NORMAL_COS`].
     pub fn warm_start(
         &self,
-        key: &PairKey,
         manifold: &Manifold,
         pose_a: &Pose,
     ) -> [PointImpulse; MAX_MANIFOLD_POINTS] {
+        let old = self;
         let mut out = [PointImpulse::default(); MAX_MANIFOLD_POINTS];
-        let Some(old) = self.manifolds.get(key) else {
-            return out;
-        };
         let old_len = old.len as usize;
         let mut claimed = [false; MAX_MANIFOLD_POINTS];
         let mut matched = [false; MAX_MANIFOLD_POINTS];
@@ -122,70 +247,16 @@ impl ContactCache {
         out
     }
 
-    /// Last step's tilt impulse of the pair, when the normal turned by less than the angle of
-    /// [`PERSIST_NORMAL_COS`] (the patch is the same patch); zero otherwise.
-    pub fn warm_tilt(&self, key: &PairKey, manifold: &Manifold, pose_a: &Pose) -> Vec3 {
-        match self.manifolds.get(key) {
-            Some(old)
-                if pose_a
-                    .rotation
-                    .inverse_transform_vector(&manifold.normal)
-                    .dot(&old.local_normal)
-                    >= PERSIST_NORMAL_COS =>
-            {
-                old.tilt_impulse
-            }
-            _ => Vec3::zeros(),
+    /// This tilt impulse, when this step's `manifold` of the pair (body A at `pose_a`) has a
+    /// normal turned by less than the angle of [`PERSIST_NORMAL_COS`] (the patch is the same
+    /// patch); zero otherwise.
+    pub fn warm_tilt(&self, manifold: &Manifold, pose_a: &Pose) -> Vec3 {
+        let normal = pose_a.rotation.inverse_transform_vector(&manifold.normal);
+        if normal.dot(&self.local_normal) >= PERSIST_NORMAL_COS {
+            self.tilt_impulse
+        } else {
+            Vec3::zeros()
         }
-    }
-
-    /// Replaces the cache with this step's contacts; `keys[i]` is `contacts[i]`'s pair and
-    /// `bodies` must still hold the poses the manifolds were computed from.
-    pub fn store(&mut self, keys: &[PairKey], contacts: &[Contact], bodies: &[Body]) {
-        self.manifolds.clear();
-        for (key, c) in keys.iter().zip(contacts) {
-            let m = &c.manifold;
-            let pose_a = &bodies[c.body_a as usize].pose;
-            let mut ids = [0u32; MAX_MANIFOLD_POINTS];
-            let mut local_points = [Vec3::zeros(); MAX_MANIFOLD_POINTS];
-            for (i, p) in m.points().iter().enumerate() {
-                ids[i] = p.id;
-                local_points[i] = pose_a.inverse_transform_point(&p.position).coords;
-            }
-            self.manifolds.insert(
-                *key,
-                CachedManifold {
-                    kind: m.kind,
-                    feature: m.feature,
-                    ids,
-                    local_points,
-                    local_normal: pose_a.rotation.inverse_transform_vector(&m.normal),
-                    impulses: c.impulses,
-                    tilt_impulse: c.tilt_impulse,
-                    len: m.len,
-                },
-            );
-        }
-    }
-
-    /// Every cached pair with what it left behind, sorted by pair key (a copy of the cache
-    /// that does not depend on the map's iteration order).
-    pub fn entries(&self) -> Vec<(PairKey, CachedManifold)> {
-        let mut out: Vec<_> = self.manifolds.iter().map(|(k, m)| (*k, *m)).collect();
-        out.sort_unstable_by_key(|(k, _)| *k);
-        out
-    }
-
-    /// A cache holding exactly `entries` (as [`ContactCache::entries`] gave them).
-    pub fn from_entries(entries: impl IntoIterator<Item = (PairKey, CachedManifold)>) -> Self {
-        Self {
-            manifolds: entries.into_iter().collect(),
-        }
-    }
-
-    /// Forgets every pair involving `id` (a removed body).
-    pub fn forget_body(&mut self, id: u64) {
-        self.manifolds.retain(|k, _| k.0 != id && k.1 != id);
     }
 }
 

@@ -59,6 +59,7 @@
 mod body;
 pub mod bounds;
 mod coloring;
+mod concat;
 mod config;
 mod constraint;
 mod contact;
@@ -72,6 +73,7 @@ mod islands;
 mod mass;
 mod material;
 mod pair_hash;
+mod pair_table;
 mod sleep;
 mod softness;
 mod solve;

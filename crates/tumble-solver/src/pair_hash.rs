@@ -1,12 +1,12 @@
-//! A fast hasher for the contact cache's pair keys.
+//! A fast hasher for the contact cache's pair keys (its table of slots, `pair_table.rs`).
 //!
 //! The standard map's SipHash guards against keys chosen by an attacker, which pair keys (two
 //! body handles) are not, and costs several times more per lookup than a multiply. This is a
 //! multiply-rotate hasher of the FxHash family: each 64-bit word is folded in as
 //! `(h rotl 5 ^ word) * K`, and the result is rotated so that the product's well-mixed high
 //! bits also reach the low bits a hash table picks its bucket from. It has no per-process
-//! seed, so it is deterministic, but nothing the step computes depends on a map's iteration
-//! order anyway ([`crate::ContactCache::entries`] sorts).
+//! seed, so it is deterministic, but nothing the step computes depends on a table's layout
+//! anyway ([`crate::ContactCache::entries`] sorts).
 
 use std::hash::{BuildHasherDefault, Hasher};
 

@@ -13,6 +13,7 @@ use tumble_broad::{BroadPhase, CollisionGroups};
 use tumble_geometry::{Aabb, Real, Vec3};
 use tumble_narrow::{BoxMotion, collide_cuboids_cached};
 
+use crate::concat::concat;
 use crate::{
     Body, BodyState, Coloring, Contact, ContactCache, PairKey, SolveOrder,
     color_constraints_in_order, finalize_bodies,
@@ -118,23 +119,41 @@ pub fn narrow_phase(
             margin,
             dt,
         );
+        // One lookup serves the hysteresis and both warm starts.
+        let old = cache.get(&key);
         let manifold = collide_cuboids_cached(
             &ba.shape,
             &ba.pose,
             &bb.shape,
             &bb.pose,
             m,
-            cache.previous_feature(&key),
+            old.map(|o| (o.kind, o.feature)),
         )?;
         let mut contact = Contact::new(a, b, manifold);
-        contact.impulses = cache.warm_start(&key, &manifold, &ba.pose);
-        contact.tilt_impulse = cache.warm_tilt(&key, &manifold, &ba.pose);
+        if let Some(old) = old {
+            contact.impulses = old.warm_start(&manifold, &ba.pose);
+            contact.tilt_impulse = old.warm_tilt(&manifold, &ba.pose);
+        }
         Some((contact, key))
     };
-    // Straight into the two output arrays (in pair order on either path): no intermediate
-    // array of (contact, key) tuples to copy out of.
+    // In pair order on either path. On the pool, each task's pairs fill two arrays reserved
+    // at their pair count (no regrowth), which are then joined on the pool (`concat`).
     let (contacts, keys) = if pairs.len() >= PARALLEL_MIN_PAIRS {
-        pairs.par_iter().filter_map(test).unzip()
+        let tasks = 4 * rayon::current_num_threads();
+        let chunk = pairs.len().div_ceil(tasks).max(PARALLEL_MIN_PAIRS);
+        let parts: Vec<(Vec<Contact>, Vec<PairKey>)> = pairs
+            .par_chunks(chunk)
+            .map(|chunk| {
+                let mut found = (
+                    Vec::with_capacity(chunk.len()),
+                    Vec::with_capacity(chunk.len()),
+                );
+                found.extend(chunk.iter().filter_map(test));
+                found
+            })
+            .collect();
+        let (contacts, keys): (Vec<_>, Vec<_>) = parts.into_iter().unzip();
+        rayon::join(|| concat(&contacts), || concat(&keys))
     } else {
         pairs.iter().filter_map(test).unzip()
     };
@@ -162,23 +181,67 @@ pub fn color(contacts: &[Contact], bodies: &[Body], order: SolveOrder, gravity: 
 
 /// Contact indices from the highest manifold centre along `-gravity` to the lowest (ties in
 /// manifold order); manifold order without gravity.
+///
+/// Each contact's height becomes one `u64` sort key: the height's bits mapped so that
+/// unsigned order is [`Real::total_cmp`]'s, inverted (highest first), over the contact index
+/// (ties in manifold order). The keys are distinct, so an unstable sort, on the pool or not,
+/// gives exactly the order of a stable sort by height, and it sorts plain integers instead of
+/// indices compared through a height array.
 pub fn top_down_order(contacts: &[Contact], gravity: &Vec3) -> Vec<usize> {
-    let mut visit: Vec<usize> = (0..contacts.len()).collect();
     let g = gravity.norm();
     if g == 0.0 {
-        return visit;
+        return (0..contacts.len()).collect();
     }
+    assert!(
+        contacts.len() <= u32::MAX as usize,
+        "a contact index is a u32 in the sort key"
+    );
     let up = -gravity / g;
-    let height: Vec<Real> = contacts
-        .iter()
-        .map(|c| {
-            let points = c.manifold.points();
-            let sum: Vec3 = points.iter().map(|p| p.position.coords).sum();
-            sum.dot(&up) / points.len().max(1) as Real
-        })
-        .collect();
-    visit.sort_by(|&i, &j| height[j].total_cmp(&height[i]));
-    visit
+    let key = |(i, c): (usize, &Contact)| {
+        let points = c.manifold.points();
+        let sum: Vec3 = points.iter().map(|p| p.position.coords).sum();
+        let height = sum.dot(&up) / points.len().max(1) as Real;
+        (u64::from(!total_order_bits(height)) << 32) | i as u64
+    };
+    let parallel = contacts.len() >= PARALLEL_MIN_SORT && rayon::current_num_threads() > 1;
+    let keys: Vec<u64> = if parallel {
+        let mut keys = Vec::with_capacity(contacts.len());
+        contacts
+            .par_iter()
+            .enumerate()
+            .with_min_len(PARALLEL_MIN_SORT / 4)
+            .map(key)
+            .collect_into_vec(&mut keys);
+        keys.par_sort_unstable();
+        keys
+    } else {
+        let mut keys: Vec<u64> = contacts.iter().enumerate().map(key).collect();
+        keys.sort_unstable();
+        keys
+    };
+    let index = |&k: &u64| (k & u64::from(u32::MAX)) as usize;
+    if parallel {
+        keys.par_iter()
+            .with_min_len(PARALLEL_MIN_SORT / 4)
+            .map(index)
+            .collect()
+    } else {
+        keys.iter().map(index).collect()
+    }
+}
+
+/// Contacts below which [`top_down_order`] stays on the calling thread.
+const PARALLEL_MIN_SORT: usize = 8192;
+
+/// The bits of `x` mapped so that comparing them as unsigned integers orders them as
+/// [`Real::total_cmp`] does (negative numbers flipped whole, positive ones above them).
+fn total_order_bits(x: Real) -> u32 {
+    let bits = x.to_bits();
+    if bits >> 31 == 1 {
+        !bits
+    } else {
+        bits | 1 << 31
+    }
 }
 
 /// Stage 7: writes the step's displacements into the poses and stores this step's impulses,

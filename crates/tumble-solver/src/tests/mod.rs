@@ -13,6 +13,7 @@ mod misc;
 mod prepare;
 mod reference;
 mod scenes;
+mod serial_stages;
 mod tilt;
 
 use tumble_geometry::{ContactPoint, Cuboid, FeatureKind, Manifold, Point3, Pose, Real, Vec3};

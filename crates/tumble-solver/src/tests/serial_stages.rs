@@ -1,0 +1,139 @@
+//! The stages that were serial and now run on the pool (the contact cache's store, the
+//! coloring's top-down order) give the same answer as the serial algorithm they replaced, on
+//! one thread and on several: the step's bits depend on it.
+
+use std::collections::HashMap;
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use tumble_geometry::{Point3, Pose, Real, Rot, Vec3};
+
+use super::{manifold, material, unit_cube};
+use crate::stages::top_down_order;
+use crate::{Body, CachedManifold, Contact, ContactCache, PairKey};
+
+fn pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+}
+
+/// `n` contacts between random bodies of `bodies`, one to four points each at random heights
+/// drawn from a few levels (so many manifold centres tie, at zero among others).
+fn contacts(rng: &mut ChaCha8Rng, n: usize, bodies: u32) -> Vec<Contact> {
+    let levels = [-0.0, 0.0, 0.5, 1.0, 1.5, -2.0, 3.25];
+    (0..n)
+        .map(|_| {
+            let y = levels[rng.random_range(0..levels.len())];
+            let count = rng.random_range(1..=4);
+            let points: Vec<(Point3, Real, u32)> = (0..count)
+                .map(|k| {
+                    // Points of one manifold share a height, so the centre is exactly `y`.
+                    let x = rng.random_range(-1.0..1.0);
+                    (Point3::new(x, y, 0.1 * k as Real), 0.01, k)
+                })
+                .collect();
+            let a = rng.random_range(0..bodies);
+            let b = (a + rng.random_range(1..bodies)) % bodies;
+            let mut c = Contact::new(a, b, manifold(Vec3::y(), &points));
+            for (k, imp) in c.impulses.iter_mut().enumerate() {
+                imp.normal = rng.random_range(0.0..2.0) + k as Real;
+            }
+            c.tilt_impulse = Vec3::new(rng.random_range(-1.0..1.0), 0.0, 0.0);
+            c
+        })
+        .collect()
+}
+
+#[test]
+fn the_top_down_order_is_the_stable_sort_by_height_on_any_pool() {
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    // 20,000 contacts: past the parallel threshold; 500: below it.
+    for n in [20_000, 500] {
+        let contacts = contacts(&mut rng, n, 300);
+        for gravity in [Vec3::new(0.0, -9.81, 0.0), Vec3::new(0.0, 9.81, 0.0)] {
+            // The order this replaced: indices stably sorted by height, highest first.
+            let up = -gravity / gravity.norm();
+            let height: Vec<Real> = contacts
+                .iter()
+                .map(|c| {
+                    let points = c.manifold.points();
+                    let sum: Vec3 = points.iter().map(|p| p.position.coords).sum();
+                    sum.dot(&up) / points.len() as Real
+                })
+                .collect();
+            let mut expected: Vec<usize> = (0..n).collect();
+            expected.sort_by(|&i, &j| height[j].total_cmp(&height[i]));
+            for threads in [1, 4] {
+                let got = pool(threads).install(|| top_down_order(&contacts, &gravity));
+                assert_eq!(got, expected, "{n} contacts, {threads} threads");
+            }
+        }
+        assert_eq!(
+            top_down_order(&contacts, &Vec3::zeros()),
+            (0..n).collect::<Vec<_>>()
+        );
+    }
+}
+
+#[test]
+fn the_cache_stored_on_any_pool_holds_what_a_map_of_the_last_manifold_per_pair_holds() {
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let bodies: Vec<Body> = (0..64)
+        .map(|i| {
+            let pose = Pose::from_parts(
+                Vec3::new(i as Real, 0.5, -1.0).into(),
+                Rot::from_euler_angles(0.1 * i as Real, 0.3, -0.2),
+            );
+            unit_cube(1.0, pose, material(0.5, 0.0))
+        })
+        .collect();
+    // 6,000 manifolds (past the parallel threshold) over pair keys drawn from a small set,
+    // so some pairs are stored twice: the later manifold must win.
+    let contacts = contacts(&mut rng, 6000, 64);
+    let keys: Vec<PairKey> = contacts
+        .iter()
+        .map(|_| {
+            let a = rng.random_range(0..90u64);
+            (a | 1 << 32, (a + rng.random_range(1..70u64)) | 1 << 32)
+        })
+        .collect();
+    let mut reference: HashMap<PairKey, CachedManifold> = HashMap::new();
+    for (k, c) in keys.iter().zip(&contacts) {
+        reference.insert(*k, CachedManifold::of(c, &bodies[c.body_a as usize].pose));
+    }
+    let mut expected: Vec<_> = reference.into_iter().collect();
+    expected.sort_unstable_by_key(|(k, _)| *k);
+    assert!(expected.len() < keys.len(), "some pair is stored twice");
+    for threads in [1, 4] {
+        let mut cache = ContactCache::new();
+        // Twice into one cache: the second store replaces the first.
+        for _ in 0..2 {
+            pool(threads).install(|| cache.store(&keys, &contacts, &bodies));
+            assert_eq!(cache.len(), expected.len(), "{threads} threads");
+            assert_eq!(cache.entries(), expected, "{threads} threads");
+            for (k, m) in &expected {
+                assert_eq!(cache.get(k), Some(m));
+            }
+        }
+        // The entries rebuild the same cache; forgetting a body drops exactly its pairs.
+        let again = ContactCache::from_entries(cache.entries());
+        assert_eq!(again.entries(), expected);
+        let gone = keys[0].0;
+        cache.forget_body(gone);
+        let left: Vec<_> = expected
+            .iter()
+            .filter(|(k, _)| k.0 != gone && k.1 != gone)
+            .copied()
+            .collect();
+        assert!(left.len() < expected.len());
+        assert_eq!(cache.entries(), left);
+        assert_eq!(cache.get(&keys[0]), None);
+    }
+    // An empty store empties the cache.
+    let mut cache = ContactCache::from_entries(expected);
+    cache.store(&[], &[], &bodies);
+    assert!(cache.is_empty());
+    assert_eq!(cache.entries(), vec![]);
+}

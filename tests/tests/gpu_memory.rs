@@ -4,7 +4,7 @@
 //! Most of the memory is sized by the pair capacity, `CollisionConfig::pairs_per_body` slots
 //! per body; the bound below adds up, from the engine's own struct sizes, every buffer sized
 //! by it (with the copies the facade's step check keeps) and allows a fixed amount per body
-//! for the per-body buffers. With the 600-cube pool below the bound leaves about 59 bytes per
+//! for the per-body buffers. With the 600-cube pool below the bound leaves about 57 bytes per
 //! body of room: it fails when a buffer of 8 bytes or more per pair slot is added or comes
 //! back (the dense touching list of a readback was 248 bytes per slot and as much again in
 //! the check's copy), when a per-slot buffer grows by as much, when the capacity is sized
@@ -32,9 +32,9 @@ fn bytes_per_pair_slot() -> u64 {
         + size(size_of::<GpuManifold>())
         + u64::from(MAX_MANIFOLD_POINTS) * size(size_of::<GpuContact>())
         + size(size_of::<GpuLocalManifold>());
-    // The pair sort's scratch (a, b; one for both parities); `previous_index` and the step
-    // check's copy of it.
-    let collision = 2 * parity + 2 * u32_bytes + 2 * u32_bytes;
+    // The pair sort's scratch (a, b; one for both parities) and `previous_index` (scratch of
+    // one step: the check does not copy it).
+    let collision = 2 * parity + 2 * u32_bytes + u32_bytes;
     // The constraint store, the tilts and colors in two parities, the coloring's two scratch
     // words, the color sort's keys and values (two copies each) and the check's copy of the
     // values.
@@ -50,9 +50,9 @@ fn bytes_per_pair_slot() -> u64 {
 /// Bytes per body allowed for the buffers sized by the body count, with the check's copies:
 /// three 96-byte body arrays (the world's, the solver's, the sleep stage's awake bodies) and
 /// their copies are 576; the coloring's (body, color) marks 100; poses, velocities, AABBs,
-/// sweep boxes, shapes, groups, the body sort and the sleep stage's labels and timers with
-/// their copies about 390 (1,068 measured on lavapipe).
-const PER_BODY_ALLOWANCE: u64 = 1_100;
+/// shapes and groups and their copies, the sweep boxes, the body sort and the sleep stage's
+/// labels and timers with their copies about 345 (1,021 measured on lavapipe).
+const PER_BODY_ALLOWANCE: u64 = 1_050;
 
 /// Fixed-size buffers (parameter blocks, per-color tallies, the long-box list, sort tiles of
 /// a small scene): about 16 KiB measured.

@@ -122,6 +122,38 @@ pub const PARITY_BUFFERS: [&str; 16] = [
     LOCAL_MANIFOLDS[1],
 ];
 
+/// The buffers a checkpoint leaves out ([`BufferPool::with_per_step`]): the parity buffers,
+/// and the scratch of one step that every step rewrites in full before reading it: the body
+/// sort's keys and values (`write_sort_keys` writes every body's, the sort and
+/// `gather_sweep_boxes` read them), the sweep boxes (`gather_sweep_boxes` writes every body's,
+/// `sweep_pairs` and `long_pairs` read them) and `previous_index` (`match_pairs` writes it for
+/// every pair of the step, `collide_cuboids` reads it for the same pairs). Those four are one
+/// to eight words per body that the step check need not copy.
+pub const PER_STEP_BUFFERS: [&str; 22] = [
+    PARITY_BUFFERS[0],
+    PARITY_BUFFERS[1],
+    PARITY_BUFFERS[2],
+    PARITY_BUFFERS[3],
+    PARITY_BUFFERS[4],
+    PARITY_BUFFERS[5],
+    PARITY_BUFFERS[6],
+    PARITY_BUFFERS[7],
+    PARITY_BUFFERS[8],
+    PARITY_BUFFERS[9],
+    PARITY_BUFFERS[10],
+    PARITY_BUFFERS[11],
+    PARITY_BUFFERS[12],
+    PARITY_BUFFERS[13],
+    PARITY_BUFFERS[14],
+    PARITY_BUFFERS[15],
+    SORT_KEYS[0],
+    SORT_KEYS[1],
+    SORT_BODIES[0],
+    SORT_BODIES[1],
+    SWEEP_BOXES,
+    PREVIOUS_INDEX,
+];
+
 /// Makes every body-sized buffer hold `bodies`; true when any was reallocated.
 pub fn ensure_body_buffers(pool: &mut BufferPool, bodies: u32) -> Result<bool, GpuError> {
     let n = u64::from(bodies);

@@ -186,7 +186,7 @@ impl GpuCollision {
             config,
             kernels: CollisionKernels::build(|spec| Kernel::new(ctx, spec))?,
             radix: RadixSort::new(ctx)?,
-            pool: BufferPool::new(ctx).with_per_step(&buffers::PARITY_BUFFERS),
+            pool: BufferPool::new(ctx).with_per_step(&buffers::PER_STEP_BUFFERS),
             body_count: 0,
             pair_capacity: 0,
             long_extent: f32::INFINITY,

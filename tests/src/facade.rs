@@ -42,3 +42,32 @@ pub fn sleepy_world(backend: Backend) -> Option<World> {
     add_floor(&mut world, 20.0);
     Some(world)
 }
+
+/// Adds the uneven pile of docs/solver.md ("Piles that keep rocking") to `world`: `side` x
+/// `side` columns of `layers` cubes of 0.5 m, 0.52 m apart, each cube raised 3 cm per layer,
+/// shifted sideways by up to 8 mm and tilted by up to 0.02 rad about each axis (seeded, so the
+/// pile is the same every run), so the cubes fall, land unevenly and settle. The cubes'
+/// handles, bottom layer first.
+pub fn add_uneven_pile(world: &mut World, side: usize, layers: usize) -> Vec<BodyHandle> {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+    let pitch = 0.52;
+    let mut cubes = Vec::new();
+    for layer in 0..layers {
+        for i in 0..side {
+            for k in 0..side {
+                let centre = Vec3::new(
+                    i as Real * pitch + rng.random_range(-0.008..0.008),
+                    0.25 + 0.5 * layer as Real + 0.03 * (layer + 1) as Real,
+                    k as Real * pitch + rng.random_range(-0.008..0.008),
+                );
+                let tilt = Vec3::from_fn(|_, _| rng.random_range(-0.02..0.02));
+                let desc = BodyDesc::dynamic()
+                    .cuboid(Vec3::repeat(0.25))
+                    .pose(Pose::new(centre, tilt));
+                cubes.push(world.add_body(desc).expect("a valid cube"));
+            }
+        }
+    }
+    cubes
+}

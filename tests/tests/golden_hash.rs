@@ -33,11 +33,11 @@ const STEPS: usize = 500;
 
 /// The scenes hashed, by name, with their committed CPU hash.
 const CPU_GOLDEN: [(&str, u64); 5] = [
-    ("pyramid_12", 0xc0a5_0db9_8434_4588),
-    ("wall_10x10", 0xc4f1_2d0a_96db_f736),
-    ("dominoes_20", 0x8709_40ad_ed44_3eed),
-    ("friction_ramp_30deg_mu0.3", 0x146c_0226_c98f_4265),
-    ("wide_on_small", 0xa0ad_c17b_533a_c2b8),
+    ("pyramid_12", 0xf03d_7c67_8e1f_0798),
+    ("wall_10x10", 0x7b98_35a9_ea40_a5f0),
+    ("dominoes_20", 0xd758_f847_3fb9_de9b),
+    ("friction_ramp_30deg_mu0.3", 0xf560_e448_b693_b151),
+    ("wide_on_small", 0x8a2b_cd8a_6480_be13),
 ];
 
 /// Committed GPU hashes, keyed by the adapter name (which, for lavapipe, includes the JIT's
@@ -46,11 +46,11 @@ const GPU_GOLDEN: &[(&str, [u64; 5])] = &[
     (
         "llvmpipe (LLVM 15.0.6, 256 bits)",
         [
-            0x4eba_a98d_c236_1a07,
-            0x0b62_d08e_dbde_0c20,
-            0x5b81_ee1d_a89b_e837,
-            0xa235_0a63_0aaa_2403,
-            0xa60e_d418_ca1d_79ab,
+            0x3310_c120_7143_3809,
+            0xd5bf_8ea1_a57f_f668,
+            0xe751_0332_15a9_440b,
+            0x5a9e_1920_47ba_446e,
+            0x7a4e_060c_01c9_2e39,
         ],
     ),
     // Vulkan, driver 580.159.04 (docs/testing.md).

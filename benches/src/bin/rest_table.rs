@@ -8,9 +8,10 @@
 //!
 //! `--help` lists the flags and their defaults; an unknown flag or value is an error.
 //!
-//! The pile: `side` x `side` columns of `layers` cubes of 0.5 m on a floor, each cube raised
-//! 3 cm per layer, shifted sideways by up to 8 mm and tilted by up to 0.02 rad about each axis
-//! (seeded), so the cubes fall, land unevenly and settle. Each row steps it with sleep on
+//! The pile (`tumble_tests::facade::add_uneven_pile`): `side` x `side` columns of `layers`
+//! cubes of 0.5 m on a floor, each cube raised 3 cm per layer, shifted sideways by up to 8 mm
+//! and tilted by up to 0.02 rad about each axis (seeded), so the cubes fall, land unevenly and
+//! settle. Each row steps it with sleep on
 //! until every cube sleeps or `seconds` of simulated time pass, and reports when it fell
 //! asleep, the fastest cube at the end, and the median wall time of a step over the run. No
 //! value is asserted; this is a measurement.
@@ -18,12 +19,10 @@
 use std::time::{Duration, Instant};
 
 use clap::Parser;
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 use tumble::prelude::*;
 use tumble::{EffectOverrides, EffectSwitch};
 use tumble_benches::cli::count;
-use tumble_tests::facade::floor_desc;
+use tumble_tests::facade::{add_uneven_pile, floor_desc};
 
 /// How long an uneven pile takes to rest and fall asleep, by solver setting.
 #[derive(Parser, Debug)]
@@ -51,25 +50,7 @@ fn pile(side: usize, layers: usize, solver: SolverConfig) -> (World, Vec<BodyHan
     };
     let mut world = World::new(config).expect("a valid config");
     world.add_body(floor_desc(20.0)).expect("a valid floor");
-    let mut rng = ChaCha8Rng::seed_from_u64(5);
-    let pitch = 0.52;
-    let mut cubes = Vec::new();
-    for layer in 0..layers {
-        for i in 0..side {
-            for k in 0..side {
-                let centre = Vec3::new(
-                    i as Real * pitch + rng.random_range(-0.008..0.008),
-                    0.25 + 0.5 * layer as Real + 0.03 * (layer + 1) as Real,
-                    k as Real * pitch + rng.random_range(-0.008..0.008),
-                );
-                let tilt = Vec3::from_fn(|_, _| rng.random_range(-0.02..0.02));
-                let desc = BodyDesc::dynamic()
-                    .cuboid(Vec3::repeat(0.25))
-                    .pose(Pose::new(centre, tilt));
-                cubes.push(world.add_body(desc).expect("a valid cube"));
-            }
-        }
-    }
+    let cubes = add_uneven_pile(&mut world, side, layers);
     (world, cubes)
 }
 

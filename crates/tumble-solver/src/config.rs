@@ -22,8 +22,15 @@ pub enum SolveOrder {
     /// Reference Gauss-Seidel: constraints in manifold order, one at a time.
     Sequential,
     /// Graph colors one after another; the constraints of one color in parallel (they share no
-    /// dynamic body), then the overflow set sequentially.
+    /// dynamic body), then the overflow set sequentially. The CPU colors greedily, top of a
+    /// pile first ([`crate::stages::top_down_order`]).
     Colored,
+    /// As [`SolveOrder::Colored`], with the colors of the GPU's algorithm: parallel rounds under
+    /// hashed priorities ([`crate::color_in_rounds`], without the GPU's seeding by last step's
+    /// colors). With one velocity pass per substep the visiting order moves the trajectory of
+    /// an impact by millimetres, so this is the order to compare `Backend::Gpu` against; the
+    /// top-down order holds piles better and stays the CPU's default.
+    ColoredInRounds,
 }
 
 /// Everything the solver stage needs besides bodies and contacts.

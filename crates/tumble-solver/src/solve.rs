@@ -56,7 +56,10 @@ fn plan(
 ) {
     batches.clear();
     order.clear();
-    let colored = config.order == SolveOrder::Colored && coloring.colors.len() == contacts.len();
+    let colored = matches!(
+        config.order,
+        SolveOrder::Colored | SolveOrder::ColoredInRounds
+    ) && coloring.colors.len() == contacts.len();
     if !colored {
         order.extend(0..contacts.len() as u32);
         batches.push(Batch {

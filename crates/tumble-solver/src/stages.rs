@@ -15,8 +15,8 @@ use tumble_narrow::{BoxMotion, collide_cuboids_cached};
 
 use crate::concat::concat;
 use crate::{
-    Body, BodyState, Coloring, Contact, ContactCache, PairKey, SolveOrder,
-    color_constraints_in_order, finalize_bodies,
+    Body, BodyState, ColorCandidate, Coloring, Contact, ContactCache, PairKey, SolveOrder,
+    color_constraints_in_order, color_in_rounds, finalize_bodies,
 };
 
 /// Pairs per rayon task below which the narrow phase stays on one thread: a box-box test
@@ -162,6 +162,7 @@ pub fn narrow_phase(
 
 /// Stage 5: colors the contacts for the colored order (no two of a color share a dynamic
 /// body); the sequential order needs no coloring and gets an empty one.
+/// [`SolveOrder::ColoredInRounds`] takes the GPU's algorithm instead ([`color_in_rounds`]).
 ///
 /// The greedy coloring visits the contacts in [`top_down_order`], so the low colors, which
 /// each pass solves first, hold the top of a pile: a pass carries the weight of the upper
@@ -175,6 +176,18 @@ pub fn color(contacts: &[Contact], bodies: &[Body], order: SolveOrder, gravity: 
             let pairs: Vec<(u32, u32)> = contacts.iter().map(|c| (c.body_a, c.body_b)).collect();
             let dynamic: Vec<bool> = bodies.iter().map(Body::is_dynamic).collect();
             color_constraints_in_order(&pairs, &dynamic, top_down_order(contacts, gravity))
+        }
+        SolveOrder::ColoredInRounds => {
+            let candidates: Vec<ColorCandidate> = contacts
+                .iter()
+                .map(|c| ColorCandidate {
+                    bodies: (c.body_a, c.body_b),
+                    touching: true,
+                    seed: None,
+                })
+                .collect();
+            let dynamic: Vec<bool> = bodies.iter().map(Body::is_dynamic).collect();
+            Coloring::from_colors(color_in_rounds(&candidates, &dynamic))
         }
     }
 }

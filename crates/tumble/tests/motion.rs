@@ -199,7 +199,11 @@ fn a_frictionless_box_keeps_sliding() {
 
 #[test]
 fn sequential_and_colored_orders_both_rest_a_stack() {
-    for order in [SolveOrder::Sequential, SolveOrder::Colored] {
+    for order in [
+        SolveOrder::Sequential,
+        SolveOrder::Colored,
+        SolveOrder::ColoredInRounds,
+    ] {
         let mut w = World::new(WorldConfig {
             solver: SolverConfig {
                 order,

@@ -263,9 +263,9 @@ fn warm_start_points(c: ptr<function, GpuConstraint>, a: ptr<function, BodySim>,
     apply_torque(a, b, t1 * (*c).tilt_impulse_1 + t2 * (*c).tilt_impulse_2);
 }
 
-// One pass over the points: non-penetration (speculative, soft-biased or relaxed), then
-// Coulomb friction clamped to the disc of radius mu * normal impulse (solve_contact).
-fn solve_points(
+// Non-penetration rows of every point: speculative, soft-biased or relaxed
+// (solve_normal_rows on the CPU).
+fn solve_normal_points(
     c: ptr<function, GpuConstraint>,
     a: ptr<function, BodySim>,
     b: ptr<function, BodySim>,
@@ -310,18 +310,16 @@ fn solve_points(
         (*c).points[i].total_normal_impulse += applied;
         apply_impulse(a, b, anchor_a, anchor_b, normal * applied);
     }
+}
 
-    if (*c).patch_radius > 0.0 {
-        solve_tilt(c, a, b);
-    }
-
+// Coulomb friction clamped to the disc of radius mu * normal impulse; true when every point
+// was clamped, the whole patch sliding (solve_friction_rows on the CPU).
+fn solve_friction_points(c: ptr<function, GpuConstraint>, a: ptr<function, BodySim>, b: ptr<function, BodySim>) -> bool {
     let friction = (*c).normal.w;
-    if !ENABLE_FRICTION || friction == 0.0 {
-        return;
-    }
     let t1 = (*c).tangent1.xyz;
     let t2 = (*c).tangent2.xyz;
-    for (var i = 0u; i < count; i++) {
+    var all_slide = true;
+    for (var i = 0u; i < (*c).point_count; i++) {
         let cp = (*c).points[i];
         let dv = relative_velocity(*a, *b, cp.anchor_a.xyz, cp.anchor_b.xyz);
         let old = vec2<f32>(cp.tangent_impulse_1, cp.tangent_impulse_2);
@@ -331,11 +329,41 @@ fn solve_points(
         if length > limit {
             let scale = select(0.0, limit / length, length > 0.0);
             updated = vec2<f32>(updated.x * scale, updated.y * scale);
+        } else {
+            all_slide = false;
         }
         (*c).points[i].tangent_impulse_1 = updated.x;
         (*c).points[i].tangent_impulse_2 = updated.y;
         let p = t1 * (updated.x - old.x) + t2 * (updated.y - old.y);
         apply_impulse(a, b, cp.anchor_a.xyz, cp.anchor_b.xyz, p);
+    }
+    return all_slide;
+}
+
+// One pass over the constraint: non-penetration, the tilt rows of a face patch, friction,
+// then for a face patch that does not slide at every point its non-penetration and tilt rows
+// once more, so the pass ends with the patch's rotation held against the friction rows'
+// torque (solve_contact on the CPU, which says why).
+fn solve_points(
+    c: ptr<function, GpuConstraint>,
+    a: ptr<function, BodySim>,
+    b: ptr<function, BodySim>,
+    use_bias: bool,
+    inv_h: f32,
+    max_push_out: f32,
+) {
+    let has_patch = (*c).patch_radius > 0.0;
+    solve_normal_points(c, a, b, use_bias, inv_h, max_push_out);
+    if has_patch {
+        solve_tilt(c, a, b);
+    }
+    if !ENABLE_FRICTION || (*c).normal.w == 0.0 {
+        return;
+    }
+    let all_slide = solve_friction_points(c, a, b);
+    if has_patch && !all_slide {
+        solve_normal_points(c, a, b, use_bias, inv_h, max_push_out);
+        solve_tilt(c, a, b);
     }
 }
 

@@ -90,6 +90,8 @@ branches! {
     friction_sticking: "friction sticking",
     tilt_capped: "tilt capped",
     tilt_free: "tilt free",
+    second_visit: "patch visited again after friction",
+    patch_sliding: "patch sliding, no second visit",
     restitution_applied: "restitution applied",
     restitution_slow: "restitution slow",
     restitution_no_push: "restitution no push",
@@ -208,6 +210,8 @@ impl RefConstraint {
         self.apply_torque(a, b, &tau);
     }
 
+    /// One pass: normal rows, tilt rows of a patch, friction, and for a patch with friction
+    /// that does not slide at every point the normal and tilt rows once more.
     pub fn solve(
         &mut self,
         a: &mut RefState,
@@ -217,7 +221,36 @@ impl RefConstraint {
         max_push_out: f64,
     ) -> Branches {
         let mut br = Branches::default();
-        let (n, t) = (self.n, self.t);
+        let patch = self.patch_radius > 0.0;
+        self.normal_rows(a, b, inv_h, use_bias, max_push_out, &mut br);
+        if patch {
+            self.tilt_rows(a, b, &mut br);
+        }
+        if self.friction == 0.0 {
+            return br;
+        }
+        let all_slide = self.friction_rows(a, b, &mut br);
+        if patch && all_slide {
+            br.patch_sliding += 1;
+        }
+        if patch && !all_slide {
+            br.second_visit += 1;
+            self.normal_rows(a, b, inv_h, use_bias, max_push_out, &mut br);
+            self.tilt_rows(a, b, &mut br);
+        }
+        br
+    }
+
+    fn normal_rows(
+        &mut self,
+        a: &mut RefState,
+        b: &mut RefState,
+        inv_h: f64,
+        use_bias: bool,
+        max_push_out: f64,
+        br: &mut Branches,
+    ) {
+        let n = self.n;
         for i in 0..self.points.len() {
             let p = self.points[i];
             let s = self.separation(a, b, &p);
@@ -254,8 +287,11 @@ impl RefConstraint {
             self.points[i].total += applied;
             self.apply(a, b, &p, &n, applied);
         }
+    }
 
-        if self.patch_radius > 0.0 {
+    fn tilt_rows(&mut self, a: &mut RefState, b: &mut RefState, br: &mut Branches) {
+        let t = self.t;
+        {
             let least = self
                 .points
                 .iter()
@@ -281,10 +317,12 @@ impl RefConstraint {
             let tau = t[0] * (new[0] - old[0]) + t[1] * (new[1] - old[1]);
             self.apply_torque(a, b, &tau);
         }
+    }
 
-        if self.friction == 0.0 {
-            return br;
-        }
+    /// The friction rows; true when every point slides.
+    fn friction_rows(&mut self, a: &mut RefState, b: &mut RefState, br: &mut Branches) -> bool {
+        let t = self.t;
+        let mut all_slide = true;
         for i in 0..self.points.len() {
             let p = self.points[i];
             let old = p.tangent;
@@ -297,12 +335,13 @@ impl RefConstraint {
                 br.friction_sliding += 1;
             } else {
                 br.friction_sticking += 1;
+                all_slide = false;
             }
             self.points[i].tangent = new;
             self.apply(a, b, &p, &t[0], new[0] - old[0]);
             self.apply(a, b, &p, &t[1], new[1] - old[1]);
         }
-        br
+        all_slide
     }
 
     pub fn restitution(&mut self, a: &mut RefState, b: &mut RefState, threshold: f64) -> Branches {

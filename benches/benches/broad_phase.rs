@@ -6,7 +6,10 @@
 //! - `broad_random`: 1k, 10k and 100k random boxes (half sizes 0.05..0.5 m, 0.3 boxes per m^3),
 //!   brute force at 1k for scale.
 //!
-//! Rows: `grid` is [`BroadPhase`] (the step's broad phase, buffers reused), `sweep` the
+//! Rows: `grid` is [`BroadPhase`] (the grid search, buffers reused); `kept_at_rest` and
+//! `kept_all_moved` are [`KeptPairs`], the step's broad phase (the grid search on enlarged
+//! boxes, its pair list kept while every box stays inside its enlarged box), on the same boxes
+//! every call and on boxes that all left their enlarged boxes every call; `sweep` the
 //! one-axis [`SweepAndPrune`] it replaced (buffers reused); both return the sorted pair list.
 //! `parry_bvh_build` builds a parry3d `Bvh` (binned SAH) over the boxes and traverses it
 //! against itself; `parry_bvh_refit` keeps a tree built once, refits it to the boxes and
@@ -21,7 +24,7 @@ use criterion::{criterion_main, measurement::WallTime};
 use parry3d::bounding_volume::Aabb as PAabb;
 use parry3d::math::Vector as PVec;
 use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
-use tumble_broad::{BroadPhase, SweepAndPrune, brute_force_pairs};
+use tumble_broad::{BroadPhase, KeptPairs, SweepAndPrune, brute_force_pairs};
 use tumble_geometry::Aabb;
 use tumble_scenes::pyramid;
 use tumble_tests::scene_support::{resting_aabbs, sparse_boxes};
@@ -56,6 +59,30 @@ fn rows(group: &mut BenchmarkGroup<'_, WallTime>, n: usize, boxes: &[Aabb], flag
     let mut grid = BroadPhase::new();
     row(group, "grid", n, boxes, |boxes| {
         grid.find_pairs_filtered(boxes, flags, &mut pairs).unwrap();
+        pairs.len()
+    });
+    // The step's broad phase: the pair list kept while every box stays inside its enlarged
+    // box (the same boxes every call: the list is reused and filtered), and the worst case,
+    // every box moved out of its enlarged box on every call (the whole set shifted 1 m along
+    // x and back, alternately: the grid searched every call, on the enlarged boxes).
+    let mut kept = KeptPairs::new();
+    row(group, "kept_at_rest", n, boxes, |boxes| {
+        kept.find_pairs(boxes, flags, None, &mut pairs).unwrap();
+        pairs.len()
+    });
+    let shifted: Vec<Aabb> = boxes
+        .iter()
+        .map(|b| {
+            let d = tumble_geometry::Vec3::new(1.0, 0.0, 0.0);
+            Aabb::new(b.min + d, b.max + d)
+        })
+        .collect();
+    let mut kept = KeptPairs::new();
+    let mut flip = false;
+    row(group, "kept_all_moved", n, boxes, |boxes| {
+        flip = !flip;
+        let input = if flip { &shifted[..] } else { boxes };
+        kept.find_pairs(input, flags, None, &mut pairs).unwrap();
         pairs.len()
     });
     let mut sap = SweepAndPrune::new();

@@ -170,7 +170,7 @@ fn the_cpu_broad_phase_pair_list_leaves_out_refused_pairs() {
     ];
     let states = vec![BodyState::default(); bodies.len()];
     let aabbs = stages::update_aabbs(&bodies, &states, 0.02, 1.0 / 60.0);
-    let pairs = stages::broad_phase(&mut tumble_broad::BroadPhase::new(), &aabbs, &bodies);
+    let pairs = stages::broad_phase(&mut tumble_broad::KeptPairs::new(), &aabbs, &bodies);
     // Floor-debris refused by the debris' filter; floor-2 and debris-2 allowed; body 3
     // refuses everything (its overlaps with the floor and with 2 are dropped).
     assert_eq!(pairs, vec![(0, 2), (1, 2)]);

@@ -224,7 +224,7 @@ fn a_body_touching_a_hundred_others_fills_every_color_then_overflows() {
 // Preparation and the solve stage against the CPU solver (GPU)
 // ---------------------------------------------------------------------------------------------
 
-use tumble_broad::BroadPhase;
+use tumble_broad::KeptPairs;
 use tumble_gpu::solver::StepParams;
 use tumble_gpu::solver::layout::{GpuConstraint, GpuSolverBody};
 use tumble_gpu::solver::prepare::{prepare_bodies_cpu, prepare_contacts_cpu};
@@ -295,7 +295,7 @@ fn cpu_contacts(
     cache: &ContactCache,
 ) -> (Vec<Contact>, Vec<(u64, u64)>) {
     let aabbs = tumble::stages::update_aabbs(bodies, states, MARGIN, DT);
-    let pairs = tumble::stages::broad_phase(&mut BroadPhase::new(), &aabbs, bodies);
+    let pairs = tumble::stages::broad_phase(&mut KeptPairs::new(), &aabbs, bodies);
     let ids: Vec<u64> = (0..bodies.len() as u64).collect();
     let out = tumble::stages::narrow_phase(bodies, states, &pairs, &ids, cache, MARGIN, DT);
     (out.contacts, out.keys)

@@ -15,7 +15,7 @@
 //! One CPU step is these stages in order; here a cube resting on a floor for one second:
 //!
 //! ```
-//! use tumble_broad::BroadPhase;
+//! use tumble_broad::KeptPairs;
 //! use tumble_geometry::{Cuboid, Pose, Real, Vec3};
 //! use tumble_solver::{
 //!     Body, BodyKind, BodyState, ContactCache, Material, SolverConfig, solve, stages,
@@ -40,7 +40,7 @@
 //! let ids = [0, 1];
 //! let (config, dt, margin): (SolverConfig, Real, Real) = (SolverConfig::default(), 1.0 / 60.0, 0.02);
 //! let gravity = Vec3::new(0.0, -9.81, 0.0);
-//! let (mut grid, mut cache) = (BroadPhase::new(), ContactCache::new());
+//! let (mut grid, mut cache) = (KeptPairs::new(), ContactCache::new());
 //! for _ in 0..60 {
 //!     let aabbs = stages::update_aabbs(&bodies, &states, margin, dt);
 //!     let pairs = stages::broad_phase(&mut grid, &aabbs, &bodies);

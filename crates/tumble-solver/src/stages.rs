@@ -9,7 +9,7 @@
 //! [`BodyState`] and add what needs this layer: the contact cache and the coloring.
 
 use rayon::prelude::*;
-use tumble_broad::{BroadPhase, CollisionGroups};
+use tumble_broad::{CollisionGroups, KeptPairs};
 use tumble_geometry::{Aabb, Real, Vec3};
 use tumble_narrow::{BoxMotion, collide_cuboids_cached};
 
@@ -51,9 +51,10 @@ pub fn immovable(bodies: &[Body]) -> Vec<bool> {
 /// Stage 2: overlapping AABB pairs `(i, j)`, `i < j`, sorted, leaving out pairs of two
 /// bodies that contacts cannot move (static-static is never formed) and pairs whose
 /// [`CollisionGroups`] do not interact. `aabbs[i]` belongs to
-/// `bodies[i]`; an AABB without a body counts as immovable. `grid` keeps its buffers between
-/// steps.
-pub fn broad_phase(grid: &mut BroadPhase, aabbs: &[Aabb], bodies: &[Body]) -> Vec<(u32, u32)> {
+/// `bodies[i]`; an AABB without a body counts as immovable. `grid` keeps its pair list
+/// between steps and searches the grid again only when some box left the enlarged box it was
+/// searched with ([`KeptPairs`]); the pairs are the same either way.
+pub fn broad_phase(grid: &mut KeptPairs, aabbs: &[Aabb], bodies: &[Body]) -> Vec<(u32, u32)> {
     let flags: Vec<bool> = (0..aabbs.len())
         .map(|i| bodies.get(i).is_none_or(|b| !b.is_dynamic()))
         .collect();
@@ -64,9 +65,9 @@ pub fn broad_phase(grid: &mut BroadPhase, aabbs: &[Aabb], bodies: &[Body]) -> Ve
         let groups: Vec<CollisionGroups> = (0..aabbs.len())
             .map(|i| bodies.get(i).map_or(CollisionGroups::ALL, |b| b.groups))
             .collect();
-        grid.find_pairs_grouped(aabbs, &flags, &groups, &mut pairs)
+        grid.find_pairs(aabbs, &flags, Some(&groups), &mut pairs)
     } else {
-        grid.find_pairs_filtered(aabbs, &flags, &mut pairs)
+        grid.find_pairs(aabbs, &flags, None, &mut pairs)
     };
     if found.is_err() {
         pairs.clear();
@@ -315,7 +316,7 @@ mod tests {
         let (bodies, states) = stack();
         assert_eq!(immovable(&bodies), vec![true, false, false, true]);
         let aabbs = update_aabbs(&bodies, &states, 0.02, 1.0 / 60.0);
-        let pairs = broad_phase(&mut BroadPhase::new(), &aabbs, &bodies);
+        let pairs = broad_phase(&mut KeptPairs::new(), &aabbs, &bodies);
         // Floor-cube, cube-cube; the floor and the wall overlap but neither can move.
         assert_eq!(pairs, vec![(0, 1), (1, 2)]);
     }
@@ -324,7 +325,7 @@ mod tests {
     fn the_narrow_phase_orients_pairs_by_id_and_warm_starts_from_the_cache() {
         let (mut bodies, mut states) = stack();
         let aabbs = update_aabbs(&bodies, &states, 0.02, 1.0 / 60.0);
-        let pairs = broad_phase(&mut BroadPhase::new(), &aabbs, &bodies);
+        let pairs = broad_phase(&mut KeptPairs::new(), &aabbs, &bodies);
         // Ids in reverse of the dense order: body A is the one with the smaller id.
         let ids = [40, 30, 20, 10];
         let mut cache = ContactCache::new();
@@ -354,7 +355,7 @@ mod tests {
     fn coloring_visits_the_top_of_the_pile_first() {
         let (bodies, states) = stack();
         let aabbs = update_aabbs(&bodies, &states, 0.02, 1.0 / 60.0);
-        let pairs = broad_phase(&mut BroadPhase::new(), &aabbs, &bodies);
+        let pairs = broad_phase(&mut KeptPairs::new(), &aabbs, &bodies);
         let ids = [0, 1, 2, 3];
         let out = narrow_phase(
             &bodies,

@@ -1,6 +1,6 @@
 //! `Backend::Cpu`: every stage on the CPU, the reference.
 
-use tumble_broad::BroadPhase;
+use tumble_broad::KeptPairs;
 use tumble_solver::{Body, Contact, ContactCache, PairKey, SolveBuffers, Stage, stages};
 
 use super::pipeline::{self, Collided, Collision, StepBodies};
@@ -12,8 +12,8 @@ use crate::{Backend, BodyHandle, Error};
 /// The CPU collision stages: the grid broad phase, the box-box test, the contact cache.
 #[derive(Debug, Default)]
 pub(crate) struct CpuCollision {
-    /// The broad phase's buffers, kept between steps.
-    grid: BroadPhase,
+    /// The broad phase's pair list and buffers, kept between steps.
+    grid: KeptPairs,
     /// Last step's impulses by body pair, for warm starting.
     cache: ContactCache,
     /// The solve stage's buffers, kept between steps.

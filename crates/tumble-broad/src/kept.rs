@@ -1,0 +1,347 @@
+//! Pairs kept from step to step: the grid searched on enlarged boxes only when some box left
+//! its enlarged box, the pair list filtered by the exact boxes every call.
+//!
+//! A resting pile moves by micrometres per step, yet the grid search of `grid.rs` finds its
+//! pairs anew every step (8 ms for the 42,926 boxes of the resting pyramid of 50 on one
+//! thread of the 2-core build machine; docs/benchmarks.md). Box2D v3 keeps an enlarged
+//! ("fat") AABB per proxy in its dynamic tree, grown by `B2_AABB_MARGIN` (0.1 m), and
+//! re-inserts a proxy only when its tight box leaves the fat one; rapier's BVH broad phase
+//! refits a kept tree and skips unchanged pairs. This is the same idea on the grid, kept
+//! exact:
+//!
+//! - The grid search runs on the boxes grown by [`FAT_FRACTION`] of their smallest side (the
+//!   "fat" boxes), and its pair list is kept with the fat boxes and the filter it ran under.
+//! - On the next call, if every box still lies inside its fat box (and the box count, the
+//!   static flags and the collision groups are unchanged), the kept list is reused;
+//!   otherwise the search runs again on new fat boxes.
+//! - Either way the kept list is filtered by the exact boxes: a pair is written out when its
+//!   two boxes intersect.
+//!
+//! Why the output is exactly the search's on the exact boxes: growing a box only lowers its
+//! `min` and raises its `max`, and `Aabb::intersects` (closed intervals, `a.min <= b.max` and
+//! `b.min <= a.max` on each axis) can only turn true under that, so two boxes that intersect
+//! have fat boxes that intersect, and their pair is in the kept list (same filter); the
+//! exact test then keeps exactly the pairs that intersect. The kept list is sorted, and
+//! filtering keeps its order. A box with a NaN bound is never inside its fat box, so a scene
+//! with one searches every call (and such a box pairs with nothing, as in the search). So
+//! the pairs, and every step built on them, are the same bits as without keeping.
+//!
+//! What it saves: the search, when nothing left its fat box. What it does not: one box that
+//! leaves its fat box makes the whole search run again (Box2D re-inserts that box alone). A
+//! search on fat boxes costs more than one on the exact boxes (more pairs, then the filter:
+//! about 1.2 to 1.4 times, docs/benchmarks.md), so when a kept list was not reused even once
+//! before the next search was needed, the searches that follow run on the exact boxes and
+//! keep nothing, and only every [`RETRY_EVERY`]th one tries fat boxes again: a scene where
+//! something always moves pays about the plain search plus the containment test, and one that
+//! comes to rest is kept again within that many steps.
+
+use tumble_geometry::{Aabb, Real};
+
+use crate::BroadPhaseError;
+use crate::filter::{CollisionGroups, check_flags, check_groups};
+use crate::grid::BroadPhase;
+
+/// How much a fat box is grown on every side: this fraction of the exact box's smallest side.
+/// A unit cube's box (1.04 m with the step's 2 cm margin) grows by 10 cm, Box2D's
+/// `B2_AABB_MARGIN` for its usual object sizes; relative, so tiny and huge boxes get a margin
+/// of their own scale, and the smallest side, so that a floor slab 40 m wide does not reach
+/// 4 m up into a pile and pair with every box there.
+pub const FAT_FRACTION: Real = 0.1;
+
+/// While the kept lists are not being reused, one search in this many runs on fat boxes (to
+/// find out whether the scene has come to rest); the others run on the exact boxes.
+pub const RETRY_EVERY: u32 = 8;
+
+/// The grid broad phase with its pair list kept between calls (see the module
+/// documentation of `kept.rs`). Its result is exactly [`BroadPhase`]'s on the same input.
+#[derive(Clone, Debug, Default)]
+pub struct KeptPairs {
+    /// The grid search, run on the fat boxes.
+    grid: BroadPhase,
+    /// The fat boxes of the last search.
+    fat: Vec<Aabb>,
+    /// The static flags of the last search.
+    is_static: Vec<bool>,
+    /// The collision groups of the last search; empty when it had none.
+    groups: Vec<CollisionGroups>,
+    /// The last search's pairs of fat boxes, sorted.
+    pairs: Vec<(u32, u32)>,
+    /// Whether `fat` and `pairs` belong together (false before the first search).
+    valid: bool,
+    /// Whether the last call reused the kept list.
+    reused: bool,
+    /// Searches since the last call that reused a kept list.
+    misses: u32,
+    /// Searches run and calls that reused the list, since creation.
+    searches: u64,
+    reuses: u64,
+}
+
+impl KeptPairs {
+    /// Nothing kept yet; the first call searches.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Whether the last call reused the kept pair list (no grid search).
+    pub fn reused_last(&self) -> bool {
+        self.reused
+    }
+
+    /// Grid searches run and calls answered from the kept list, since creation.
+    pub fn counts(&self) -> (u64, u64) {
+        (self.searches, self.reuses)
+    }
+
+    /// The grid of the last search (its cell size and side list describe the fat boxes).
+    pub fn grid(&self) -> &BroadPhase {
+        &self.grid
+    }
+
+    /// Forgets the kept list: the next call searches.
+    pub fn clear(&mut self) {
+        self.valid = false;
+    }
+
+    /// As [`BroadPhase::find_pairs_filtered`] (`groups: None`) or
+    /// [`BroadPhase::find_pairs_grouped`]: every intersecting pair `(i, j)`, `i < j`, whose
+    /// boxes are not both static (and whose groups interact), sorted, into `out` (cleared
+    /// first).
+    pub fn find_pairs(
+        &mut self,
+        aabbs: &[Aabb],
+        is_static: &[bool],
+        groups: Option<&[CollisionGroups]>,
+        out: &mut Vec<(u32, u32)>,
+    ) -> Result<(), BroadPhaseError> {
+        check_flags(aabbs, is_static)?;
+        if let Some(groups) = groups {
+            check_groups(aabbs, groups)?;
+        }
+        out.clear();
+        self.reused = self.can_reuse(aabbs, is_static, groups);
+        if self.reused {
+            self.reuses += 1;
+            self.misses = 0;
+        } else {
+            self.misses += 1;
+            if self.misses > 1 && self.misses % RETRY_EVERY != 0 {
+                // Moving: the plain search on the exact boxes, nothing kept.
+                self.valid = false;
+                self.searches += 1;
+                return match groups {
+                    Some(groups) => self.grid.find_pairs_grouped(aabbs, is_static, groups, out),
+                    None => self.grid.find_pairs_filtered(aabbs, is_static, out),
+                };
+            }
+            self.search(aabbs, is_static, groups)?;
+        }
+        out.extend(
+            self.pairs
+                .iter()
+                .copied()
+                .filter(|&(i, j)| aabbs[i as usize].intersects(&aabbs[j as usize])),
+        );
+        Ok(())
+    }
+
+    /// Whether the kept list answers this call: same boxes count, flags and groups, and
+    /// every box inside its fat box.
+    fn can_reuse(
+        &self,
+        aabbs: &[Aabb],
+        is_static: &[bool],
+        groups: Option<&[CollisionGroups]>,
+    ) -> bool {
+        self.valid
+            && self.fat.len() == aabbs.len()
+            && self.is_static.as_slice() == is_static
+            && self.groups.as_slice() == groups.unwrap_or(&[])
+            && aabbs.iter().zip(&self.fat).all(|(a, f)| inside(a, f))
+    }
+
+    /// Grows every box into its fat box and runs the grid search on those.
+    fn search(
+        &mut self,
+        aabbs: &[Aabb],
+        is_static: &[bool],
+        groups: Option<&[CollisionGroups]>,
+    ) -> Result<(), BroadPhaseError> {
+        self.valid = false;
+        self.fat.clear();
+        self.fat.extend(aabbs.iter().map(fat_box));
+        match groups {
+            Some(groups) => {
+                self.grid
+                    .find_pairs_grouped(&self.fat, is_static, groups, &mut self.pairs)?;
+                self.groups.clear();
+                self.groups.extend_from_slice(groups);
+            }
+            None => {
+                self.grid
+                    .find_pairs_filtered(&self.fat, is_static, &mut self.pairs)?;
+                self.groups.clear();
+            }
+        }
+        self.is_static.clear();
+        self.is_static.extend_from_slice(is_static);
+        self.searches += 1;
+        self.valid = true;
+        Ok(())
+    }
+}
+
+/// `a` lies inside `f` (closed; false when a bound of either is NaN).
+#[inline]
+fn inside(a: &Aabb, f: &Aabb) -> bool {
+    (0..3).all(|k| f.min[k] <= a.min[k] && a.max[k] <= f.max[k])
+}
+
+/// The box grown on every side by [`FAT_FRACTION`] of its smallest side. A box with a NaN or
+/// infinite side keeps its bounds (an infinite box contains anything it becomes; a NaN one is
+/// never inside anything), as do a flat and an inverted one (no positive side to take a
+/// fraction of; either only makes the search run more often).
+fn fat_box(a: &Aabb) -> Aabb {
+    let side = (0..3)
+        .map(|k| a.max[k] - a.min[k])
+        .fold(Real::INFINITY, Real::min);
+    let margin = FAT_FRACTION * side;
+    if !(margin.is_finite() && margin > 0.0) {
+        return *a;
+    }
+    let mut f = *a;
+    for k in 0..3 {
+        f.min[k] -= margin;
+        f.max[k] += margin;
+    }
+    f
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::brute_force_pairs_filtered;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+    use tumble_geometry::Point3;
+
+    fn random_box(rng: &mut ChaCha8Rng, extent: Real) -> Aabb {
+        let c = Point3::new(
+            rng.random_range(0.0..extent),
+            rng.random_range(0.0..extent),
+            rng.random_range(0.0..extent),
+        );
+        let h = rng.random_range(0.05..0.5);
+        Aabb::new(c - tumble_geometry::Vec3::repeat(h), c + tumble_geometry::Vec3::repeat(h))
+    }
+
+    /// The exact pairs with groups, by brute force.
+    fn exact(aabbs: &[Aabb], is_static: &[bool], groups: Option<&[CollisionGroups]>) -> Vec<(u32, u32)> {
+        brute_force_pairs_filtered(aabbs, is_static)
+            .unwrap()
+            .into_iter()
+            .filter(|&(i, j)| {
+                groups.is_none_or(|g| g[i as usize].interacts_with(g[j as usize]))
+            })
+            .collect()
+    }
+
+    /// A random walk of boxes, most steps moving every box by a little (kept list reused),
+    /// some by a lot (searched again), with flags, groups, counts and NaN boxes changing on
+    /// some steps: every call's pairs equal brute force's, and both branches are taken. A
+    /// kept list that were not filtered by the exact boxes, or that were reused after a box
+    /// left its fat box or after the flags changed, fails here.
+    #[test]
+    fn kept_pairs_equal_brute_force_through_a_random_walk() {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let mut kept = KeptPairs::new();
+        let mut aabbs: Vec<Aabb> = (0..300).map(|_| random_box(&mut rng, 8.0)).collect();
+        let mut is_static: Vec<bool> = (0..aabbs.len()).map(|_| rng.random_bool(0.1)).collect();
+        let mut groups: Vec<CollisionGroups> = vec![CollisionGroups::ALL; aabbs.len()];
+        let mut out = Vec::new();
+        let mut last_reuse = 0;
+        for step in 0..200 {
+            // Small moves: a millimetre, well inside a fat margin of at least 1 cm; jumps of up
+            // to half a metre on some steps, and on every step of 100..120 (a scene in
+            // motion: searches on the exact boxes, a retry on fat boxes every RETRY_EVERY).
+            let jump = step % 17 == 5 || (100..120).contains(&step);
+            for a in aabbs.iter_mut() {
+                let d = if jump { 0.5 } else { 0.001 };
+                let v = tumble_geometry::Vec3::new(
+                    rng.random_range(-d..d),
+                    rng.random_range(-d..d),
+                    rng.random_range(-d..d),
+                );
+                a.min += v;
+                a.max += v;
+            }
+            if step % 23 == 7 {
+                let k = rng.random_range(0..aabbs.len());
+                is_static[k] = !is_static[k];
+            }
+            if step % 29 == 11 {
+                aabbs.push(random_box(&mut rng, 8.0));
+                is_static.push(false);
+                groups.push(CollisionGroups::ALL);
+            }
+            if step % 31 == 13 {
+                let k = rng.random_range(0..aabbs.len());
+                groups[k] = CollisionGroups::new(0b10, 0b10);
+            }
+            let nan_step = step % 37 == 19;
+            let saved = aabbs[0];
+            if nan_step {
+                aabbs[0].min.x = Real::NAN;
+            }
+            let grouped = (step / 50) % 2 == 1;
+            let g = grouped.then_some(groups.as_slice());
+            kept.find_pairs(&aabbs, &is_static, g, &mut out).unwrap();
+            assert_eq!(out, exact(&aabbs, &is_static, g), "step {step}");
+            if nan_step {
+                assert!(!kept.reused_last(), "a NaN box is never inside its fat box");
+                aabbs[0] = saved;
+            }
+            if (101..120).contains(&step) {
+                assert!(!kept.reused_last(), "step {step}: every box jumped");
+            }
+            if kept.reused_last() {
+                last_reuse = step;
+            }
+            if step == 120 + RETRY_EVERY as usize + 1 {
+                assert!(last_reuse > 120, "at rest again, reused by step {step}");
+            }
+        }
+        let (searches, reuses) = kept.counts();
+        assert!(searches >= 20 && reuses >= 50, "searches {searches}, reuses {reuses}");
+    }
+
+    /// At rest the list is reused, and a box moved out of its fat box makes it search again.
+    #[test]
+    fn a_box_leaving_its_fat_box_makes_it_search_again() {
+        let boxes: Vec<Aabb> = (0..10)
+            .map(|i| {
+                let x = i as Real * 1.0;
+                Aabb::new(Point3::new(x, 0.0, 0.0), Point3::new(x + 1.0, 1.0, 1.0))
+            })
+            .collect();
+        let flags = vec![false; boxes.len()];
+        let mut kept = KeptPairs::new();
+        let mut out = Vec::new();
+        kept.find_pairs(&boxes, &flags, None, &mut out).unwrap();
+        assert!(!kept.reused_last());
+        kept.find_pairs(&boxes, &flags, None, &mut out).unwrap();
+        assert!(kept.reused_last());
+        assert_eq!(out.len(), 9, "touching neighbours pair: {out:?}");
+        // 9 cm is inside the 10 cm fat margin of a 1 m box; 11 cm is not.
+        let mut moved = boxes.clone();
+        moved[4].min.y += 0.09;
+        moved[4].max.y += 0.09;
+        kept.find_pairs(&moved, &flags, None, &mut out).unwrap();
+        assert!(kept.reused_last());
+        moved[4].min.y += 0.02;
+        moved[4].max.y += 0.02;
+        kept.find_pairs(&moved, &flags, None, &mut out).unwrap();
+        assert!(!kept.reused_last());
+        assert_eq!(out, brute_force_pairs_filtered(&moved, &flags).unwrap());
+    }
+}

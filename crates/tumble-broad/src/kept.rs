@@ -125,7 +125,7 @@ impl KeptPairs {
             self.misses = 0;
         } else {
             self.misses += 1;
-            if self.misses > 1 && self.misses % RETRY_EVERY != 0 {
+            if self.misses > 1 && !self.misses.is_multiple_of(RETRY_EVERY) {
                 // Moving: the plain search on the exact boxes, nothing kept.
                 self.valid = false;
                 self.searches += 1;

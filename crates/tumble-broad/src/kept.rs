@@ -2,7 +2,7 @@
 //! its enlarged box, the pair list filtered by the exact boxes every call.
 //!
 //! A resting pile moves by micrometres per step, yet the grid search of `grid.rs` finds its
-//! pairs anew every step (8 ms for the 42,926 boxes of the resting pyramid of 50 on one
+//! pairs anew every step (3 to 8 ms for the 42,926 boxes of the resting pyramid of 50 on one
 //! thread of the 2-core build machine; docs/benchmarks.md). Box2D v3 keeps an enlarged
 //! ("fat") AABB per proxy in its dynamic tree, grown by `B2_AABB_MARGIN` (0.1 m), and
 //! re-inserts a proxy only when its tight box leaves the fat one; rapier's BVH broad phase

@@ -38,7 +38,10 @@ fn load_constraint(s: u32) -> GpuConstraint {
     c.tilt_impulse_1 = tilt.z;
     c.tilt_impulse_2 = tilt.w;
     c.patch_radius = constraints[6u * stride + s].x;
-    for (var p = 0u; p < c.point_count; p++) {
+    for (var p = 0u; p < MAX_MANIFOLD_POINTS; p++) {
+        if p >= c.point_count {
+            break;
+        }
         let r = point_row(p) * stride + s;
         c.points[p].anchor_a = constraints[r];
         c.points[p].anchor_b = constraints[r + stride];

@@ -45,7 +45,10 @@ fn store_constraint(s: u32, c: GpuConstraint) {
 fn store_pass_impulses(s: u32, c: GpuConstraint) {
     let stride = constraint_stride();
     constraints[5u * stride + s] = tilt_row(c);
-    for (var p = 0u; p < c.point_count; p++) {
+    for (var p = 0u; p < MAX_MANIFOLD_POINTS; p++) {
+        if p >= c.point_count {
+            break;
+        }
         let r = point_row(p) * stride + s;
         constraints[r + 2u * stride] = point_masses_row(c.points[p]);
         constraints[r + 3u * stride] = point_impulses_row(c.points[p]);

@@ -159,12 +159,18 @@ fn finish_constraint(c: ptr<function, GpuConstraint>, a: BodySim, b: BodySim) {
     let normal = (*c).normal.xyz;
     if n >= 3u {
         var centroid = vec3<f32>(0.0);
-        for (var i = 0u; i < n; i++) {
+        for (var i = 0u; i < MAX_MANIFOLD_POINTS; i++) {
+            if i >= n {
+                break;
+            }
             centroid += (*c).points[i].anchor_a.xyz;
         }
         centroid = centroid / f32(n);
         var nearest = 3.0e38;
-        for (var i = 0u; i < n; i++) {
+        for (var i = 0u; i < MAX_MANIFOLD_POINTS; i++) {
+            if i >= n {
+                break;
+            }
             let d = (*c).points[i].anchor_a.xyz - centroid;
             nearest = min(nearest, length(d - normal * dot(d, normal)));
         }
@@ -199,7 +205,10 @@ fn apply_torque(a: ptr<function, BodySim>, b: ptr<function, BodySim>, torque: ve
 fn solve_tilt(c: ptr<function, GpuConstraint>, a: ptr<function, BodySim>, b: ptr<function, BodySim>) {
     let n = (*c).point_count;
     var least = 3.0e38;
-    for (var i = 0u; i < n; i++) {
+    for (var i = 0u; i < MAX_MANIFOLD_POINTS; i++) {
+        if i >= n {
+            break;
+        }
         least = min(least, (*c).points[i].normal_impulse);
     }
     let limit = f32(n) * (*c).patch_radius * max(least, 0.0);
@@ -254,7 +263,10 @@ fn warm_start_points(c: ptr<function, GpuConstraint>, a: ptr<function, BodySim>,
     let normal = (*c).normal.xyz;
     let t1 = (*c).tangent1.xyz;
     let t2 = (*c).tangent2.xyz;
-    for (var i = 0u; i < (*c).point_count; i++) {
+    for (var i = 0u; i < MAX_MANIFOLD_POINTS; i++) {
+        if i >= (*c).point_count {
+            break;
+        }
         let cp = (*c).points[i];
         let p = normal * cp.normal_impulse + t1 * cp.tangent_impulse_1 + t2 * cp.tangent_impulse_2;
         (*c).points[i].total_normal_impulse += cp.normal_impulse;
@@ -277,7 +289,10 @@ fn solve_normal_points(
     let dp = (*b).delta_position - (*a).delta_position;
     let count = (*c).point_count;
     let turns = (*a).turns || (*b).turns;
-    for (var i = 0u; i < count; i++) {
+    for (var i = 0u; i < MAX_MANIFOLD_POINTS; i++) {
+        if i >= count {
+            break;
+        }
         let cp = (*c).points[i];
         let anchor_a = cp.anchor_a.xyz;
         let anchor_b = cp.anchor_b.xyz;
@@ -319,7 +334,10 @@ fn solve_friction_points(c: ptr<function, GpuConstraint>, a: ptr<function, BodyS
     let t1 = (*c).tangent1.xyz;
     let t2 = (*c).tangent2.xyz;
     var all_slide = true;
-    for (var i = 0u; i < (*c).point_count; i++) {
+    for (var i = 0u; i < MAX_MANIFOLD_POINTS; i++) {
+        if i >= (*c).point_count {
+            break;
+        }
         let cp = (*c).points[i];
         let dv = relative_velocity(*a, *b, cp.anchor_a.xyz, cp.anchor_b.xyz);
         let old = vec2<f32>(cp.tangent_impulse_1, cp.tangent_impulse_2);
@@ -375,7 +393,10 @@ fn restitution_points(c: ptr<function, GpuConstraint>, a: ptr<function, BodySim>
         return;
     }
     let normal = (*c).normal.xyz;
-    for (var i = 0u; i < (*c).point_count; i++) {
+    for (var i = 0u; i < MAX_MANIFOLD_POINTS; i++) {
+        if i >= (*c).point_count {
+            break;
+        }
         let cp = (*c).points[i];
         if cp.relative_velocity > -threshold || cp.total_normal_impulse == 0.0 {
             continue;

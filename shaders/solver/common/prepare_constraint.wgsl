@@ -18,7 +18,10 @@ fn prepare_constraint(i: u32, s: u32) {
     let sim_b = body_sim(velocities[b], solver_bodies[b]);
     let tilt = carried_tilt(manifold, previous_tilts[min(manifold.previous, arrayLength(&previous_tilts) - 1u)], poses[a].rotation);
     var c = begin_constraint(manifold, bodies[a], bodies[b], tilt, params);
-    for (var p = 0u; p < c.point_count; p++) {
+    for (var p = 0u; p < MAX_MANIFOLD_POINTS; p++) {
+        if p >= c.point_count {
+            break;
+        }
         let point = contacts[i * MAX_MANIFOLD_POINTS + p];
         c.points[p] = prepare_point(c, point, poses[a].position.xyz, poses[b].position.xyz, sim_a, sim_b, params.warm_start_scale);
     }

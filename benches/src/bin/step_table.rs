@@ -51,6 +51,20 @@ struct Args {
     /// Substeps of Tumble's soft step, and rapier's solver iterations.
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..))]
     substeps: u32,
+    /// The order of Tumble's CPU solver (the CPU and Hybrid rows): `colored` (the greedy
+    /// top-down coloring, the default) or `rounds` (the GPU's coloring algorithm,
+    /// `SolveOrder::ColoredInRounds`).
+    #[arg(long, value_enum, default_value_t = Order::Colored)]
+    order: Order,
+}
+
+/// Tumble's CPU solve order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Order {
+    /// `SolveOrder::Colored`: greedy coloring, top of a pile first.
+    Colored,
+    /// `SolveOrder::ColoredInRounds`: the GPU's parallel rounds under hashed priorities.
+    Rounds,
 }
 
 /// An engine of a row: one of Tumble's backends, or rapier3d.
@@ -109,9 +123,19 @@ fn horizontal_drift(scene: &Scene, poses: &[([f32; 3], bool)]) -> f32 {
         .fold(0.0, f32::max)
 }
 
-fn run_tumble(scene: &Scene, backend: Backend, substeps: u32, steps: usize) -> Result<Run, Error> {
+fn run_tumble(
+    scene: &Scene,
+    backend: Backend,
+    substeps: u32,
+    order: Order,
+    steps: usize,
+) -> Result<Run, Error> {
     let solver = SolverConfig {
         substeps,
+        order: match order {
+            Order::Colored => SolveOrder::Colored,
+            Order::Rounds => SolveOrder::ColoredInRounds,
+        },
         ..SolverConfig::default()
     };
     let config = WorldConfig {
@@ -238,7 +262,7 @@ fn main() {
         let mut rows = Vec::new();
         for &engine in &args.backends {
             let run = match engine.backend() {
-                Some(backend) => run_tumble(&scene, backend, args.substeps, args.steps),
+                Some(backend) => run_tumble(&scene, backend, args.substeps, args.order, args.steps),
                 None => Ok(run_rapier(&scene, args.substeps, args.steps)),
             };
             rows.push((engine.name(), run));

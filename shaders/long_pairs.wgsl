@@ -27,7 +27,8 @@ fn main(thread: Thread) {
         }
         let overlaps = long_box.lo_0 <= me.hi_0 && me.lo_0 <= long_box.hi_0
             && overlap_12(me, long_box);
-        if !overlaps || both_static(me, long_box) || !groups_interact(me.body, long_box.body) {
+        if !overlaps || box_world(me) != box_world(long_box) || both_static(me, long_box)
+            || !groups_interact(me.body, long_box.body) {
             continue;
         }
         append_pair(me, long_box);

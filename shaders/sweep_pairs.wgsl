@@ -5,7 +5,9 @@
 // (smaller index, larger index) through an atomic counter. Static-static pairs and pairs whose
 // collision groups do not interact are skipped, and so are long boxes, which long_pairs pairs (common/sweep.wgsl).
 // The counter keeps counting past the capacity, so an overflow is reported, never hidden.
-// On the sweep axis the test is implied: sorted lower bounds make lo_p <= lo_q <= hi_q.
+// Bodies are sorted by world, then by lower bound (common/sweep.wgsl's sweep_key; with
+// several worlds the keys keep only the bound's top bits, so bounds in one key's range may
+// be out of order and both sides of the sweep axis are tested).
 //
 // A workgroup takes 256 consecutive bodies, whose scan windows nearly coincide, and walks
 // the candidates in tiles of 256 boxes loaded once into workgroup memory and shared by all
@@ -20,7 +22,10 @@ var<workgroup> continue_flag: u32;
 
 // Tests one candidate against `me` and appends the pair when it overlaps.
 fn test_pair(me: GpuSweepBox, other: GpuSweepBox) {
-    if !overlap_12(me, other) || both_static(me, other) || !groups_interact(me.body, other.body) {
+    // other.lo_0 <= me.hi_0 follows from the keys (and the world from the key's lead bits);
+    // me.lo_0 <= other.hi_0 follows from the order only for exact keys, so it is tested.
+    if other.hi_0 < me.lo_0 || !overlap_12(me, other) || both_static(me, other)
+        || !groups_interact(me.body, other.body) {
         return;
     }
     append_pair(me, other);
@@ -32,11 +37,14 @@ fn main(thread: Thread) {
     let listed = long_boxes_listed(long_boxes[0]);
     let first = thread_group(thread) * WORKGROUP_SIZE;
     let p = first + thread.local;
+    let world_bits = params.world_bits;
     var scanning = p < n;
     var me: GpuSweepBox;
+    var hi_key = 0u;
     if scanning {
         me = sweep_boxes[p];
         scanning = !is_long(me, params.long_extent, listed);
+        hi_key = sweep_key(box_world(me), me.hi_0, world_bits);
     }
     // Candidates start right after the workgroup's first body.
     var start = first + 1u;
@@ -55,8 +63,9 @@ fn main(thread: Thread) {
                     continue;
                 }
                 let other = candidates[j];
-                // Sorted by lower bound: once one starts past our upper bound, all do.
-                if other.lo_0 > me.hi_0 {
+                // Sorted by key: once one's key is past our upper bound's, all are (a box of
+                // a later world has a larger key than any of ours).
+                if sweep_key(box_world(other), other.lo_0, world_bits) > hi_key {
                     scanning = false;
                     break;
                 }

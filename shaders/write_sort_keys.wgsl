@@ -1,6 +1,7 @@
-// requires: common/indexing.wgsl common/layout.wgsl
+// requires: common/indexing.wgsl common/layout.wgsl common/sweep.wgsl
 // write_sort_keys: one thread per body; the AABB's lower bound on the sweep axis becomes an
-// unsigned key whose integer order is the float order, paired with the body index.
+// unsigned key whose integer order is the float order (led by the body's world when the step
+// holds several: common/sweep.wgsl's sweep_key), paired with the body index.
 
 // The bodies' `WorkList`.
 @group(0) @binding(0) var<storage, read> work: WorkList;
@@ -11,20 +12,10 @@
 @group(0) @binding(3) var<storage, read_write> keys: array<u32>;
 // Output body indices, one per body.
 @group(0) @binding(4) var<storage, read_write> values: array<u32>;
-
-// Flips all bits of negative floats and only the sign bit of positive ones, so that
-// unsigned comparison of keys orders like float comparison. -0.0 first becomes +0.0: the
-// two compare equal as floats and must get one key.
-fn order_key(x: f32) -> u32 {
-    var bits = bitcast<u32>(x);
-    if bits == 0x80000000u {
-        bits = 0u;
-    }
-    if (bits & 0x80000000u) != 0u {
-        return ~bits;
-    }
-    return bits | 0x80000000u;
-}
+// `array<GpuShape>` (for the world in the flags).
+@group(0) @binding(5) var<storage, read> shapes: array<GpuShape>;
+// SweepParams (the world bits).
+@group(0) @binding(6) var<uniform> params: SweepParams;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn main(thread: Thread) {
@@ -32,6 +23,7 @@ fn main(thread: Thread) {
     if i >= work.count {
         return;
     }
-    keys[i] = order_key(aabbs[i].min[sweep_axis.axis]);
+    let world = shapes[i].flags >> BODY_WORLD_SHIFT;
+    keys[i] = sweep_key(world, aabbs[i].min[sweep_axis.axis], params.world_bits);
     values[i] = i;
 }

@@ -14,6 +14,8 @@ override RADIX: u32;
 override MAX_WORKGROUPS_PER_DIMENSION: u32;
 // GpuShape.flags bit of a body that never moves.
 override BODY_STATIC: u32;
+// GpuShape.flags holds the body's world index from this bit up.
+override BODY_WORLD_SHIFT: u32;
 // GpuManifold.previous when the pair had no manifold last step.
 override NO_PREVIOUS: u32;
 // GpuManifold.kind codes.

@@ -88,7 +88,8 @@ struct SweepParams {
     pair_capacity: u32,
     // Boxes longer than this on the sweep axis (m) are paired by long_pairs (sweep.wgsl).
     long_extent: f32,
-    _pad1: u32,
+    // Bits of the largest world index, which lead the sort keys (0 for one world).
+    world_bits: u32,
 }
 
 // The sweep axis and the statistics it was chosen from. 32 bytes.

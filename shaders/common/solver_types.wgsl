@@ -23,7 +23,8 @@ struct GpuBody {
     // Damping rates (1/s).
     linear_damping: f32,
     angular_damping: f32,
-    _pad0: u32,
+    // The independent world the body belongs to (0 in a world stepped alone).
+    world: u32,
     _pad1: u32,
     // Persistent force at the centre of mass (N, world), applied in every substep; w: the
     // multiple of gravity acting on the body.

@@ -35,3 +35,33 @@ fn overlap_12(a: GpuSweepBox, b: GpuSweepBox) -> bool {
 fn both_static(a: GpuSweepBox, b: GpuSweepBox) -> bool {
     return (a.flags & b.flags & BODY_STATIC) != 0u;
 }
+
+// The index of the world box `b`'s body belongs to (bodies of different worlds never pair).
+fn box_world(b: GpuSweepBox) -> u32 {
+    return b.flags >> BODY_WORLD_SHIFT;
+}
+
+// Flips all bits of negative floats and only the sign bit of positive ones, so that
+// unsigned comparison of keys orders like float comparison. -0.0 first becomes +0.0: the
+// two compare equal as floats and must get one key.
+fn order_key(x: f32) -> u32 {
+    var bits = bitcast<u32>(x);
+    if bits == 0x80000000u {
+        bits = 0u;
+    }
+    if (bits & 0x80000000u) != 0u {
+        return ~bits;
+    }
+    return bits | 0x80000000u;
+}
+
+// The sort key of a bound `x` on the sweep axis in world `world`: the world's `world_bits`
+// bits lead, then the top of `order_key(x)`. With one world (`world_bits` 0) it is
+// `order_key(x)` itself; with more, bounds closer than the dropped bits share a key, which
+// is why the sweep also tests the lower side of the sweep axis (sweep_pairs.wgsl).
+fn sweep_key(world: u32, x: f32, world_bits: u32) -> u32 {
+    if world_bits == 0u {
+        return order_key(x);
+    }
+    return (world << (32u - world_bits)) | (order_key(x) >> world_bits);
+}

@@ -232,17 +232,22 @@ mod tests {
             rng.random_range(0.0..extent),
         );
         let h = rng.random_range(0.05..0.5);
-        Aabb::new(c - tumble_geometry::Vec3::repeat(h), c + tumble_geometry::Vec3::repeat(h))
+        Aabb::new(
+            c - tumble_geometry::Vec3::repeat(h),
+            c + tumble_geometry::Vec3::repeat(h),
+        )
     }
 
     /// The exact pairs with groups, by brute force.
-    fn exact(aabbs: &[Aabb], is_static: &[bool], groups: Option<&[CollisionGroups]>) -> Vec<(u32, u32)> {
+    fn exact(
+        aabbs: &[Aabb],
+        is_static: &[bool],
+        groups: Option<&[CollisionGroups]>,
+    ) -> Vec<(u32, u32)> {
         brute_force_pairs_filtered(aabbs, is_static)
             .unwrap()
             .into_iter()
-            .filter(|&(i, j)| {
-                groups.is_none_or(|g| g[i as usize].interacts_with(g[j as usize]))
-            })
+            .filter(|&(i, j)| groups.is_none_or(|g| g[i as usize].interacts_with(g[j as usize])))
             .collect()
     }
 
@@ -312,7 +317,10 @@ mod tests {
             }
         }
         let (searches, reuses) = kept.counts();
-        assert!(searches >= 20 && reuses >= 50, "searches {searches}, reuses {reuses}");
+        assert!(
+            searches >= 20 && reuses >= 50,
+            "searches {searches}, reuses {reuses}"
+        );
     }
 
     /// At rest the list is reused, and a box moved out of its fat box makes it search again.

@@ -158,7 +158,8 @@ host_structs! {
             /// Boxes longer than this on the sweep axis (m) are paired by `long_pairs` instead of
             /// the sweep (see `shaders/common/sweep.wgsl`).
             pub long_extent: f32,
-            pad _pad1: u32,
+            /// Bits of the world index that lead the sweep's sort keys (0 for one world).
+            pub world_bits: u32,
     }
 
     /// The sweep axis and the statistics it was chosen from. 32 bytes.
@@ -311,6 +312,13 @@ host_structs! {
 
 /// Flag bit of [`GpuShape::flags`]: the body never moves (two static bodies never pair).
 pub const BODY_STATIC: u32 = 1;
+
+/// [`GpuShape::flags`] holds the index of the body's world from this bit up (bodies of
+/// different worlds never pair; 0 in a world stepped alone).
+pub const BODY_WORLD_SHIFT: u32 = 8;
+
+/// Worlds one step can hold: the world index must fit the flags above [`BODY_WORLD_SHIFT`].
+pub const MAX_WORLDS: u32 = 1 << (32 - BODY_WORLD_SHIFT);
 
 impl GpuPose {
     /// The GPU form of a pose.

@@ -20,3 +20,12 @@
 @group(0) @binding(7) var<storage, read_write> color_scratch: array<u32>;
 // The coloring tally (TALLY_UNDECIDED, then TALLY_COUNTS + color), zeroed before the stage.
 @group(0) @binding(8) var<storage, read_write> color_tally: array<atomic<u32>>;
+// Per world, the index of its first constraint (world_starts.wgsl; zero and unused while
+// the step holds one world).
+@group(0) @binding(9) var<storage, read> world_first: array<u32>;
+
+// Constraint i's index among its world's: the manifolds are sorted by body pair and a
+// world's bodies are one run, so a world's constraints are one run too.
+fn constraint_rank(i: u32) -> u32 {
+    return i - world_first[bodies[manifolds[i].body_a].world];
+}

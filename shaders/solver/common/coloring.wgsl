@@ -12,7 +12,8 @@
 //   params: SolverParams (uniform), manifolds: array<GpuManifold>, bodies: array<GpuBody>,
 //   previous_colors: array<ColorSlot> (last step's), color_state: array<ColorSlot> (read_write),
 //   color_marks: array<atomic<u32>> (read_write): per body its used-color mask, then per
-//   (body, color) the highest priority claiming it; all zero between rounds.
+//   (body, color) the highest priority claiming it; all zero between rounds;
+//   fn constraint_rank(i: u32) -> u32: constraint i's index among its world's.
 
 // A bijective 32-bit integer hash (Wellons' "lowbias32": xorshifts and odd multipliers are
 // each invertible), so distinct constraints get distinct priorities.
@@ -26,9 +27,12 @@ fn hash_u32(x_in: u32) -> u32 {
     return x;
 }
 
-// Constraint i's priority: nonzero (hash(0) = 0 is never used) and distinct.
+// Constraint i's priority: nonzero (hash(0) = 0 is never used) and distinct within its
+// world. It hashes the constraint's rank in its world (`constraint_rank`, defined by the
+// including bindings: the index itself when the step holds one world), so a world colors
+// its constraints alike whether it is stepped alone or in a batch with others.
 fn color_priority(i: u32) -> u32 {
-    return hash_u32(i + 1u);
+    return hash_u32(constraint_rank(i) + 1u);
 }
 
 fn all_colors_mask() -> u32 {

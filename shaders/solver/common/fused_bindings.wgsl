@@ -29,3 +29,9 @@
 @group(0) @binding(15) var<storage, read> previous_tilts: array<GpuTilt>;
 // This step's `array<GpuTilt>`.
 @group(0) @binding(16) var<storage, read_write> tilts: array<GpuTilt>;
+
+// Constraint i's index among its world's: the fused path steps one world only
+// (crates/tumble-gpu/src/solver/path.rs), whose constraints are numbered from 0.
+fn constraint_rank(i: u32) -> u32 {
+    return i;
+}

@@ -33,9 +33,9 @@ use crate::kernel::Kernel;
 use crate::kernels::radix_sort::RadixSort;
 use crate::kernels::rank_sort::RANK_SORT_CAPACITY;
 use crate::layout::{
-    GpuAabb, GpuCollisionGroups, GpuContact, GpuLocalManifold, GpuManifold, GpuPose, GpuShape,
-    GpuSweepBox, GpuTouching, GpuVelocity, NarrowParams, ScatterParams, SweepAxis, SweepParams,
-    TouchingCounts, UpdateAabbsParams, WorkList,
+    BODY_WORLD_SHIFT, GpuAabb, GpuCollisionGroups, GpuContact, GpuLocalManifold, GpuManifold,
+    GpuPose, GpuShape, GpuSweepBox, GpuTouching, GpuVelocity, NarrowParams, ScatterParams,
+    SweepAxis, SweepParams, TouchingCounts, UpdateAabbsParams, WorkList,
 };
 use crate::readback::{Mapped, Readback, Region, Ticket};
 use crate::{GpuContext, GpuError, MAX_BODIES, MAX_MANIFOLD_POINTS, StageTimer};
@@ -160,6 +160,8 @@ pub struct GpuCollision {
     pair_capacity: u32,
     /// Boxes longer than this on the sweep axis are paired apart from the sweep (m).
     long_extent: f32,
+    /// Bits of the largest world index, which lead the sweep's sort keys (0 for one world).
+    world_bits: u32,
     groups: Option<CollisionGroups>,
     steps: u64,
     readback: Readback,
@@ -190,6 +192,7 @@ impl GpuCollision {
             body_count: 0,
             pair_capacity: 0,
             long_extent: f32::INFINITY,
+            world_bits: 0,
             groups: None,
             steps: 0,
             readback: Readback::new(ctx),
@@ -250,6 +253,9 @@ impl GpuCollision {
             .min(self.max_pairs())
             .max(self.pair_capacity);
         self.long_extent = crate::kernels::sweep_pairs::long_extent(shapes);
+        // Worlds are in increasing order (checked above): the last body's is the largest.
+        let last_world = shapes.last().map_or(0, |s| s.flags >> BODY_WORLD_SHIFT);
+        self.world_bits = u32::BITS - last_world.leading_zeros();
         self.allocate(n, wanted)?;
         self.write_motion(poses, velocities);
         let queue = &self.ctx.queue;
@@ -334,7 +340,7 @@ impl GpuCollision {
                 body_count: bodies,
                 pair_capacity: capacity,
                 long_extent: self.long_extent,
-                ..Default::default()
+                world_bits: self.world_bits,
             }),
         );
         write(

@@ -4,7 +4,7 @@
 
 use crate::GpuError;
 use crate::error::invalid;
-use crate::layout::{GpuPose, GpuShape, GpuVelocity};
+use crate::layout::{BODY_WORLD_SHIFT, GpuPose, GpuShape, GpuVelocity};
 
 /// How far a rotation quaternion's norm may be from 1. Poses integrated in `f32` drift by a
 /// few ulps per step before renormalisation; 1e-3 leaves room for that while catching
@@ -47,7 +47,21 @@ pub fn check_motion(
 
 /// Errs on a half extent that is not a positive finite number.
 pub fn check_shapes(shapes: &[GpuShape]) -> Result<(), GpuError> {
+    let mut last_world = 0;
     for (i, s) in shapes.iter().enumerate() {
+        // The pair list is sorted by body index and the coloring numbers a world's pairs from
+        // its first: each world's bodies must be one run, the worlds in increasing order.
+        let world = s.flags >> BODY_WORLD_SHIFT;
+        if world < last_world {
+            return Err(invalid(
+                format!("shapes[{i}].flags"),
+                format!(
+                    "world {world} after a body of world {last_world} (a world's bodies \
+                     must be contiguous, the worlds in increasing order)"
+                ),
+            ));
+        }
+        last_world = world;
         for (name, h) in [("hx", s.hx), ("hy", s.hy), ("hz", s.hz)] {
             if !(h.is_finite() && h > 0.0) {
                 return Err(invalid(format!("shapes[{i}].{name}"), h));

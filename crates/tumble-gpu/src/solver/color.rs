@@ -26,6 +26,9 @@ pub static COLOR_WITHDRAW: KernelSpec = KernelSpec::new(file("solver/color_withd
 /// Kernel: the remaining rounds over the undecided list (one workgroup).
 pub static COLOR_FINISH: KernelSpec = KernelSpec::new(file("solver/color_finish.wgsl"));
 
+/// Kernel: each world's first manifold, one thread per manifold (steps of several worlds).
+pub static WORLD_STARTS: KernelSpec = KernelSpec::new(file("solver/world_starts.wgsl"));
+
 /// Kernel: per-color counts and sort keys, one thread per constraint.
 pub static COLOR_COUNT: KernelSpec = KernelSpec::new(file("solver/color_count.wgsl"));
 
@@ -35,6 +38,7 @@ pub static COLOR_PLAN: KernelSpec = KernelSpec::new(file("solver/color_plan.wgsl
 /// The color stage's bind groups for one parity, in the order [`Self::record`] runs them.
 #[derive(Debug)]
 pub(super) struct ColorGroups {
+    world_starts: wgpu::BindGroup,
     propose: wgpu::BindGroup,
     resolve: wgpu::BindGroup,
     withdraw: wgpu::BindGroup,
@@ -51,6 +55,7 @@ impl ColorGroups {
         buffer: impl Fn(&'static str) -> &'a wgpu::Buffer,
     ) -> Self {
         Self {
+            world_starts: k.world_starts.bind_named(ctx, &buffer),
             propose: k.color_propose.bind_named(ctx, &buffer),
             resolve: k.color_resolve.bind_named(ctx, &buffer),
             withdraw: k.color_withdraw.bind_named(ctx, &buffer),
@@ -61,13 +66,18 @@ impl ColorGroups {
     }
 
     /// Records the stage up to the sort keys and dispatch sizes; the per-constraint kernels
-    /// read their size from `work` on the GPU. The tally and the claims must be zero.
+    /// read their size from `work` on the GPU. The tally and the claims must be zero. With
+    /// more than one world in the step, each world's first manifold is found first.
     pub(super) fn record(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
         k: &SolverPipelines,
         work: &wgpu::Buffer,
+        worlds: u32,
     ) {
+        if worlds > 1 {
+            k.world_starts.dispatch_work(pass, &self.world_starts, work);
+        }
         k.color_propose.dispatch_work(pass, &self.propose, work);
         k.color_resolve.dispatch_work(pass, &self.resolve, work);
         k.color_withdraw.dispatch_work(pass, &self.withdraw, work);

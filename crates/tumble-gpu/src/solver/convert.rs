@@ -54,7 +54,7 @@ pub fn gpu_body(body: &Body) -> GpuBody {
         restitution: body.material.restitution,
         linear_damping: body.linear_damping,
         angular_damping: body.angular_damping,
-        _pad0: 0,
+        world: 0,
         _pad1: 0,
         force: vec4(&body.force, body.gravity_scale),
         torque: vec4(&body.torque, 0.0),

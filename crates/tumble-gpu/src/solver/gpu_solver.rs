@@ -35,6 +35,7 @@ const CONSTRAINTS: &str = "constraints";
 const COLOR_STATE: [&str; 2] = ["color_state_0", "color_state_1"];
 const TILTS: [&str; 2] = ["tilts_0", "tilts_1"];
 const COLOR_MARKS: &str = "color_marks";
+const WORLD_FIRST: &str = "world_first";
 const COLOR_SCRATCH: &str = "color_scratch";
 const COLOR_TALLY: &str = "color_tally";
 const COLOR_OFFSETS: &str = "color_offsets";
@@ -111,6 +112,8 @@ pub struct GpuSolver {
     /// Graph colors each pass dispatches one by one; the tail takes the rest
     /// ([`Self::set_color_dispatches`]).
     color_dispatches: u32,
+    /// Independent worlds in the step ([`Self::set_world_count`]).
+    worlds: u32,
     /// How the wide path's warm start visits the graph colors ([`WarmStartSweep`]).
     warm_start: WarmStartSweep,
     radix: RadixSort,
@@ -168,6 +171,7 @@ impl GpuSolver {
             pipelines,
             passes,
             color_dispatches: GRAPH_COLOR_COUNT,
+            worlds: 1,
             warm_start: WarmStartSweep::default(),
             radix,
             pool: BufferPool::new(ctx).with_per_step(&PER_STEP),
@@ -284,6 +288,19 @@ impl GpuSolver {
         Ok(())
     }
 
+    /// Sets how many independent worlds the bodies form (their `GpuBody::world`, numbered
+    /// from 0 without gaps, each world's bodies one run): with more than one, the coloring
+    /// numbers each world's constraints from its first (`world_starts.wgsl`), so each world
+    /// gets the colors it gets alone. A step of several worlds takes the wide path.
+    pub fn set_world_count(&mut self, worlds: u32) {
+        self.worlds = worlds.max(1);
+    }
+
+    /// Independent worlds in the step.
+    pub fn world_count(&self) -> u32 {
+        self.worlds
+    }
+
     /// Forgets last step's colors, so the next step's coloring is not seeded (after the
     /// contact list was rebuilt on the host and `previous` indices no longer apply).
     pub fn forget_colors(&mut self) {
@@ -307,6 +324,8 @@ impl GpuSolver {
                 bytes_of::<u32>(n * u64::from(1 + GRAPH_COLOR_COUNT)),
             ),
             (COLOR_SCRATCH, bytes_of::<u32>(2 * cap)),
+            // Per world its first manifold; worlds are numbered densely, so fewer than bodies.
+            (WORLD_FIRST, bytes_of::<u32>(n)),
             (COLOR_TALLY, bytes_of::<u32>(u64::from(COLOR_TALLY_LEN))),
             (COLOR_OFFSETS, bytes_of::<u32>(u64::from(COLOR_OFFSETS_LEN))),
             (COLOR_ARGS, bytes_of::<DispatchArgs>(u64::from(COLOR_SLOTS))),
@@ -449,7 +468,7 @@ impl GpuSolver {
                 let work = inputs.contact_work;
                 {
                     let mut pass = timer.begin_pass(encoder, "color");
-                    groups.color[p].record(&mut pass, k, work);
+                    groups.color[p].record(&mut pass, k, work, self.worlds);
                     self.radix.record(&mut pass, &groups.radix, work);
                 }
                 {

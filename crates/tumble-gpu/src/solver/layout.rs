@@ -31,7 +31,10 @@ host_structs! {
             pub linear_damping: f32,
             /// Angular damping rate, 1/s.
             pub angular_damping: f32,
-            pad _pad0, _pad1: u32,
+            /// The independent world the body belongs to (0 in a world stepped alone): the
+            /// coloring numbers a world's constraints from its first (`world_starts.wgsl`).
+            pub world: u32,
+            pad _pad1: u32,
             /// Persistent force at the centre of mass (N, world); `w`: gravity scale.
             pub force: [f32; 4],
             /// Persistent torque (N m, world); `w` unused.

@@ -8,6 +8,7 @@ use crate::{GpuContext, GpuError};
 use super::apply_impulses::APPLY_IMPULSES;
 use super::color::{
     COLOR_COUNT, COLOR_FINISH, COLOR_PLAN, COLOR_PROPOSE, COLOR_RESOLVE, COLOR_WITHDRAW,
+    WORLD_STARTS,
 };
 use super::effects::{Effects, effect_overrides};
 use super::fused::{SOLVE_FUSED, SOLVE_FUSED_SHARED};
@@ -19,6 +20,8 @@ use super::store::STORE_IMPULSES;
 pipelines! {
     /// The solver's kernels of one specialization each, for one set of effects.
     pub struct SolverPipelines {
+        /// Each world's first manifold (steps of several worlds).
+        world_starts: WORLD_STARTS,
         /// Round 0 proposals.
         color_propose: COLOR_PROPOSE,
         /// Round 0 decisions.

@@ -74,6 +74,8 @@ pub struct GpuWorld {
     solver: GpuSolver,
     pool: BufferPool,
     bodies: Vec<Body>,
+    /// Each body's world ([`Self::set_bodies_in_worlds`]); empty when all are in world 0.
+    worlds: Vec<u32>,
     impulses: Vec<GpuImpulse>,
     stats: StatsRing,
     known_manifolds: Option<u32>,
@@ -115,6 +117,7 @@ impl GpuWorld {
             solver,
             pool: BufferPool::new(ctx),
             bodies: Vec::new(),
+            worlds: Vec::new(),
             impulses: Vec::new(),
             stats: StatsRing::new(ctx),
             known_manifolds: None,
@@ -287,6 +290,10 @@ impl GpuWorld {
     /// The solver path of the next step: decided by a count that is itself a result of the
     /// simulation (never by timing), so runs are reproducible.
     fn choose_path(&self) -> SolvePath {
+        // The fused path numbers constraints as one world's (fused_bindings.wgsl).
+        if self.solver.world_count() > 1 {
+            return SolvePath::Wide;
+        }
         match self.config.path {
             PathPolicy::Always(path) => path,
             PathPolicy::Auto => {

@@ -2,7 +2,7 @@
 //! wake), and the impulses queued for the start of the next step.
 
 use super::*;
-use crate::layout::GpuCollisionGroups;
+use crate::layout::{BODY_WORLD_SHIFT, GpuCollisionGroups, MAX_WORLDS};
 
 impl GpuWorld {
     /// Wakes body `i`'s island by the start of the next step (and restarts its rest time);
@@ -19,22 +19,56 @@ impl GpuWorld {
     /// Warm starting and color seeds start over (indices may have been reassigned), and the
     /// pipelines are specialized for the effects these bodies use.
     pub fn set_bodies(&mut self, bodies: &[Body], states: &[BodyState]) -> Result<(), GpuError> {
+        self.set_bodies_in_worlds(bodies, states, &[])
+    }
+
+    /// [`Self::set_bodies`] for bodies of several independent worlds: body `i` belongs to
+    /// world `worlds[i]` (empty: every body to world 0). Worlds are numbered from 0 without
+    /// gaps and each world's bodies are one run (`worlds` never decreases and grows by at
+    /// most 1). Bodies of different worlds never pair, and each world's bodies move exactly
+    /// as they do when that world's bodies alone are given to a `GpuWorld` of the same
+    /// config: the broad phase sorts by world first, the coloring numbers each world's
+    /// constraints from its first, and every other kernel works per body or per pair.
+    /// Errs, changing nothing, on a bad `worlds`.
+    pub fn set_bodies_in_worlds(
+        &mut self,
+        bodies: &[Body],
+        states: &[BodyState],
+        worlds: &[u32],
+    ) -> Result<(), GpuError> {
         if states.len() != bodies.len() {
             return Err(invalid(
                 "states.len()",
                 format!("{} for {} bodies", states.len(), bodies.len()),
             ));
         }
+        let world_count = check_worlds(worlds, bodies.len())?;
         self.stats.reset()?;
         self.idle.changed();
         self.pending.clear();
         self.impulses.clear();
         self.known_manifolds = None;
-        let gpu: Vec<GpuBody> = bodies.iter().map(gpu_body).collect();
+        let world_of = |i: usize| worlds.get(i).copied().unwrap_or(0);
+        let gpu: Vec<GpuBody> = bodies
+            .iter()
+            .enumerate()
+            .map(|(i, b)| GpuBody {
+                world: world_of(i),
+                ..gpu_body(b)
+            })
+            .collect();
         if !bodies.is_empty() {
             let poses: Vec<GpuPose> = bodies.iter().map(|b| GpuPose::from_pose(&b.pose)).collect();
             let velocities: Vec<GpuVelocity> = states.iter().map(gpu_velocity).collect();
-            let shapes: Vec<_> = bodies.iter().map(gpu_shape).collect();
+            let shapes: Vec<_> = bodies
+                .iter()
+                .enumerate()
+                .map(|(i, b)| {
+                    let mut shape = gpu_shape(b);
+                    shape.flags |= world_of(i) << BODY_WORLD_SHIFT;
+                    shape
+                })
+                .collect();
             self.collision.set_bodies(&poses, &velocities, &shapes)?;
             let groups: Vec<GpuCollisionGroups> = bodies
                 .iter()
@@ -50,9 +84,17 @@ impl GpuWorld {
         self.solver
             .set_effects(Effects::of_bodies(bodies, &self.config.gravity))?;
         self.solver.forget_colors();
+        self.solver.set_world_count(world_count);
         self.sleep.reset(&gpu, self.config.dt)?;
         self.bodies = bodies.to_vec();
+        self.worlds = worlds.to_vec();
         Ok(())
+    }
+
+    /// Independent worlds the bodies form ([`Self::set_bodies_in_worlds`]); 1 after
+    /// [`Self::set_bodies`].
+    pub fn world_count(&self) -> u32 {
+        self.solver.world_count()
     }
 
     /// Sets body `i`'s properties that may change after the upload, from `body`: its
@@ -71,7 +113,10 @@ impl GpuWorld {
         kept.force = body.force;
         kept.torque = body.torque;
         kept.gravity_scale = body.gravity_scale;
-        let record = gpu_body(kept);
+        let record = GpuBody {
+            world: self.worlds.get(i).copied().unwrap_or(0),
+            ..gpu_body(kept)
+        };
         self.collision
             .set_groups(i, &[GpuCollisionGroups::of(body.groups)])?;
         self.sleep.update_awake_body(i as u32, &record);
@@ -207,4 +252,48 @@ fn require_finite(field: &str, v: &Vec3) -> Result<(), GpuError> {
     } else {
         Err(invalid(field, v))
     }
+}
+
+/// The number of worlds `worlds` numbers for `bodies` bodies (1 when empty); errs, naming the
+/// entry, unless it has one entry per body, starts at 0 and each entry equals the one before
+/// or is one more.
+fn check_worlds(worlds: &[u32], bodies: usize) -> Result<u32, GpuError> {
+    if worlds.is_empty() {
+        return Ok(1);
+    }
+    if worlds.len() != bodies {
+        return Err(invalid(
+            "worlds.len()",
+            format!("{} for {bodies} bodies", worlds.len()),
+        ));
+    }
+    let mut last = 0;
+    for (i, &w) in worlds.iter().enumerate() {
+        let expected = if i == 0 {
+            w == 0
+        } else {
+            w == last || w == last + 1
+        };
+        if !expected {
+            let want = if i == 0 {
+                "0".to_string()
+            } else {
+                format!("{last} or {}", last + 1)
+            };
+            return Err(invalid(
+                format!("worlds[{i}]"),
+                format!("{w} (expected {want}: worlds are numbered from 0, each one run)"),
+            ));
+        }
+        last = w;
+    }
+    if last >= MAX_WORLDS {
+        return Err(GpuError::LimitExceeded {
+            what: "worlds".into(),
+            value: u64::from(last) + 1,
+            limit_name: "tumble_gpu::layout::MAX_WORLDS",
+            limit: MAX_WORLDS.into(),
+        });
+    }
+    Ok(last + 1)
 }

@@ -1,0 +1,226 @@
+//! Several independent worlds in one `GpuWorld` (`set_bodies_in_worlds`): one set of buffers,
+//! one set of dispatches per step, and each world's bodies end bitwise equal to the same
+//! world's bodies stepped alone. Every world stands at the same place, so a pair formed across
+//! worlds, a sweep that ran past its world or a constraint colored by another world's
+//! numbering would change a bit somewhere.
+//!
+//! Needs a GPU (or lavapipe): without one it prints a loud "skipped" unless
+//! `TUMBLE_REQUIRE_GPU=1`, which makes a missing adapter a failure.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use tumble_geometry::{Cuboid, Pose, Real, Vec3};
+use tumble_gpu::GpuContext;
+use tumble_gpu::layout::GpuPose;
+use tumble_gpu::step::{GpuWorld, GpuWorldConfig, ReadRequest};
+use tumble_solver::{Body, BodyKind, BodyState, Material};
+use tumble_tests::gpu_solver_util::{floor, pose_bits};
+use tumble_tests::scene_support::random_vec;
+
+/// One small world: a floor and, by `seed % 4`, a column, a small pyramid, boxes of mixed
+/// sizes dropped with spins, or a box sliding along the floor into a wall. Every world has
+/// friction and no restitution, so the batch needs the same effects as each world alone.
+fn small_world(seed: u64) -> (Vec<Body>, Vec<BodyState>) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let material = Material {
+        friction: 0.6,
+        restitution: 0.0,
+    };
+    let cube = |p: Vec3, h: Vec3, spin: Vec3| {
+        Body::new(
+            BodyKind::Dynamic,
+            Cuboid::new(h),
+            Pose::new(p, spin),
+            1.0,
+            material,
+        )
+        .unwrap()
+    };
+    let mut bodies = vec![floor(material)];
+    let mut states = Vec::new();
+    match seed % 4 {
+        0 => {
+            let height = rng.random_range(3..8);
+            for k in 0..height {
+                let x = rng.random_range(-0.05..0.05);
+                bodies.push(cube(
+                    Vec3::new(x, 0.5 + k as Real * 1.001, 0.0),
+                    Vec3::repeat(0.5),
+                    Vec3::zeros(),
+                ));
+            }
+        }
+        1 => {
+            let layers = rng.random_range(2..5);
+            for level in 0..layers {
+                for i in 0..(layers - level) {
+                    let x = i as Real * 1.02 - (layers - 1 - level) as Real * 0.51;
+                    bodies.push(cube(
+                        Vec3::new(x, 0.5 + level as Real, 0.0),
+                        Vec3::repeat(0.5),
+                        Vec3::zeros(),
+                    ));
+                }
+            }
+        }
+        2 => {
+            for k in 0..rng.random_range(3..7) {
+                let p = Vec3::new(
+                    rng.random_range(-1.0..1.0),
+                    1.5 + 1.2 * k as Real,
+                    rng.random_range(-1.0..1.0),
+                );
+                bodies.push(cube(
+                    p,
+                    random_vec(&mut rng, 0.2..0.6),
+                    random_vec(&mut rng, -1.0..1.0),
+                ));
+            }
+        }
+        _ => {
+            bodies.push(
+                Body::new(
+                    BodyKind::Fixed,
+                    Cuboid::new(Vec3::new(0.25, 1.0, 2.0)),
+                    Pose::translation(3.0, 1.0, 0.0),
+                    1.0,
+                    material,
+                )
+                .unwrap(),
+            );
+            bodies.push(cube(
+                Vec3::new(-2.0, 0.4, 0.0),
+                Vec3::new(0.4, 0.4, 0.3),
+                Vec3::zeros(),
+            ));
+        }
+    }
+    states.resize(bodies.len(), BodyState::default());
+    if seed % 4 == 3 {
+        // The slider, sent toward the wall fast enough to reach it before friction stops it.
+        let last = states.len() - 1;
+        states[last] = BodyState::moving(
+            Vec3::new(rng.random_range(6.0..8.0), 0.0, 0.0),
+            Vec3::zeros(),
+        );
+    }
+    (bodies, states)
+}
+
+/// Steps a world of `bodies` (in `worlds`, or all in world 0 when empty) and reads the poses.
+fn run(
+    ctx: &GpuContext,
+    bodies: &[Body],
+    states: &[BodyState],
+    worlds: &[u32],
+    steps: usize,
+) -> Vec<GpuPose> {
+    let mut world = GpuWorld::new(ctx, GpuWorldConfig::default()).unwrap();
+    world.set_bodies_in_worlds(bodies, states, worlds).unwrap();
+    for _ in 0..steps {
+        world.step().unwrap();
+    }
+    let snapshot = world.read_now(ReadRequest::MOTION).unwrap();
+    for p in &snapshot.poses {
+        assert!(
+            p.position.iter().chain(&p.rotation).all(|c| c.is_finite()),
+            "{p:?}"
+        );
+    }
+    snapshot.poses
+}
+
+/// Steps `count` small worlds as one batch and each alone, and requires every body of every
+/// world to end with the same bits both ways.
+fn batch_matches_alone(count: u64, steps: usize) {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let scenes: Vec<_> = (0..count).map(small_world).collect();
+    let mut bodies = Vec::new();
+    let mut states = Vec::new();
+    let mut worlds = Vec::new();
+    for (w, (b, s)) in scenes.iter().enumerate() {
+        bodies.extend_from_slice(b);
+        states.extend_from_slice(s);
+        worlds.extend(std::iter::repeat_n(w as u32, b.len()));
+    }
+    let batch = run(&ctx, &bodies, &states, &worlds, steps);
+    let mut first = 0;
+    let mut moved = 0.0;
+    for (w, (b, s)) in scenes.iter().enumerate() {
+        let alone = run(&ctx, b, s, &[], steps);
+        for (i, pose) in alone.iter().enumerate() {
+            let fused = &batch[first + i];
+            assert_eq!(
+                pose_bits(pose),
+                pose_bits(fused),
+                "world {w}, body {i}: alone {pose:?}, in the batch {fused:?}"
+            );
+            let start = b[i].pose.translation.vector;
+            let end = Vec3::new(pose.position[0], pose.position[1], pose.position[2]);
+            moved += (end - start).norm();
+        }
+        first += b.len();
+    }
+    // The comparison means something only if the worlds did something: the dropped boxes
+    // fall, the sliders slide (a world at rest from the start would match trivially).
+    assert!(
+        moved > 0.5 * count as Real,
+        "the worlds hardly moved: {moved} m in all"
+    );
+}
+
+#[test]
+fn worlds_stepped_as_one_batch_end_bitwise_equal_to_each_stepped_alone() {
+    // Twelve worlds, 300 steps (5 s): landings, slides into the wall, piles settling; the
+    // bodies (under 1,024) and pairs take the single-workgroup sorts.
+    batch_matches_alone(12, 300);
+}
+
+#[test]
+fn a_batch_of_130_worlds_matches_on_the_radix_sort_and_without_long_box_lists() {
+    // 130 worlds: more than 1,024 bodies (the radix sorts instead of the single-workgroup
+    // ones), more floors than the long-box list holds (64, so every floor is swept with its
+    // world's boxes) and 8 bits of world index in the sort keys.
+    batch_matches_alone(130, 90);
+}
+
+#[test]
+fn bad_world_numbering_is_refused_and_names_the_entry() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let (bodies, states) = small_world(1);
+    let mut world = GpuWorld::new(&ctx, GpuWorldConfig::default()).unwrap();
+    let n = bodies.len();
+    // A gap in the numbering, a world out of order, and a list of the wrong length.
+    let mut gap = vec![0; n];
+    gap[n - 1] = 2;
+    let err = world
+        .set_bodies_in_worlds(&bodies, &states, &gap)
+        .unwrap_err();
+    assert!(
+        err.to_string().contains(&format!("worlds[{}]", n - 1)),
+        "{err}"
+    );
+    let mut back = vec![1; n];
+    back[0] = 0;
+    back[n - 1] = 0;
+    let err = world
+        .set_bodies_in_worlds(&bodies, &states, &back)
+        .unwrap_err();
+    assert!(
+        err.to_string().contains(&format!("worlds[{}]", n - 1)),
+        "{err}"
+    );
+    let err = world
+        .set_bodies_in_worlds(&bodies, &states, &[0])
+        .unwrap_err();
+    assert!(err.to_string().contains("worlds.len()"), "{err}");
+    assert_eq!(
+        world.body_count(),
+        0,
+        "a refused upload leaves the world empty"
+    );
+}

@@ -30,6 +30,8 @@ pub const POSES: &str = "poses";
 pub const VELOCITIES: &str = "velocities";
 /// Per-body shapes and flags.
 pub const SHAPES: &str = "shapes";
+/// Per world, 0 or its first body plus one: the worlds whose pairs `forget_pairs` drops.
+pub const FORGET_WORLDS: &str = "forget worlds";
 /// Per-body AABBs.
 pub const AABBS: &str = "aabbs";
 /// The bodies' `WorkList` (written by the host).

@@ -10,6 +10,7 @@ use crate::kernels::collide_cuboids::COLLIDE_CUBOIDS;
 use crate::kernels::compact_touching::{
     COUNT_TOUCHING, SCAN_TOUCHING, SCATTER_IMPULSES, WRITE_TOUCHING,
 };
+use crate::kernels::forget_pairs::FORGET_PAIRS;
 use crate::kernels::gather_sweep_boxes::GATHER_SWEEP_BOXES;
 use crate::kernels::match_pairs::MATCH_PAIRS;
 use crate::kernels::plan_dispatch::PLAN_DISPATCH;
@@ -40,6 +41,8 @@ pipelines! {
         scan_touching: SCAN_TOUCHING,
         write_touching: WRITE_TOUCHING,
         scatter_impulses: SCATTER_IMPULSES,
+        /// Last step's pairs of chosen worlds dropped (a reset of those worlds).
+        forget_pairs: FORGET_PAIRS,
     }
 }
 

@@ -357,6 +357,54 @@ impl GpuCollision {
         Ok(())
     }
 
+    /// Drops the pairs of some worlds from last step's list, so the next step carries no
+    /// impulses, hysteresis or color seeds for them and the other worlds keep theirs.
+    /// `forget[w]` is 0 to keep world `w`'s pairs, else its first body plus one
+    /// (`forget_pairs.wgsl`). Errs unless `forget` has one entry per world.
+    pub fn forget_worlds(&mut self, forget: &[u32]) -> Result<(), GpuError> {
+        if self.steps == 0 || forget.iter().all(|&f| f == 0) {
+            return Ok(());
+        }
+        let bytes: &[u8] = bytemuck::cast_slice(forget);
+        self.pool.ensure(
+            FORGET_WORLDS,
+            bytes.len() as u64,
+            crate::buffer_pool::STORAGE_USAGE,
+        )?;
+        self.ctx
+            .queue
+            .write_buffer(self.pool.get(FORGET_WORLDS), 0, bytes);
+        let q = self.last_parity();
+        let b = |name: &'static str| self.pool.get(name);
+        let group = self
+            .kernels
+            .forget_pairs
+            .bind_named(&self.ctx, |name| match name {
+                "previous_work" => b(PAIR_WORK[q]),
+                "previous_a" => b(PAIR_A[q][PAIR_RESULT_COPY]),
+                "previous_b" => b(PAIR_B[q][PAIR_RESULT_COPY]),
+                "forget" => b(FORGET_WORLDS),
+                name => b(name),
+            });
+        let mut encoder = self
+            .ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("forget worlds"),
+            });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("forget_pairs"),
+                timestamp_writes: None,
+            });
+            self.kernels
+                .forget_pairs
+                .dispatch_work(&mut pass, &group, b(PAIR_WORK[q]));
+        }
+        self.ctx.queue.submit([encoder.finish()]);
+        Ok(())
+    }
+
     /// Drops last step's pairs, so the next step carries no impulses and no hysteresis (for
     /// when body indices were reassigned).
     pub fn forget_history(&mut self) {

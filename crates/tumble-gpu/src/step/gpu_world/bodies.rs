@@ -91,6 +91,37 @@ impl GpuWorld {
         Ok(())
     }
 
+    /// Makes the next step meet the worlds `worlds` (indices of
+    /// [`Self::set_bodies_in_worlds`]) as if for the first time: their pairs of the last step
+    /// are dropped, so no manifold, impulse or color seed is carried over for them, while the
+    /// other worlds keep theirs. With the poses and velocities of those worlds' bodies set
+    /// again (and sleep off), such a world then steps with the bits of the same world uploaded
+    /// fresh. Errs, changing nothing, on a world index out of range.
+    pub fn forget_worlds(&mut self, worlds: &[u32]) -> Result<(), GpuError> {
+        let count = self.world_count();
+        if let Some(&w) = worlds.iter().find(|&&w| w >= count) {
+            return Err(invalid(
+                "worlds",
+                format!("{w} (the step holds {count} worlds)"),
+            ));
+        }
+        if worlds.is_empty() {
+            return Ok(());
+        }
+        // Each world's first body plus one, for the worlds to forget.
+        let mut forget = vec![0u32; count as usize];
+        for &w in worlds {
+            let first = if self.worlds.is_empty() {
+                0
+            } else {
+                self.worlds.partition_point(|&x| x < w)
+            };
+            forget[w as usize] = first as u32 + 1;
+        }
+        self.idle.changed();
+        self.collision.forget_worlds(&forget)
+    }
+
     /// Independent worlds the bodies form ([`Self::set_bodies_in_worlds`]); 1 after
     /// [`Self::set_bodies`].
     pub fn world_count(&self) -> u32 {

@@ -16,6 +16,8 @@ override MAX_WORKGROUPS_PER_DIMENSION: u32;
 override BODY_STATIC: u32;
 // GpuShape.flags holds the body's world index from this bit up.
 override BODY_WORLD_SHIFT: u32;
+// remap_pairs: flag of a body whose world's pairs are dropped.
+override REMAP_DROPPED: u32;
 // GpuManifold.previous when the pair had no manifold last step.
 override NO_PREVIOUS: u32;
 // GpuManifold.kind codes.

@@ -78,6 +78,7 @@ pub(crate) use override_values;
 /// Every override value the shaders may declare, by WGSL name.
 pub fn shader_constants() -> Vec<(&'static str, f64)> {
     use crate::kernels::rank_sort::RANK_SORT_ITEMS;
+    use crate::kernels::remap_pairs::REMAP_DROPPED;
     use crate::layout::{BODY_STATIC, BODY_WORLD_SHIFT};
     use crate::solver::constants::PERSIST_NORMAL_COS;
     use tumble_geometry::{SEGMENT_DEGENERATE_RATIO, SEGMENT_PARALLEL_SIN_SQ};
@@ -92,6 +93,7 @@ pub fn shader_constants() -> Vec<(&'static str, f64)> {
         MAX_WORKGROUPS_PER_DIMENSION,
         BODY_STATIC,
         BODY_WORLD_SHIFT,
+        REMAP_DROPPED,
         MAX_LONG_BOXES,
         NO_PREVIOUS,
         MANIFOLD_FACE_A,

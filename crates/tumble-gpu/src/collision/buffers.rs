@@ -32,6 +32,9 @@ pub const VELOCITIES: &str = "velocities";
 pub const SHAPES: &str = "shapes";
 /// Per world, 0 or its first body plus one: the worlds whose pairs `forget_pairs` drops.
 pub const FORGET_WORLDS: &str = "forget worlds";
+/// Per body of the last upload, its new index or where its world's pairs drop
+/// (`remap_pairs.wgsl`).
+pub const REMAP: &str = "remap";
 /// Per-body AABBs.
 pub const AABBS: &str = "aabbs";
 /// The bodies' `WorkList` (written by the host).

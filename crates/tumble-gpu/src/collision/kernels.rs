@@ -18,6 +18,7 @@ use crate::kernels::radix_sort::{
     RadixBindGroups, RadixBuffers, RadixSort, index_bits, plan_passes, result_copy,
 };
 use crate::kernels::rank_sort::RANK_SORT;
+use crate::kernels::remap_pairs::REMAP_PAIRS;
 use crate::kernels::sweep_pairs::{LONG_PAIRS, SWEEP_PAIRS};
 use crate::kernels::update_aabbs::UPDATE_AABBS;
 use crate::kernels::write_sort_keys::WRITE_SORT_KEYS;
@@ -43,6 +44,8 @@ pipelines! {
         scatter_impulses: SCATTER_IMPULSES,
         /// Last step's pairs of chosen worlds dropped (a reset of those worlds).
         forget_pairs: FORGET_PAIRS,
+        /// Last step's pairs renumbered after a new upload order.
+        remap_pairs: REMAP_PAIRS,
     }
 }
 

@@ -232,6 +232,30 @@ impl GpuCollision {
         velocities: &[GpuVelocity],
         shapes: &[GpuShape],
     ) -> Result<(), GpuError> {
+        self.upload(poses, velocities, shapes, None).map(|_| ())
+    }
+
+    /// [`Self::set_bodies`] keeping last step's pairs, renumbered through `remap` (one entry
+    /// per body of the last upload: `remap_pairs.wgsl`). True when they were kept; false
+    /// when the pair buffers had to grow, which drops every pair (as [`Self::set_bodies`]).
+    pub fn set_bodies_remapped(
+        &mut self,
+        poses: &[GpuPose],
+        velocities: &[GpuVelocity],
+        shapes: &[GpuShape],
+        remap: &[u32],
+    ) -> Result<bool, GpuError> {
+        validate::check_count("remap", remap.len(), self.body_count as usize)?;
+        self.upload(poses, velocities, shapes, Some(remap))
+    }
+
+    fn upload(
+        &mut self,
+        poses: &[GpuPose],
+        velocities: &[GpuVelocity],
+        shapes: &[GpuShape],
+        remap: Option<&[u32]>,
+    ) -> Result<bool, GpuError> {
         let n = poses.len();
         validate::check_motion(poses, velocities, n)?;
         validate::check_count("shapes", shapes.len(), n)?;
@@ -256,13 +280,61 @@ impl GpuCollision {
         // Worlds are in increasing order (checked above): the last body's is the largest.
         let last_world = shapes.last().map_or(0, |s| s.flags >> BODY_WORLD_SHIFT);
         self.world_bits = u32::BITS - last_world.leading_zeros();
-        self.allocate(n, wanted)?;
+        let kept = self.allocate(n, wanted, remap.is_some())?;
+        if kept && let Some(remap) = remap {
+            self.remap_pairs(remap)?;
+        }
         self.write_motion(poses, velocities);
         let queue = &self.ctx.queue;
         queue.write_buffer(self.pool.get(SHAPES), 0, bytemuck::cast_slice(shapes));
         let groups = vec![GpuCollisionGroups::ALL; n as usize];
         queue.write_buffer(self.pool.get(GROUPS), 0, bytemuck::cast_slice(&groups));
+        Ok(kept)
+    }
+
+    /// Renumbers last step's pairs through `remap` (`remap_pairs.wgsl`).
+    fn remap_pairs(&mut self, remap: &[u32]) -> Result<(), GpuError> {
+        if self.steps == 0 || remap.is_empty() {
+            return Ok(());
+        }
+        let bytes: &[u8] = bytemuck::cast_slice(remap);
+        self.pool
+            .ensure(REMAP, bytes.len() as u64, crate::buffer_pool::STORAGE_USAGE)?;
+        self.ctx.queue.write_buffer(self.pool.get(REMAP), 0, bytes);
+        let q = self.last_parity();
+        let b = |name: &'static str| self.pool.get(name);
+        let group = self
+            .kernels
+            .remap_pairs
+            .bind_named(&self.ctx, |name| match name {
+                "previous_work" => b(PAIR_WORK[q]),
+                "previous_a" => b(PAIR_A[q][PAIR_RESULT_COPY]),
+                "previous_b" => b(PAIR_B[q][PAIR_RESULT_COPY]),
+                "remap" => b(REMAP),
+                name => b(name),
+            });
+        self.submit_one("remap_pairs", |pass| {
+            self.kernels
+                .remap_pairs
+                .dispatch_work(pass, &group, b(PAIR_WORK[q]));
+        });
         Ok(())
+    }
+
+    /// Records one compute pass with `record` and submits it.
+    fn submit_one(&self, label: &'static str, record: impl FnOnce(&mut wgpu::ComputePass<'_>)) {
+        let mut encoder = self
+            .ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(label),
+                timestamp_writes: None,
+            });
+            record(&mut pass);
+        }
+        self.ctx.queue.submit([encoder.finish()]);
     }
 
     /// Sets the collision groups of bodies `first..first + groups.len()` (every body has
@@ -306,14 +378,16 @@ impl GpuCollision {
     }
 
     /// Sizes every buffer for `bodies` bodies and `capacity` pairs and writes the parameters.
-    fn allocate(&mut self, bodies: u32, capacity: u32) -> Result<(), GpuError> {
+    /// Unless `keep_pairs`, a new body count drops last step's pairs; pair buffers that had
+    /// to grow drop them either way. True when they were kept.
+    fn allocate(&mut self, bodies: u32, capacity: u32, keep_pairs: bool) -> Result<bool, GpuError> {
         // The largest buffer first, so a refused size leaves every buffer as it was.
         let contact_bytes = u64::from(capacity)
             * u64::from(MAX_MANIFOLD_POINTS)
             * std::mem::size_of::<GpuContact>() as u64;
         self.ctx.check_storage_size(CONTACTS[0], contact_bytes)?;
-        let mut reset = bodies != self.body_count;
-        reset |= ensure_body_buffers(&mut self.pool, bodies)?;
+        let mut reset = bodies != self.body_count && !keep_pairs;
+        reset |= ensure_body_buffers(&mut self.pool, bodies)? && !keep_pairs;
         reset |= ensure_pair_buffers(&mut self.pool, capacity)?;
         if self.touching_buffers {
             ensure_touching_buffers(&mut self.pool, capacity)?;
@@ -354,7 +428,7 @@ impl GpuCollision {
         if reset {
             self.forget_history();
         }
-        Ok(())
+        Ok(!reset)
     }
 
     /// Drops the pairs of some worlds from last step's list, so the next step carries no
@@ -386,22 +460,11 @@ impl GpuCollision {
                 "forget" => b(FORGET_WORLDS),
                 name => b(name),
             });
-        let mut encoder = self
-            .ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("forget worlds"),
-            });
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("forget_pairs"),
-                timestamp_writes: None,
-            });
+        self.submit_one("forget_pairs", |pass| {
             self.kernels
                 .forget_pairs
-                .dispatch_work(&mut pass, &group, b(PAIR_WORK[q]));
-        }
-        self.ctx.queue.submit([encoder.finish()]);
+                .dispatch_work(pass, &group, b(PAIR_WORK[q]));
+        });
         Ok(())
     }
 
@@ -434,7 +497,7 @@ impl GpuCollision {
     /// Makes room for at least `capacity` pairs (history is dropped if buffers move).
     pub fn reserve_pairs(&mut self, capacity: u32) -> Result<(), GpuError> {
         if capacity > self.pair_capacity {
-            self.allocate(self.body_count, capacity)?;
+            self.allocate(self.body_count, capacity, false)?;
         }
         Ok(())
     }

@@ -45,7 +45,7 @@ impl GpuCollision {
                 self.pool.remove(&TOUCHING_BUFFERS);
             }
             self.touching_buffers = touching;
-            self.allocate(saved.body_count, saved.pair_capacity)?;
+            self.allocate(saved.body_count, saved.pair_capacity, false)?;
             self.pool.load(&saved.buffers)?;
         }
         self.steps = saved.steps;

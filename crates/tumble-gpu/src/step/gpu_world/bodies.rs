@@ -2,6 +2,7 @@
 //! wake), and the impulses queued for the start of the next step.
 
 use super::*;
+use crate::kernels::remap_pairs::REMAP_DROPPED;
 use crate::layout::{BODY_WORLD_SHIFT, GpuCollisionGroups, MAX_WORLDS};
 
 impl GpuWorld {
@@ -36,6 +37,51 @@ impl GpuWorld {
         states: &[BodyState],
         worlds: &[u32],
     ) -> Result<(), GpuError> {
+        self.upload(bodies, states, worlds, None).map(|_| ())
+    }
+
+    /// [`Self::set_bodies_in_worlds`] that keeps the contact history of the worlds whose
+    /// bodies did not change: `remap[i]`, for body `i` of the last upload, is its index in
+    /// this one, or `REMAP_DROPPED` (`crate::kernels::remap_pairs`) with the index at which
+    /// its world's pairs are dropped (the new index of that world's first body, or of the
+    /// next world's when it has none). A kept world's bodies must keep their order and
+    /// world order must be kept. Those worlds then step as if nothing had been uploaded,
+    /// the others as if uploaded fresh, so each world of a batch keeps the bits of the same
+    /// world run alone while worlds and bodies come and go around it (sleep restarts,
+    /// though: every body wakes with its rest time at zero). True when the pairs were kept;
+    /// false when the pair buffers had to grow and every world restarts.
+    pub fn set_bodies_in_worlds_keeping(
+        &mut self,
+        bodies: &[Body],
+        states: &[BodyState],
+        worlds: &[u32],
+        remap: &[u32],
+    ) -> Result<bool, GpuError> {
+        if remap.len() != self.bodies.len() {
+            return Err(invalid(
+                "remap.len()",
+                format!("{} for {} bodies uploaded", remap.len(), self.bodies.len()),
+            ));
+        }
+        if let Some((i, r)) = remap.iter().enumerate().find(|&(_, &r)| {
+            r & !REMAP_DROPPED > bodies.len() as u32
+                || (r & REMAP_DROPPED == 0 && r >= bodies.len() as u32)
+        }) {
+            return Err(invalid(
+                format!("remap[{i}]"),
+                format!("{r:#x} for {} bodies", bodies.len()),
+            ));
+        }
+        self.upload(bodies, states, worlds, Some(remap))
+    }
+
+    fn upload(
+        &mut self,
+        bodies: &[Body],
+        states: &[BodyState],
+        worlds: &[u32],
+        remap: Option<&[u32]>,
+    ) -> Result<bool, GpuError> {
         if states.len() != bodies.len() {
             return Err(invalid(
                 "states.len()",
@@ -49,6 +95,7 @@ impl GpuWorld {
         self.impulses.clear();
         self.known_manifolds = None;
         let world_of = |i: usize| worlds.get(i).copied().unwrap_or(0);
+        let mut kept = false;
         let gpu: Vec<GpuBody> = bodies
             .iter()
             .enumerate()
@@ -69,13 +116,24 @@ impl GpuWorld {
                     shape
                 })
                 .collect();
-            self.collision.set_bodies(&poses, &velocities, &shapes)?;
+            kept = match remap {
+                Some(remap) if !self.bodies.is_empty() => {
+                    self.collision
+                        .set_bodies_remapped(&poses, &velocities, &shapes, remap)?
+                }
+                _ => {
+                    self.collision.set_bodies(&poses, &velocities, &shapes)?;
+                    false
+                }
+            };
             let groups: Vec<GpuCollisionGroups> = bodies
                 .iter()
                 .map(|b| GpuCollisionGroups::of(b.groups))
                 .collect();
             self.collision.set_groups(0, &groups)?;
-            self.collision.forget_history();
+            if !kept {
+                self.collision.forget_history();
+            }
             let bytes: &[u8] = bytemuck::cast_slice(&gpu);
             self.pool
                 .ensure(BODIES, bytes.len() as u64, STORAGE_USAGE)?;
@@ -83,12 +141,14 @@ impl GpuWorld {
         }
         self.solver
             .set_effects(Effects::of_bodies(bodies, &self.config.gravity))?;
-        self.solver.forget_colors();
+        if !kept {
+            self.solver.forget_colors();
+        }
         self.solver.set_world_count(world_count);
         self.sleep.reset(&gpu, self.config.dt)?;
         self.bodies = bodies.to_vec();
         self.worlds = worlds.to_vec();
-        Ok(())
+        Ok(kept)
     }
 
     /// Makes the next step meet the worlds `worlds` (indices of

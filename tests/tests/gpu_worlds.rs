@@ -316,7 +316,7 @@ fn worlds_whose_bodies_did_not_change_keep_their_history_through_a_new_upload() 
         let (b, _) = &scenes[w];
         let bodies = (0..b.len())
             .map(|i| {
-                let mut body = b[i].clone();
+                let mut body = b[i];
                 body.pose = now.pose(firsts[w] + i);
                 body
             })

@@ -46,6 +46,25 @@ impl World {
         })
     }
 
+    /// An empty world of `config` stepped by `backend` (a batch's worlds). `config` must be
+    /// valid.
+    #[cfg(feature = "gpu")]
+    pub(crate) fn with_backend(
+        config: WorldConfig,
+        backend: Box<dyn StepBackend>,
+    ) -> Result<Self, Error> {
+        config.validate()?;
+        Ok(Self {
+            config,
+            handles: HandleMap::default(),
+            host: Host::default(),
+            backend,
+            query: QueryCache::default(),
+            events: EventState::default(),
+            steps: 0,
+        })
+    }
+
     /// The configuration the world runs with.
     pub fn config(&self) -> &WorldConfig {
         &self.config

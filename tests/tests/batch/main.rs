@@ -26,6 +26,9 @@ use tumble::{
 /// Bad actions, reads and worlds: errors that name what is wrong and change nothing.
 mod bad_input;
 
+/// The GPU batch's resets and its worlds that come and go.
+mod gpu;
+
 /// A scene of boxes of mixed sizes, densities and spins dropped on the floor, and one
 /// kinematic paddle sweeping through them (the target of the kinematic actions).
 fn mixed(seed: u64, n: usize) -> Scene {
@@ -225,8 +228,16 @@ fn actions_for(batch: &WorldBatch, id: WorldId, k: usize, s: usize, every: u32) 
 /// added and one removed in some worlds, states saved at a third of the run and resets at
 /// two thirds (to the saved state, or to the start for worlds never saved), then checks each
 /// world bitwise against the scene replayed alone with the calls the world kept. Actions
-/// come on one step in `every`.
-fn batch_matches_worlds_alone(backend: Backend, scenes: &[Scene], steps: usize, every: u32) {
+/// come on one step in `every`. Without `mid_run_saves` no state is saved after the start:
+/// on `Backend::Gpu` a reset restarts a world cold from its saved bodies (its contacts are
+/// not kept), which a lone world replayed from the start only matches for the start.
+fn batch_matches_worlds_alone(
+    backend: Backend,
+    scenes: &[Scene],
+    steps: usize,
+    every: u32,
+    mid_run_saves: bool,
+) {
     let config = WorldConfig {
         backend,
         ..WorldConfig::default()
@@ -234,6 +245,16 @@ fn batch_matches_worlds_alone(backend: Backend, scenes: &[Scene], steps: usize, 
     let mut batch = WorldBatch::from_scenes(scenes, config).unwrap();
     let ids = batch.ids();
     assert_eq!(ids.len(), scenes.len());
+    if backend == Backend::Gpu {
+        // One device world per distinct config (here, per gravity and time step).
+        let mut configs: Vec<([Real; 3], Real)> = Vec::new();
+        for s in scenes {
+            if !configs.contains(&(s.gravity, s.dt)) {
+                configs.push((s.gravity, s.dt));
+            }
+        }
+        assert_eq!(batch.device_worlds(), configs.len());
+    }
     let mut timelines = vec![Timeline::default(); scenes.len()];
     let mut moved_by_actions = 0usize;
     for s in 0..steps {
@@ -260,7 +281,7 @@ fn batch_matches_worlds_alone(backend: Backend, scenes: &[Scene], steps: usize, 
                 batch.remove_body(id, h).unwrap();
                 timelines[k].events.push(Event::Remove(h));
             }
-            if s == steps / 3 && k % 2 == 0 {
+            if mid_run_saves && s == steps / 3 && k % 2 == 0 {
                 batch.save_state(id).unwrap();
                 timelines[k].saved = timelines[k].events.len();
             }
@@ -320,7 +341,7 @@ fn batch_matches_worlds_alone(backend: Backend, scenes: &[Scene], steps: usize, 
 
 #[test]
 fn batch_of_64_different_scenes_matches_each_scene_stepped_alone() {
-    batch_matches_worlds_alone(Backend::Cpu, &scenes(64), 300, 10);
+    batch_matches_worlds_alone(Backend::Cpu, &scenes(64), 300, 10, true);
 }
 
 /// Eight worlds of columns and pyramids, each knocked by an impulse so they move.
@@ -440,13 +461,15 @@ const GPU_STEPS: usize = 21;
 #[test]
 fn gpu_batch_matches_each_scene_stepped_alone() {
     if gpu_available(Backend::Gpu) {
-        batch_matches_worlds_alone(Backend::Gpu, &small_scenes(), GPU_STEPS, 2);
+        // Twelve worlds of eight kinds, some with their own gravity or time step (so the
+        // batch runs several device worlds, one per config), one device step per config.
+        batch_matches_worlds_alone(Backend::Gpu, &scenes(12), GPU_STEPS, 2, false);
     }
 }
 
 #[test]
 fn hybrid_batch_matches_each_scene_stepped_alone() {
     if gpu_available(Backend::Hybrid) {
-        batch_matches_worlds_alone(Backend::Hybrid, &small_scenes()[..2], GPU_STEPS, 2);
+        batch_matches_worlds_alone(Backend::Hybrid, &small_scenes()[..2], GPU_STEPS, 2, true);
     }
 }

@@ -29,7 +29,7 @@ use crate::{
 
 mod check;
 
-use check::check_results;
+pub(crate) use check::check_results;
 
 fn failed(e: impl std::fmt::Display) -> Error {
     unavailable(Backend::Gpu, e)

@@ -19,6 +19,8 @@ pub(crate) mod cpu;
 pub(crate) mod gpu;
 #[cfg(feature = "gpu")]
 pub(crate) mod hybrid;
+#[cfg(feature = "gpu")]
+pub(crate) mod member;
 pub(crate) mod pipeline;
 
 use std::fmt;
@@ -114,6 +116,17 @@ pub(crate) trait StepBackend: fmt::Debug + Send + Sync {
         let _ = (previous, sleep);
         let (contacts, handles) = self.contacts(host);
         Ok((crate::events::touching_pairs(contacts, handles), None))
+    }
+
+    /// Every body's pose and velocities after the last step, as the device gave them, and
+    /// the index of this world's first body among them, when the host copy is behind and the
+    /// backend holds them apart from it (a GPU batch's worlds: reads of whole worlds take them
+    /// from there). `None`: read body by body.
+    #[cfg(feature = "gpu")]
+    fn fetched_motion(
+        &self,
+    ) -> Result<Option<(std::sync::Arc<tumble_gpu::step::Snapshot>, usize)>, Error> {
+        Ok(None)
     }
 
     /// Last step's candidate pairs from the broad phase, by handle (see

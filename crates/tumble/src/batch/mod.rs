@@ -1,14 +1,18 @@
 //! [`WorldBatch`]: many independent worlds stepped together, with per-world actions given as
 //! one array, reads into the caller's buffers and resets of any subset of worlds.
 //!
-//! Each world is a whole [`World`] of its own (its own bodies, config, contact cache and
-//! sleep state); the batch adds the loop over them and the bookkeeping a reset needs
-//! ([`history`]). On `Backend::Cpu` the worlds step in parallel on the rayon pool, one task
-//! per world; on `Backend::Gpu` and `Backend::Hybrid` they step one after another, each with
-//! its own dispatches (one dispatch set for all worlds is not built yet).
+//! Each world is a whole [`World`] of its own (its own bodies, config and handles); the batch
+//! adds the loop over them and the bookkeeping a reset needs. On `Backend::Cpu` the worlds
+//! step in parallel on the rayon pool, one task per world, and a reset replays the world's
+//! log ([`history`]). On `Backend::Gpu` the worlds of one config share one device world: one
+//! set of buffers and one set of dispatches steps them all (`crate::backend::member`), and a
+//! reset writes the saved bodies back and drops the world's contact history, so the world
+//! restarts as one built from that state. On `Backend::Hybrid` they step one after another.
 
 mod action;
 mod error;
+#[cfg(feature = "gpu")]
+mod gpu;
 mod history;
 mod read;
 
@@ -20,6 +24,8 @@ pub use action::{Action, ActionKind};
 pub use error::{BatchError, WorldId};
 pub use read::{POSE_FLOATS, VELOCITY_FLOATS};
 
+#[cfg(feature = "gpu")]
+use crate::backend::member::Group;
 use crate::{Backend, BodyDesc, BodyHandle, Error, World, WorldConfig, body_desc};
 use history::History;
 
@@ -69,6 +75,37 @@ impl WorldSpec {
 struct Entry {
     world: World,
     history: History,
+    /// On `Backend::Gpu`: the device world the world is part of, and its saved state.
+    #[cfg(feature = "gpu")]
+    gpu: Option<GpuEntry>,
+}
+
+/// A GPU batch world's group and the state [`WorldBatch::reset`] returns it to.
+#[cfg(feature = "gpu")]
+#[derive(Debug)]
+struct GpuEntry {
+    group: std::sync::Arc<Group>,
+    saved: Saved,
+}
+
+/// A GPU batch world's saved state: its host copy, handles and step count.
+#[cfg(feature = "gpu")]
+#[derive(Debug)]
+struct Saved {
+    host: crate::backend::Host,
+    handles: crate::handle::HandleMap,
+    steps: u64,
+}
+
+#[cfg(feature = "gpu")]
+impl Saved {
+    fn of(world: &World) -> Self {
+        Self {
+            host: world.host.clone(),
+            handles: world.handles.clone(),
+            steps: world.steps,
+        }
+    }
 }
 
 /// A slot of the batch: its generation and, while a world lives there, the world.
@@ -110,6 +147,9 @@ pub struct WorldBatch {
     backend: Backend,
     slots: Vec<Slot>,
     free: Vec<u32>,
+    /// On `Backend::Gpu`: one device world per distinct config.
+    #[cfg(feature = "gpu")]
+    groups: Vec<std::sync::Arc<Group>>,
 }
 
 impl WorldBatch {
@@ -119,6 +159,8 @@ impl WorldBatch {
             backend,
             slots: Vec::new(),
             free: Vec::new(),
+            #[cfg(feature = "gpu")]
+            groups: Vec::new(),
         }
     }
 
@@ -126,6 +168,14 @@ impl WorldBatch {
     /// Errs, naming the world and body, on any bad config or body.
     pub fn from_specs(backend: Backend, specs: Vec<WorldSpec>) -> Result<Self, Error> {
         let mut batch = Self::new(backend);
+        #[cfg(feature = "gpu")]
+        if backend == Backend::Gpu {
+            for (i, spec) in specs.into_iter().enumerate() {
+                let entry = batch.build_gpu(i, spec)?;
+                batch.insert(entry);
+            }
+            return Ok(batch);
+        }
         let built = build_all(backend, specs)?;
         for entry in built {
             batch.insert(entry);
@@ -146,6 +196,12 @@ impl WorldBatch {
 
     /// Adds a world; its id and the handles of its bodies, in the spec's order.
     pub fn add_world(&mut self, spec: WorldSpec) -> Result<(WorldId, Vec<BodyHandle>), Error> {
+        #[cfg(feature = "gpu")]
+        if self.backend == Backend::Gpu {
+            let entry = self.build_gpu(0, spec)?;
+            let handles = entry.world.handles().to_vec();
+            return Ok((self.insert(entry), handles));
+        }
         let entry = build(self.backend, 0, spec)?;
         let handles = entry.world.handles().to_vec();
         Ok((self.insert(entry), handles))
@@ -154,6 +210,8 @@ impl WorldBatch {
     /// Removes a world; its id is never valid again.
     pub fn remove_world(&mut self, id: WorldId) -> Result<(), Error> {
         self.entry(id)?;
+        #[cfg(feature = "gpu")]
+        self.leave_group(id.index)?;
         let slot = &mut self.slots[id.index as usize];
         slot.entry = None;
         // A slot whose generation would wrap is retired, so an id never repeats.
@@ -167,6 +225,26 @@ impl WorldBatch {
     /// The backend every world runs on.
     pub fn backend(&self) -> Backend {
         self.backend
+    }
+
+    /// Device worlds the batch steps: on `Backend::Gpu` one per distinct `WorldConfig` among
+    /// its worlds (each step of the batch is one GPU step per device world, whatever the
+    /// number of worlds); 0 on the other backends.
+    pub fn device_worlds(&self) -> usize {
+        #[cfg(feature = "gpu")]
+        return self.groups.len();
+        #[cfg(not(feature = "gpu"))]
+        0
+    }
+
+    /// Bytes of GPU buffers the batch holds: its device worlds' on `Backend::Gpu`, its worlds'
+    /// own on `Backend::Hybrid`, 0 on `Backend::Cpu`.
+    pub fn device_buffer_bytes(&self) -> u64 {
+        #[cfg(feature = "gpu")]
+        if self.backend == Backend::Gpu {
+            return self.groups.iter().map(|g| g.device_buffer_bytes()).sum();
+        }
+        self.live().map(|(_, w)| w.device_buffer_bytes()).sum()
     }
 
     /// Number of worlds.
@@ -209,6 +287,10 @@ impl WorldBatch {
         let entry = self.entry_mut(id)?;
         let h = entry.world.add_body(desc).map_err(|e| world_error(id, e))?;
         entry.history.add(desc);
+        #[cfg(feature = "gpu")]
+        if let Some(g) = &entry.gpu {
+            g.group.reshaped()?;
+        }
         Ok(h)
     }
 
@@ -217,16 +299,26 @@ impl WorldBatch {
         let entry = self.entry_mut(id)?;
         entry.world.remove_body(h).map_err(|e| world_error(id, e))?;
         entry.history.remove(h);
+        #[cfg(feature = "gpu")]
+        if let Some(g) = &entry.gpu {
+            g.group.reshaped()?;
+        }
         Ok(())
     }
 
     /// Steps every world by its own `dt`: on `Backend::Cpu` in parallel, one rayon task per
-    /// world, so each world computes the same bits as when stepped alone; on the GPU backends
-    /// one world after another.
+    /// world; on `Backend::Gpu` as one GPU step per device world (the worlds of one config
+    /// share one: [`WorldBatch::device_worlds`]), each world's changes since the last step
+    /// written first; on `Backend::Hybrid` one world after another. Each world computes the
+    /// same bits as when stepped alone on the same backend with the same calls.
     ///
     /// A world whose step fails is left as before it (as a `World` whose step errs); the
     /// others take their step. The error names the first failed world by slot.
     pub fn step(&mut self) -> Result<(), Error> {
+        #[cfg(feature = "gpu")]
+        if self.backend == Backend::Gpu {
+            return self.step_gpu();
+        }
         let step = |(i, slot): (usize, &mut Slot)| -> Option<(usize, Error)> {
             let entry = slot.entry.as_mut()?;
             match entry.world.step() {
@@ -284,9 +376,21 @@ impl WorldBatch {
     }
 
     /// Makes a world's present state the one [`WorldBatch::reset`] returns it to. Until
-    /// this is called, a world's saved state is the one it was added in.
+    /// this is called, a world's saved state is the one it was added in. On `Backend::Gpu`
+    /// the saved state is the bodies' (poses, velocities, the bodies themselves), not the
+    /// world's contacts: see [`WorldBatch::reset`].
     pub fn save_state(&mut self, id: WorldId) -> Result<(), Error> {
-        self.entry_mut(id)?.history.save();
+        let entry = self.entry_mut(id)?;
+        #[cfg(feature = "gpu")]
+        if let Some(g) = entry.gpu.as_mut() {
+            entry
+                .world
+                .backend
+                .sync_motion(&mut entry.world.host)
+                .map_err(|e| world_error(id, e))?;
+            g.saved = Saved::of(&entry.world);
+        }
+        entry.history.save();
         Ok(())
     }
 
@@ -295,14 +399,24 @@ impl WorldBatch {
         Ok(self.entry(id)?.history.saved_steps())
     }
 
-    /// Returns each world of `ids` to its saved state; the other worlds are untouched. The
-    /// reset world then steps exactly as it did from that state: it is rebuilt from its
-    /// config and its log replayed up to the saved state (see the `history` module for the
-    /// cost). On `Backend::Cpu` the worlds are rebuilt in parallel. When any id is bad or
-    /// any rebuild fails, no world is reset.
+    /// Returns each world of `ids` to its saved state; the other worlds are untouched.
+    ///
+    /// On `Backend::Cpu` and `Backend::Hybrid` the reset world then steps exactly as it did
+    /// from that state: it is rebuilt from its config and its log replayed up to the saved
+    /// state (see the `history` module for the cost; on `Backend::Cpu` in parallel).
+    ///
+    /// On `Backend::Gpu` the saved bodies are written back and the world's contacts are
+    /// dropped, at no cost in steps: the world restarts cold, as a world built from that
+    /// state (no warm start, no color seeds), which for the state a world was added in is
+    /// exactly what it did the first time. When any id is bad or any rebuild fails, no world
+    /// is reset.
     pub fn reset(&mut self, ids: &[WorldId]) -> Result<(), Error> {
         for &id in ids {
             self.entry(id)?;
+        }
+        #[cfg(feature = "gpu")]
+        if self.backend == Backend::Gpu {
+            return self.reset_gpu(ids);
         }
         let mut todo: Vec<u32> = ids.iter().map(|id| id.index).collect();
         todo.sort_unstable();
@@ -440,7 +554,12 @@ fn build(backend: Backend, index: usize, spec: WorldSpec) -> Result<Entry, Error
         history.add(desc);
     }
     history.save();
-    Ok(Entry { world, history })
+    Ok(Entry {
+        world,
+        history,
+        #[cfg(feature = "gpu")]
+        gpu: None,
+    })
 }
 
 /// Builds every world of `specs`, in parallel on the CPU backend.

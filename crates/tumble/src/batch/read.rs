@@ -64,6 +64,22 @@ const STRIDED_VELOCITIES: Read = VELOCITIES.named("read_all_velocities_strided")
 
 /// Writes every body of `world` into `out` (exactly its length).
 fn write_world(read: &Read, world: &World, out: &mut [f32]) -> Result<(), Error> {
+    #[cfg(feature = "gpu")]
+    if let Some((snap, first)) = world.backend.fetched_motion()? {
+        // A GPU batch's world whose host copy is behind: straight from the device's readback.
+        for (d, chunk) in out.chunks_exact_mut(read.floats).enumerate() {
+            if read.floats == POSE_FLOATS {
+                let p = &snap.poses[first + d];
+                chunk[..3].copy_from_slice(&p.position[..3]);
+                chunk[3..].copy_from_slice(&p.rotation);
+            } else {
+                let v = &snap.velocities[first + d];
+                chunk[..3].copy_from_slice(&v.linear[..3]);
+                chunk[3..].copy_from_slice(&v.angular[..3]);
+            }
+        }
+        return Ok(());
+    }
     for (d, chunk) in out.chunks_exact_mut(read.floats).enumerate() {
         (read.write)(world, d, chunk)?;
     }

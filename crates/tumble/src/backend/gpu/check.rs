@@ -69,7 +69,7 @@ impl GpuBackend {
 
 /// The error for the first moving body whose pose or velocities, as the GPU step left them,
 /// leave their bounds ([`bounds::check_motion`]).
-pub(super) fn check_results(
+pub(crate) fn check_results(
     host: &Host,
     handles: &[BodyHandle],
     poses: &[Pose],

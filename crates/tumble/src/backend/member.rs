@@ -66,7 +66,8 @@ struct Inner {
     read: Option<Arc<Snapshot>>,
     /// Worlds (by slot) whose pairs the next step drops: they were reset.
     forget: Vec<u32>,
-    /// The effects of every world staged for the next step, merged.
+    /// The effects the worlds need, merged: set when laid out, grown by each world's step
+    /// that stages changes.
     effects: Option<Effects>,
 }
 
@@ -212,6 +213,7 @@ impl Group {
             index.extend(std::iter::repeat_n(w, world.host.bodies.len()));
             w += 1;
         }
+        inner.effects = worlds.iter().map(|(_, w)| w.effects()).reduce(merge);
         let remap = remap(&inner.placed, &placed, &inner.forget, bodies.len());
         if inner.gpu.body_count() > 0 && !bodies.is_empty() {
             inner
@@ -240,7 +242,6 @@ impl Group {
         if inner.placed.iter().flatten().all(|p| p.handles.is_empty()) {
             // No body in any world: the worlds' steps only counted.
             inner.steps += 1;
-            inner.effects = None;
             return Ok(());
         }
         if !inner.forget.is_empty() {
@@ -248,13 +249,18 @@ impl Group {
             inner.gpu.forget_worlds(&worlds).map_err(failed)?;
             inner.forget.clear();
         }
-        if let Some(effects) = inner.effects.take() {
+        if let Some(effects) = inner.effects {
             inner.gpu.set_effects(effects).map_err(failed)?;
         }
         inner.gpu.step().map_err(failed)?;
         inner.steps += 1;
         inner.read = None;
         Ok(())
+    }
+
+    /// GPU seconds per stage of the last step (empty without timestamps). Blocks.
+    pub(crate) fn timings(&self) -> Result<Vec<(&'static str, f64)>, Error> {
+        self.lock()?.gpu.timings().map_err(failed)
     }
 
     /// Bytes of device buffers the group holds.
@@ -445,6 +451,11 @@ impl StepBackend for Member {
             return Ok(host.states[d]);
         }
         Ok(self.read(d)?.1)
+    }
+
+    fn idle_in_batch(&self) -> bool {
+        // Behind means untouched: every change brings the host copy up to date first.
+        self.changed.is_empty() && self.group.lock().is_ok_and(|i| self.behind(&i))
     }
 
     fn fetched_motion(&self) -> Result<Option<(Arc<Snapshot>, usize)>, Error> {

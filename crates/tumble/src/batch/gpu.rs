@@ -134,7 +134,16 @@ impl WorldBatch {
                 index: i as u32,
                 generation: slot.generation,
             };
-            entry.world.step().map_err(|e| world_error(id, e))?;
+            let world = &mut entry.world;
+            if world.backend.idle_in_batch() {
+                // Nothing to stage: the step only counts (what `World::step` does around
+                // its backend's step).
+                world.query.invalidate();
+                world.query.stepped();
+                world.steps += 1;
+            } else {
+                world.step().map_err(|e| world_error(id, e))?;
+            }
             entry.history.step();
         }
         for group in &self.groups {

@@ -237,6 +237,22 @@ impl WorldBatch {
         0
     }
 
+    /// On `Backend::Gpu` with GPU timestamps, the GPU time of each stage of the last step,
+    /// seconds, summed over the device worlds (empty otherwise). Waits for the GPU.
+    pub fn device_timings(&self) -> Result<Vec<(&'static str, f64)>, Error> {
+        let mut out: Vec<(&'static str, f64)> = Vec::new();
+        #[cfg(feature = "gpu")]
+        for g in &self.groups {
+            for (name, s) in g.timings()? {
+                match out.iter_mut().find(|(n, _)| *n == name) {
+                    Some(o) => o.1 += s,
+                    None => out.push((name, s)),
+                }
+            }
+        }
+        Ok(out)
+    }
+
     /// Bytes of GPU buffers the batch holds: its device worlds' on `Backend::Gpu`, its worlds'
     /// own on `Backend::Hybrid`, 0 on `Backend::Cpu`.
     pub fn device_buffer_bytes(&self) -> u64 {

@@ -52,6 +52,10 @@ struct Inner {
     placed: Vec<Option<Placement>>,
     /// Per batch slot, the serial of the group's world there now.
     members: Vec<Option<u64>>,
+    /// Per batch slot, whether the world's host copy was brought up to date or a property
+    /// changed since the last step: only those worlds have anything to stage (a world's
+    /// every change brings its host copy up to date first).
+    touched: Vec<bool>,
     /// The next world's serial.
     next_serial: u64,
     /// The layout must be uploaded again before the next step (a world or a body came or
@@ -100,6 +104,7 @@ impl Group {
                 gpu,
                 placed: Vec::new(),
                 members: Vec::new(),
+                touched: Vec::new(),
                 next_serial: 0,
                 dirty: true,
                 layouts: 0,
@@ -170,6 +175,14 @@ impl Group {
         Ok(())
     }
 
+    /// Per batch slot, whether the world has changes to stage in the next step (see
+    /// `Inner::touched`); cleared for the step after.
+    pub(crate) fn take_touched(&self) -> Result<Vec<bool>, Error> {
+        let mut inner = self.lock()?;
+        let n = inner.members.len();
+        Ok(std::mem::replace(&mut inner.touched, vec![false; n]))
+    }
+
     /// Whether the next step must upload every world again.
     pub(crate) fn is_dirty(&self) -> Result<bool, Error> {
         Ok(self.lock()?.dirty)
@@ -229,6 +242,8 @@ impl Group {
         inner.placed = placed;
         inner.dirty = false;
         inner.layouts += 1;
+        // Every world compares its host copy with the upload at its next step.
+        inner.touched = vec![true; inner.members.len()];
         inner.forget.clear();
         inner.read = None;
         Ok(())
@@ -322,6 +337,15 @@ fn device_worlds(placed: &[Option<Placement>], slots: &[u32]) -> Vec<u32> {
 }
 
 impl Inner {
+    /// Marks slot `slot`'s world as having changes to stage.
+    fn touch(&mut self, slot: u32) {
+        let s = slot as usize;
+        if self.touched.len() <= s {
+            self.touched.resize(s + 1, false);
+        }
+        self.touched[s] = true;
+    }
+
     /// The last step's poses and velocities, read once.
     fn snapshot(&mut self) -> Result<Arc<Snapshot>, Error> {
         if let Some(read) = &self.read {
@@ -453,11 +477,6 @@ impl StepBackend for Member {
         Ok(self.read(d)?.1)
     }
 
-    fn idle_in_batch(&self) -> bool {
-        // Behind means untouched: every change brings the host copy up to date first.
-        self.changed.is_empty() && self.group.lock().is_ok_and(|i| self.behind(&i))
-    }
-
     fn fetched_motion(&self) -> Result<Option<(Arc<Snapshot>, usize)>, Error> {
         let mut inner = self.group.lock()?;
         if !self.behind(&inner) {
@@ -494,6 +513,7 @@ impl StepBackend for Member {
         self.synced = poses.into_iter().zip(states).collect();
         self.host_step = inner.steps;
         self.layout = inner.layouts;
+        inner.touch(self.slot);
         Ok(())
     }
 
@@ -506,6 +526,7 @@ impl StepBackend for Member {
         if !self.changed.contains(&d) {
             self.changed.push(d);
         }
+        self.group.lock()?.touch(self.slot);
         Ok(())
     }
 

@@ -118,12 +118,6 @@ pub(crate) trait StepBackend: fmt::Debug + Send + Sync {
         Ok((crate::events::touching_pairs(contacts, handles), None))
     }
 
-    /// True when the world's step has nothing to do on the host: a GPU batch's world whose
-    /// caller changed nothing since the last step (the batch then only counts the step).
-    fn idle_in_batch(&self) -> bool {
-        false
-    }
-
     /// Every body's pose and velocities after the last step, as the device gave them, and
     /// the index of this world's first body among them, when the host copy is behind and the
     /// backend holds them apart from it (a GPU batch's worlds: reads of whole worlds take them

@@ -126,6 +126,12 @@ impl WorldBatch {
             }
             group.lay_out(&mut worlds)?;
         }
+        // Which worlds have changes to stage, per group.
+        let touched: Vec<Vec<bool>> = self
+            .groups
+            .iter()
+            .map(|g| g.take_touched())
+            .collect::<Result<_, _>>()?;
         for (i, slot) in self.slots.iter_mut().enumerate() {
             let Some(entry) = slot.entry.as_mut() else {
                 continue;
@@ -134,15 +140,23 @@ impl WorldBatch {
                 index: i as u32,
                 generation: slot.generation,
             };
+            let Some(g) = entry.gpu.as_ref() else {
+                continue;
+            };
+            let group = self
+                .groups
+                .iter()
+                .position(|o| Arc::ptr_eq(o, &g.group))
+                .expect("every GPU world's group is the batch's");
             let world = &mut entry.world;
-            if world.backend.idle_in_batch() {
+            if touched[group].get(i).copied().unwrap_or(false) {
+                world.step().map_err(|e| world_error(id, e))?;
+            } else {
                 // Nothing to stage: the step only counts (what `World::step` does around
                 // its backend's step).
                 world.query.invalidate();
                 world.query.stepped();
                 world.steps += 1;
-            } else {
-                world.step().map_err(|e| world_error(id, e))?;
             }
             entry.history.step();
         }

@@ -10,6 +10,7 @@
 #![warn(missing_docs)]
 
 mod backends;
+mod batch;
 mod bench;
 mod bench_gpu;
 mod bench_gpu_report;
@@ -106,6 +107,11 @@ struct ValidateCli {
     /// Keep only scenes whose name contains this text.
     #[arg(long, value_name = "NAME")]
     filter: Option<String>,
+    /// Also run each scene's Tumble grid runs as one `WorldBatch` per backend (one world per
+    /// configuration): report the speed-up over the runs one by one and check every world
+    /// ends bit for bit as its run alone (written to batch.md in the report folder).
+    #[arg(long)]
+    batch: bool,
 }
 
 /// The workspace root (this crate lives in `xtask/` under it).
@@ -136,6 +142,7 @@ fn run_validate(cli: ValidateCli) -> Result<bool, String> {
             .unwrap_or_else(|| workspace_root().join("target").join("validation")),
         backends,
         filter: cli.filter,
+        batch: cli.batch,
     };
     validate(&args)
 }

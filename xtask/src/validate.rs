@@ -7,6 +7,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use tumble::scenes::{BodyState as SceneState, CheckTracker, Scene};
 
 use crate::backends::{BackendPlan, plan_backends};
+use crate::batch::{Done, run_batches};
 use crate::engine::{BodyState, Engine};
 use crate::engine_rapier::RapierEngine;
 use crate::engine_tumble::{TumbleEngine, default_setting};
@@ -38,6 +39,8 @@ pub struct ValidateArgs {
     pub backends: Option<Vec<BackendChoice>>,
     /// `--filter`: keep scenes whose name contains this.
     pub filter: Option<String>,
+    /// `--batch`: run each scene's Tumble grid again as batches and compare.
+    pub batch: bool,
 }
 
 /// One unit of work: a configuration on a scene for some steps.
@@ -181,10 +184,17 @@ pub fn validate(args: &ValidateArgs) -> Result<bool, String> {
     // The verdict runs' final states, for the report's last frame of each scene.
     let mut finals = Vec::new();
     let mut last = Vec::new();
+    // With --batch: every Tumble grid run's wall time and final states.
+    let mut done = Vec::new();
     for job in &jobs {
         let scene = &scenes[job.scene];
         bar.set_message(format!("{} / {}", scene.name, job.config));
+        let t0 = Instant::now();
         rows.push(run_job(scene, job, &mut last));
+        if args.batch && job.in_grid && !last.is_empty() {
+            let wall = t0.elapsed().as_secs_f64();
+            done.extend(Done::of(job.scene, &job.config, job.steps, wall, &last));
+        }
         if job.verdict_run && !last.is_empty() {
             finals.push((scene.name.clone(), std::mem::take(&mut last)));
         }
@@ -224,6 +234,16 @@ pub fn validate(args: &ValidateArgs) -> Result<bool, String> {
         frames: &frames,
     };
     write_report(&args.out, &context, &rows)?;
+    let mut batches_equal = true;
+    if args.batch {
+        println!("\n== the grid's Tumble runs again, one batch per scene and backend ==");
+        let (md, equal) = run_batches(&scenes, &done);
+        batches_equal = equal;
+        print!("{md}");
+        let path = args.out.join("batch.md");
+        std::fs::write(&path, format!("# validate --batch\n\n{md}"))
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+    }
     println!();
     for r in &verdicts {
         let verdict = match r.passed() {
@@ -245,7 +265,7 @@ pub fn validate(args: &ValidateArgs) -> Result<bool, String> {
         started.elapsed().as_secs_f64(),
         args.out.join("report.md").display()
     );
-    Ok(all_pass)
+    Ok(all_pass && batches_equal)
 }
 
 #[cfg(test)]

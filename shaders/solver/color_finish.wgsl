@@ -11,5 +11,5 @@ fn main(@builtin(local_invocation_index) local: u32) {
     let undecided = publish(local, atomicLoad(&color_tally[TALLY_UNDECIDED]));
     take_list_in_workgroup(local, undecided);
     // Round 0 ran wide, in color_propose and color_resolve.
-    color_rounds_in_workgroup(local, contact_work.count, 1u);
+    color_rounds_in_workgroup(local, 0u, contact_work.count, 1u);
 }

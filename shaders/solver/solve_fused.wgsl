@@ -3,6 +3,15 @@
 // scenes (solver/common/fused_solve.wgsl), with the bodies' velocities and solver state in
 // their storage buffers.
 
+// Per-color offsets.
+@group(0) @binding(9) var<storage, read_write> color_offsets: array<u32>;
+
+// Constraint i's index among its world's: this kernel steps one world only
+// (crates/tumble-gpu/src/solver/path.rs), whose constraints are numbered from 0.
+fn constraint_rank(i: u32) -> u32 {
+    return i;
+}
+
 // `array<GpuVelocity>`, updated.
 @group(0) @binding(12) var<storage, read_write> velocities: array<GpuVelocity>;
 @group(0) @binding(13) var<storage, read_write> solver_bodies: array<GpuSolverBody>;

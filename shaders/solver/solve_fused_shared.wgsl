@@ -6,6 +6,15 @@
 // solve_fused, bit for bit. Measured on an H200 it solves a pyramid of 4 in 18% less time;
 // lavapipe runs it about ten times slower than solve_fused, so the host picks it on GPUs only.
 
+// Per-color offsets.
+@group(0) @binding(9) var<storage, read_write> color_offsets: array<u32>;
+
+// Constraint i's index among its world's: this kernel steps one world only
+// (crates/tumble-gpu/src/solver/path.rs), whose constraints are numbered from 0.
+fn constraint_rank(i: u32) -> u32 {
+    return i;
+}
+
 @group(0) @binding(12) var<storage, read_write> velocity_buffer: array<GpuVelocity>;
 @group(0) @binding(13) var<storage, read_write> solver_body_buffer: array<GpuSolverBody>;
 

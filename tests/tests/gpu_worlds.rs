@@ -12,7 +12,8 @@ use rand_chacha::ChaCha8Rng;
 use tumble_geometry::{Cuboid, Pose, Real, Vec3};
 use tumble_gpu::GpuContext;
 use tumble_gpu::layout::GpuPose;
-use tumble_gpu::step::{GpuWorld, GpuWorldConfig, ReadRequest};
+use tumble_gpu::solver::SolvePath;
+use tumble_gpu::step::{GpuWorld, GpuWorldConfig, PathPolicy, ReadRequest};
 use tumble_solver::{Body, BodyKind, BodyState, Material};
 use tumble_tests::gpu_solver_util::{floor, pose_bits};
 use tumble_tests::scene_support::random_vec;
@@ -115,7 +116,23 @@ fn run(
     worlds: &[u32],
     steps: usize,
 ) -> Vec<GpuPose> {
-    let mut world = GpuWorld::new(ctx, GpuWorldConfig::default()).unwrap();
+    run_on(ctx, PathPolicy::Auto, bodies, states, worlds, steps)
+}
+
+/// [`run`] along the solver path `path` chooses.
+fn run_on(
+    ctx: &GpuContext,
+    path: PathPolicy,
+    bodies: &[Body],
+    states: &[BodyState],
+    worlds: &[u32],
+    steps: usize,
+) -> Vec<GpuPose> {
+    let config = GpuWorldConfig {
+        path,
+        ..GpuWorldConfig::default()
+    };
+    let mut world = GpuWorld::new(ctx, config).unwrap();
     world.set_bodies_in_worlds(bodies, states, worlds).unwrap();
     for _ in 0..steps {
         world.step().unwrap();
@@ -131,8 +148,9 @@ fn run(
 }
 
 /// Steps `count` small worlds as one batch and each alone, and requires every body of every
-/// world to end with the same bits both ways.
-fn batch_matches_alone(count: u64, steps: usize) {
+/// world to end with the same bits both ways. The batch takes `path` (small worlds choose
+/// one fused workgroup per world, `SolvePath::Worlds`); the worlds alone choose their own.
+fn batch_matches_alone(count: u64, steps: usize, path: PathPolicy) {
     let Some(ctx) = GpuContext::for_tests() else {
         return;
     };
@@ -145,7 +163,7 @@ fn batch_matches_alone(count: u64, steps: usize) {
         states.extend_from_slice(s);
         worlds.extend(std::iter::repeat_n(w as u32, b.len()));
     }
-    let batch = run(&ctx, &bodies, &states, &worlds, steps);
+    let batch = run_on(&ctx, path, &bodies, &states, &worlds, steps);
     let mut first = 0;
     let mut moved = 0.0;
     for (w, (b, s)) in scenes.iter().enumerate() {
@@ -173,9 +191,18 @@ fn batch_matches_alone(count: u64, steps: usize) {
 
 #[test]
 fn worlds_stepped_as_one_batch_end_bitwise_equal_to_each_stepped_alone() {
-    // Twelve worlds, 300 steps (5 s): landings, slides into the wall, piles settling; the
-    // bodies (under 1,024) and pairs take the single-workgroup sorts.
-    batch_matches_alone(12, 300);
+    // Twelve worlds, 200 steps (3.3 s): landings, slides into the wall, piles settling; the
+    // bodies (under 1,024) and pairs take the single-workgroup sorts, and the solve one
+    // fused workgroup per world (SolvePath::Worlds), where each world alone takes the
+    // single-workgroup fused path.
+    batch_matches_alone(12, 200, PathPolicy::Auto);
+}
+
+#[test]
+fn worlds_on_the_wide_solver_path_end_bitwise_equal_to_each_stepped_alone() {
+    // The batch on the wide path (one dispatch per color and pass for all worlds), as large
+    // worlds take it: the coloring numbers each world's constraints from its first.
+    batch_matches_alone(12, 120, PathPolicy::Always(SolvePath::Wide));
 }
 
 #[test]
@@ -183,7 +210,7 @@ fn a_batch_of_130_worlds_matches_on_the_radix_sort_and_without_long_box_lists() 
     // 130 worlds: more than 1,024 bodies (the radix sorts instead of the single-workgroup
     // ones), more floors than the long-box list holds (64, so every floor is swept with its
     // world's boxes) and 8 bits of world index in the sort keys.
-    batch_matches_alone(130, 90);
+    batch_matches_alone(130, 60, PathPolicy::Auto);
 }
 
 #[test]

@@ -26,16 +26,18 @@ fn publish(local: u32, value: u32) -> u32 {
     return workgroupUniformLoad(&shared_value);
 }
 
-// Lists every one of the first n constraints as undecided (list 0) and clears its slot: the
-// start of a coloring from round 0, with nothing seeded (solve_fused).
-fn list_all_in_workgroup(local: u32, n: u32) {
+// Lists every one of the n constraints from `base` on as undecided (list 0) and clears its
+// slot: the start of a coloring from round 0, with nothing seeded (solve_fused, and
+// solve_worlds for one world's constraints). The two lists of a range start at 2 * base in
+// color_scratch (ranges do not overlap: 2 * base + 2 * n <= 2 * capacity).
+fn list_all_in_workgroup(local: u32, base: u32, n: u32) {
     if local == 0u {
         atomicStore(&list_length[0], n);
         atomicStore(&list_length[1], 0u);
     }
-    for (var i = local; i < n; i += WORKGROUP_SIZE) {
-        color_state[i] = ColorSlot(NO_COLOR, NO_COLOR);
-        color_scratch[i] = i;
+    for (var k = local; k < n; k += WORKGROUP_SIZE) {
+        color_state[base + k] = ColorSlot(NO_COLOR, NO_COLOR);
+        color_scratch[2u * base + k] = base + k;
     }
     sync_workgroup();
 }
@@ -50,18 +52,19 @@ fn take_list_in_workgroup(local: u32, count: u32) {
     sync_workgroup();
 }
 
-// Rounds first_round..COLOR_ROUNDS over the undecided constraints in list 0 (of the first
-// n), with no claim standing; the ones still undecided after the last round go to the
-// overflow set. The lists' order does not matter: a round's outcome depends only on the set.
-fn color_rounds_in_workgroup(local: u32, n: u32, first_round: u32) {
+// Rounds first_round..COLOR_ROUNDS over the undecided constraints in list 0 (of the n from
+// `base` on, the lists at 2 * base), with no claim standing; the ones still undecided after
+// the last round go to the overflow set. The lists' order does not matter: a round's outcome
+// depends only on the set.
+fn color_rounds_in_workgroup(local: u32, base: u32, n: u32, first_round: u32) {
     var current = 0u;
     for (var round = first_round; round < COLOR_ROUNDS; round++) {
         let count = publish(local, atomicLoad(&list_length[current]));
         if count == 0u {
             break;
         }
-        let list = current * n;
-        let next = (1u - current) * n;
+        let list = 2u * base + current * n;
+        let next = 2u * base + (1u - current) * n;
         if local == 0u {
             atomicStore(&list_length[1u - current], 0u);
         }
@@ -84,7 +87,7 @@ fn color_rounds_in_workgroup(local: u32, n: u32, first_round: u32) {
     }
     let left = publish(local, atomicLoad(&list_length[current]));
     for (var k = local; k < left; k += WORKGROUP_SIZE) {
-        color_state[color_scratch[current * n + k]].color = OVERFLOW_COLOR;
+        color_state[color_scratch[2u * base + current * n + k]].color = OVERFLOW_COLOR;
     }
     sync_workgroup();
 }

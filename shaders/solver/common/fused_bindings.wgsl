@@ -1,6 +1,9 @@
-// The bindings of the two fused solve kernels (solve_fused and solve_fused_shared), all but
-// the bodies' velocities and solver state (bindings 12 and 13), which solve_fused reads in
-// place and solve_fused_shared copies into workgroup memory under the same names.
+// The bindings of the fused solve kernels (solve_fused, solve_fused_shared and solve_worlds),
+// all but binding 9 (the per-color offsets of solve_fused and solve_fused_shared, the worlds'
+// first constraints of solve_worlds, whose offsets are per workgroup) and the bodies'
+// velocities and solver state (bindings 12 and 13), which solve_fused reads in place and
+// solve_fused_shared copies into workgroup memory under the same names. Each kernel defines
+// constraint_rank (coloring.wgsl).
 
 @group(0) @binding(0) var<uniform> params: SolverParams;
 // The contacts' `WorkList`.
@@ -17,8 +20,6 @@
 @group(0) @binding(7) var<storage, read_write> color_marks: array<atomic<u32>>;
 // Undecided lists.
 @group(0) @binding(8) var<storage, read_write> color_scratch: array<u32>;
-// Per-color offsets.
-@group(0) @binding(9) var<storage, read_write> color_offsets: array<u32>;
 // Constraint order by color.
 @group(0) @binding(10) var<storage, read_write> color_order: array<u32>;
 // `array<GpuPose>`, updated.
@@ -29,9 +30,3 @@
 @group(0) @binding(15) var<storage, read> previous_tilts: array<GpuTilt>;
 // This step's `array<GpuTilt>`.
 @group(0) @binding(16) var<storage, read_write> tilts: array<GpuTilt>;
-
-// Constraint i's index among its world's: the fused path steps one world only
-// (crates/tumble-gpu/src/solver/path.rs), whose constraints are numbered from 0.
-fn constraint_rank(i: u32) -> u32 {
-    return i;
-}

@@ -2,7 +2,8 @@
 // requires: solver/common/color_workgroup.wgsl solver/common/prepare_constraint.wgsl
 // requires: solver/common/store_slot.wgsl
 // The fused path's whole color-and-solve stage, run by ONE workgroup: shared by solve_fused
-// (bodies in storage) and solve_fused_shared (bodies in workgroup memory), which declare the
+// (bodies in storage), solve_fused_shared (bodies in workgroup memory) and solve_worlds (one
+// workgroup per world of a batch, bodies in storage), which declare the
 // bindings and three hooks: load_velocities(local, n) before prepare, store_bodies(local, n)
 // at the end, and sync_bodies(), the barrier that makes one thread's body writes visible to
 // the others between colors and body loops. Constraint slots need no barrier between the
@@ -19,15 +20,16 @@
 // Constraints per color (overflow last).
 var<workgroup> color_counts: array<atomic<u32>, GRAPH_COLOR_COUNT + 1u>;
 
-// Counts the constraints of each color and writes color_offsets; returns (to every thread)
-// one past the highest color in use, overflow excluded.
-fn count_colors_in_workgroup(local: u32, n: u32) -> u32 {
+// Counts the constraints of each color among the n from `base` on and writes color_offsets
+// (from `base` on); returns (to every thread) one past the highest color in use, overflow
+// excluded.
+fn count_colors_in_workgroup(local: u32, base: u32, n: u32) -> u32 {
     for (var c = local; c <= GRAPH_COLOR_COUNT; c += WORKGROUP_SIZE) {
         atomicStore(&color_counts[c], 0u);
     }
     workgroupBarrier();
-    for (var i = local; i < n; i += WORKGROUP_SIZE) {
-        let color = color_state[i].color;
+    for (var k = local; k < n; k += WORKGROUP_SIZE) {
+        let color = color_state[base + k].color;
         if color <= OVERFLOW_COLOR {
             atomicAdd(&color_counts[color], 1u);
         }
@@ -35,7 +37,7 @@ fn count_colors_in_workgroup(local: u32, n: u32) -> u32 {
     workgroupBarrier();
     var used = 0u;
     if local == 0u {
-        var offset = 0u;
+        var offset = base;
         for (var c = 0u; c <= GRAPH_COLOR_COUNT; c++) {
             color_offsets[c] = offset;
             let count = atomicLoad(&color_counts[c]);
@@ -50,13 +52,13 @@ fn count_colors_in_workgroup(local: u32, n: u32) -> u32 {
     return publish(local, used);
 }
 
-// Thread c lays out the constraints of color c in ascending index order: the same stable
-// order the wide path's radix sort produces.
-fn order_by_color(local: u32, n: u32) {
+// Thread c lays out the constraints of color c (of the n from `base` on) in ascending index
+// order: the same stable order the wide path's radix sort produces.
+fn order_by_color(local: u32, base: u32, n: u32) {
     // Empty manifolds too (EMPTY_COLOR, after the overflow set): every slot gets a manifold.
     if local <= EMPTY_COLOR {
         var slot = color_offsets[local];
-        for (var i = 0u; i < n; i++) {
+        for (var i = base; i < base + n; i++) {
             if color_state[i].color == local {
                 color_order[slot] = i;
                 slot++;
@@ -86,29 +88,35 @@ fn colored_pass(local: u32, used_colors: u32, kind: u32) {
 
 // The whole stage, run by every thread of the workgroup.
 fn fused_solve(local: u32) {
-    let n = contact_work.count;
-    let body_count = params.body_count;
+    fused_solve_range(local, 0u, contact_work.count, 0u, params.body_count);
+}
 
+// The whole stage for the n constraints from `base` on and the body_count bodies from
+// first_body on, which no other constraint touches: one world (solve_fused: all of them;
+// solve_worlds: one world per workgroup).
+fn fused_solve_range(local: u32, base: u32, n: u32, first_body: u32, body_count: u32) {
     // color: every round here (color_marks was cleared before the dispatch).
-    list_all_in_workgroup(local, n);
-    color_rounds_in_workgroup(local, n, 0u);
-    let used_colors = count_colors_in_workgroup(local, n);
-    order_by_color(local, n);
+    list_all_in_workgroup(local, base, n);
+    color_rounds_in_workgroup(local, base, n, 0u);
+    let used_colors = count_colors_in_workgroup(local, base, n);
+    order_by_color(local, base, n);
 
     // prepare
     load_velocities(local, body_count);
-    for (var b = local; b < body_count; b += WORKGROUP_SIZE) {
+    for (var k = local; k < body_count; k += WORKGROUP_SIZE) {
+        let b = first_body + k;
         solver_bodies[b] = prepare_body(bodies[b], poses[b]);
     }
     sync_workgroup();
-    for (var s = local; s < n; s += WORKGROUP_SIZE) {
+    for (var s = base + local; s < base + n; s += WORKGROUP_SIZE) {
         prepare_constraint(color_order[s], s);
     }
     sync_workgroup();
 
     // substeps
     for (var substep = 0u; substep < params.substeps; substep++) {
-        for (var b = local; b < body_count; b += WORKGROUP_SIZE) {
+        for (var k = local; k < body_count; k += WORKGROUP_SIZE) {
+            let b = first_body + k;
             velocities[b] = integrate_velocity(
                 bodies[b],
                 poses[b].rotation,
@@ -123,7 +131,8 @@ fn fused_solve(local: u32) {
         for (var k = 0u; k < params.iterations; k++) {
             colored_pass(local, used_colors, PASS_SOLVE);
         }
-        for (var b = local; b < body_count; b += WORKGROUP_SIZE) {
+        for (var k = local; k < body_count; k += WORKGROUP_SIZE) {
+            let b = first_body + k;
             var velocity = velocities[b];
             var state = solver_bodies[b];
             integrate_position(bodies[b], poses[b].rotation, &velocity, &state, params.h);
@@ -141,12 +150,13 @@ fn fused_solve(local: u32) {
 
     // finish: slots were last written by their pass's thread, and are stored by another.
     sync_workgroup();
-    for (var s = local; s < n; s += WORKGROUP_SIZE) {
+    for (var s = base + local; s < base + n; s += WORKGROUP_SIZE) {
         store_slot(s);
     }
     // The tilts read the poses the manifolds were made from: finalize only after them.
     sync_workgroup();
-    for (var b = local; b < body_count; b += WORKGROUP_SIZE) {
+    for (var k = local; k < body_count; k += WORKGROUP_SIZE) {
+        let b = first_body + k;
         poses[b] = finalize_pose(bodies[b].kind, poses[b], solver_bodies[b]);
     }
     store_bodies(local, body_count);

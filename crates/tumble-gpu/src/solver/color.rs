@@ -65,6 +65,17 @@ impl ColorGroups {
         }
     }
 
+    /// Records `world_starts` alone: each world's manifold range, for `solve_worlds`. The
+    /// range buffers must be zero.
+    pub(super) fn record_world_starts(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        k: &SolverPipelines,
+        work: &wgpu::Buffer,
+    ) {
+        k.world_starts.dispatch_work(pass, &self.world_starts, work);
+    }
+
     /// Records the stage up to the sort keys and dispatch sizes; the per-constraint kernels
     /// read their size from `work` on the GPU. The tally and the claims must be zero. With
     /// more than one world in the step, each world's first manifold is found first.

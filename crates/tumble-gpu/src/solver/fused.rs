@@ -15,6 +15,10 @@ pub static SOLVE_FUSED: KernelSpec = KernelSpec::new(file("solver/solve_fused.wg
 /// copies take the names `velocities` and `solver_bodies`).
 pub static SOLVE_FUSED_SHARED: KernelSpec = KernelSpec::new(file("solver/solve_fused_shared.wgsl"));
 
+/// Kernel: one workgroup per world of a batch, each running [`SOLVE_FUSED`]'s stage over its
+/// world's constraints and bodies (`shaders/solver/solve_worlds.wgsl`).
+pub static SOLVE_WORLDS: KernelSpec = KernelSpec::new(file("solver/solve_worlds.wgsl"));
+
 /// Bodies [`SOLVE_FUSED_SHARED`] holds in workgroup memory: 128 bytes each (a velocity and a
 /// solver state), 14 KiB in all, within the 16 KiB of workgroup memory every WebGPU device
 /// offers, with room for the coloring's own workgroup variables.

@@ -5,6 +5,7 @@ use wgpu::util::DeviceExt;
 
 use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE, bytes_of};
 use crate::collision::StepBuffers;
+use crate::constants::MAX_WORKGROUPS_PER_DIMENSION;
 use crate::kernel::Kernel;
 use crate::kernels::radix_sort::{
     RadixBindGroups, RadixBuffers, RadixPass, RadixSort, index_bits, result_copy,
@@ -36,6 +37,8 @@ const COLOR_STATE: [&str; 2] = ["color_state_0", "color_state_1"];
 const TILTS: [&str; 2] = ["tilts_0", "tilts_1"];
 const COLOR_MARKS: &str = "color_marks";
 const WORLD_FIRST: &str = "world_first";
+const WORLD_END: &str = "world_end";
+const WORLD_BODIES: &str = "world_bodies";
 const COLOR_SCRATCH: &str = "color_scratch";
 const COLOR_TALLY: &str = "color_tally";
 const COLOR_OFFSETS: &str = "color_offsets";
@@ -98,6 +101,7 @@ struct BindGroups {
     passes: Vec<PassGroups>,
     solve_fused: [wgpu::BindGroup; 2],
     solve_fused_shared: [wgpu::BindGroup; 2],
+    solve_worlds: [wgpu::BindGroup; 2],
 }
 
 /// The GPU solver stage: owns its pipelines (shared per device and effects), its buffers
@@ -112,8 +116,11 @@ pub struct GpuSolver {
     /// Graph colors each pass dispatches one by one; the tail takes the rest
     /// ([`Self::set_color_dispatches`]).
     color_dispatches: u32,
-    /// Independent worlds in the step ([`Self::set_world_count`]).
+    /// Independent worlds in the step ([`Self::set_worlds`]).
     worlds: u32,
+    /// The world count, each world's first body and the body count, for `solve_worlds`;
+    /// written to its buffer by the next record.
+    world_bodies: Option<Vec<u32>>,
     /// How the wide path's warm start visits the graph colors ([`WarmStartSweep`]).
     warm_start: WarmStartSweep,
     radix: RadixSort,
@@ -172,6 +179,7 @@ impl GpuSolver {
             passes,
             color_dispatches: GRAPH_COLOR_COUNT,
             worlds: 1,
+            world_bodies: None,
             warm_start: WarmStartSweep::default(),
             radix,
             pool: BufferPool::new(ctx).with_per_step(&PER_STEP),
@@ -288,12 +296,18 @@ impl GpuSolver {
         Ok(())
     }
 
-    /// Sets how many independent worlds the bodies form (their `GpuBody::world`, numbered
-    /// from 0 without gaps, each world's bodies one run): with more than one, the coloring
-    /// numbers each world's constraints from its first (`world_starts.wgsl`), so each world
-    /// gets the colors it gets alone. A step of several worlds takes the wide path.
-    pub fn set_world_count(&mut self, worlds: u32) {
-        self.worlds = worlds.max(1);
+    /// Sets the independent worlds the bodies form: `first_bodies[w]` is world `w`'s first
+    /// body (their `GpuBody::world`, numbered from 0 without gaps, each world's bodies one
+    /// run), `bodies` the body count. With more than one, the coloring numbers each world's
+    /// constraints from its first (`world_starts.wgsl`), so each world gets the colors it gets
+    /// alone, and a step takes the wide path or [`SolvePath::Worlds`], never the fused one.
+    pub fn set_worlds(&mut self, first_bodies: &[u32], bodies: u32) {
+        self.worlds = (first_bodies.len() as u32).max(1);
+        let mut table = Vec::with_capacity(first_bodies.len() + 2);
+        table.push(first_bodies.len() as u32);
+        table.extend_from_slice(first_bodies);
+        table.push(bodies);
+        self.world_bodies = Some(table);
     }
 
     /// Independent worlds in the step.
@@ -324,8 +338,12 @@ impl GpuSolver {
                 bytes_of::<u32>(n * u64::from(1 + GRAPH_COLOR_COUNT)),
             ),
             (COLOR_SCRATCH, bytes_of::<u32>(2 * cap)),
-            // Per world its first manifold; worlds are numbered densely, so fewer than bodies.
+            // Per world its first manifold and one past its last; worlds are numbered densely,
+            // so fewer than bodies.
             (WORLD_FIRST, bytes_of::<u32>(n)),
+            (WORLD_END, bytes_of::<u32>(n)),
+            // The world count, each world's first body, the body count.
+            (WORLD_BODIES, bytes_of::<u32>(n + 2)),
             (COLOR_TALLY, bytes_of::<u32>(u64::from(COLOR_TALLY_LEN))),
             (COLOR_OFFSETS, bytes_of::<u32>(u64::from(COLOR_OFFSETS_LEN))),
             (COLOR_ARGS, bytes_of::<DispatchArgs>(u64::from(COLOR_SLOTS))),
@@ -460,6 +478,29 @@ impl GpuSolver {
                     k.solve_fused
                         .dispatch_workgroups(&mut pass, &groups.solve_fused[p], 1, 1);
                 }
+            }
+            SolvePath::Worlds => {
+                // Small (the world count plus one word per world): written every step, so a
+                // reallocated buffer never holds a stale table.
+                if let Some(table) = &self.world_bodies {
+                    self.ctx.queue.write_buffer(
+                        self.pool.get(WORLD_BODIES),
+                        0,
+                        bytemuck::cast_slice(&table),
+                    );
+                }
+                encoder.clear_buffer(self.pool.get(WORLD_FIRST), 0, None);
+                encoder.clear_buffer(self.pool.get(WORLD_END), 0, None);
+                let mut pass = timer.begin_pass(encoder, "solve_worlds");
+                groups.color[p].record_world_starts(&mut pass, k, inputs.contact_work);
+                let w = self.worlds;
+                let x = w.min(MAX_WORKGROUPS_PER_DIMENSION);
+                k.solve_worlds.dispatch_workgroups(
+                    &mut pass,
+                    &groups.solve_worlds[p],
+                    x,
+                    w.div_ceil(x),
+                );
             }
             SolvePath::Wide => {
                 // The GPU starts on what the step recorded before the solver (wakes, impulses,

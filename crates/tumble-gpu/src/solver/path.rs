@@ -12,6 +12,11 @@
 /// 600 manifolds.
 pub const FUSED_MAX_CONSTRAINTS: u32 = 600;
 
+/// A batch of worlds takes [`SolvePath::Worlds`] while its largest world has at most this
+/// many bodies (a world's stage then runs in one workgroup, as the fused path's does for a
+/// world of about this size: the column of 20 has 21), and the wide path above.
+pub const WORLDS_MAX_BODIES: u32 = 128;
+
 /// The fused path is used up to this many bodies: its per-body stages also run in one
 /// workgroup, `WORKGROUP_SIZE` bodies at a time (a pile at the manifold bound above has
 /// about 90 bodies, so this bound only matters for sparse scenes).
@@ -24,6 +29,9 @@ pub enum SolvePath {
     Wide,
     /// One single-workgroup dispatch for the whole color and solve stages.
     Fused,
+    /// A batch of worlds: one dispatch with one workgroup per world, each running the fused
+    /// stage over its own world.
+    Worlds,
 }
 
 impl SolvePath {

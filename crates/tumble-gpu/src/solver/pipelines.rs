@@ -11,7 +11,7 @@ use super::color::{
     WORLD_STARTS,
 };
 use super::effects::{Effects, effect_overrides};
-use super::fused::{SOLVE_FUSED, SOLVE_FUSED_SHARED};
+use super::fused::{SOLVE_FUSED, SOLVE_FUSED_SHARED, SOLVE_WORLDS};
 use super::integrate::{FINALIZE_BODIES, INTEGRATE_POSITIONS, INTEGRATE_VELOCITIES};
 use super::prepare::{PREPARE_BODIES, PREPARE_CONTACTS, WARM_START_BODIES};
 use super::solve_color::{PassKind, solve_color_spec};
@@ -52,6 +52,8 @@ pipelines! {
         solve_fused: SOLVE_FUSED,
         /// The same with the bodies in workgroup memory.
         solve_fused_shared: SOLVE_FUSED_SHARED,
+        /// The same, one workgroup per world of a batch.
+        solve_worlds: SOLVE_WORLDS,
         /// Impulses queued by the host.
         apply_impulses: APPLY_IMPULSES,
     }

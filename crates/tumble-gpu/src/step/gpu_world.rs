@@ -20,6 +20,7 @@ use crate::sleep::constants::AWAKE;
 use crate::solver::constants::GRAPH_COLOR_COUNT;
 use crate::solver::convert::{gpu_body, gpu_manifold, gpu_shape, gpu_tilt, gpu_velocity};
 use crate::solver::layout::{GpuBody, GpuImpulse, GpuTilt};
+use crate::solver::path::WORLDS_MAX_BODIES;
 use crate::solver::{Effects, GpuSolver, SolvePath, SolverInputs, StepParams};
 use crate::{GpuContext, GpuError, MAX_MANIFOLD_POINTS, StageTimer};
 
@@ -76,6 +77,8 @@ pub struct GpuWorld {
     bodies: Vec<Body>,
     /// Each body's world ([`Self::set_bodies_in_worlds`]); empty when all are in world 0.
     worlds: Vec<u32>,
+    /// Bodies of the largest world.
+    max_world_bodies: u32,
     impulses: Vec<GpuImpulse>,
     stats: StatsRing,
     known_manifolds: Option<u32>,
@@ -118,6 +121,7 @@ impl GpuWorld {
             pool: BufferPool::new(ctx),
             bodies: Vec::new(),
             worlds: Vec::new(),
+            max_world_bodies: 0,
             impulses: Vec::new(),
             stats: StatsRing::new(ctx),
             known_manifolds: None,
@@ -290,9 +294,20 @@ impl GpuWorld {
     /// The solver path of the next step: decided by a count that is itself a result of the
     /// simulation (never by timing), so runs are reproducible.
     fn choose_path(&self) -> SolvePath {
-        // The fused path numbers constraints as one world's (fused_bindings.wgsl).
+        // The fused path numbers constraints as one world's: a batch takes the wide path, or
+        // one fused workgroup per world while its worlds are small (or when asked for the
+        // fused path).
         if self.solver.world_count() > 1 {
-            return SolvePath::Wide;
+            let per_world = match self.config.path {
+                PathPolicy::Always(SolvePath::Wide) => false,
+                PathPolicy::Always(_) => true,
+                PathPolicy::Auto => self.max_world_bodies <= WORLDS_MAX_BODIES,
+            };
+            return if per_world {
+                SolvePath::Worlds
+            } else {
+                SolvePath::Wide
+            };
         }
         match self.config.path {
             PathPolicy::Always(path) => path,

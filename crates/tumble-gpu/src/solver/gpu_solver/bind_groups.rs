@@ -71,6 +71,7 @@ impl GpuSolver {
             passes,
             solve_fused: both(&k.solve_fused),
             solve_fused_shared: both(&k.solve_fused_shared),
+            solve_worlds: both(&k.solve_worlds),
         }
     }
 }

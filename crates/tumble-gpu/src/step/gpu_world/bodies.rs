@@ -144,7 +144,17 @@ impl GpuWorld {
         if !kept {
             self.solver.forget_colors();
         }
-        self.solver.set_world_count(world_count);
+        let firsts: Vec<u32> = (0..world_count)
+            .map(|w| worlds.partition_point(|&x| x < w) as u32)
+            .collect();
+        self.max_world_bodies = (0..world_count as usize)
+            .map(|w| {
+                let end = firsts.get(w + 1).copied().unwrap_or(bodies.len() as u32);
+                end - firsts[w]
+            })
+            .max()
+            .unwrap_or(0);
+        self.solver.set_worlds(&firsts, bodies.len() as u32);
         self.sleep.reset(&gpu, self.config.dt)?;
         self.bodies = bodies.to_vec();
         self.worlds = worlds.to_vec();

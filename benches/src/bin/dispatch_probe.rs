@@ -211,7 +211,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let dispatches = match (path, per_body) {
                 (SolvePath::Wide, false) => SUBSTEPS * (2 + (colors + 1) * (2 + iters)),
                 (SolvePath::Wide, true) => SUBSTEPS * (4 + (colors + 1) * (1 + iters)),
-                (SolvePath::Fused, _) => 1,
+                (SolvePath::Fused | SolvePath::Worlds, _) => 1,
             };
             println!(
                 "| {h} | {} | {manifolds} | {iters} | {path:?} | {warm_start_sweep:?} | {colors} | {dispatches} | {:.3} | {:.1} | {:.3} | {:.3} | {solver:.3} | {:.3} | {total:.3} | {bits:016x} |",

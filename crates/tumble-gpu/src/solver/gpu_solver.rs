@@ -486,7 +486,7 @@ impl GpuSolver {
                     self.ctx.queue.write_buffer(
                         self.pool.get(WORLD_BODIES),
                         0,
-                        bytemuck::cast_slice(&table),
+                        bytemuck::cast_slice(table),
                     );
                 }
                 encoder.clear_buffer(self.pool.get(WORLD_FIRST), 0, None);

@@ -93,13 +93,16 @@ fn every_kernel_parses_validates_specializes_and_translates() {
 fn workgroup_size_comes_from_the_host_constant() {
     // The shaders never spell the workgroup size: after specialization it must equal the
     // Rust constant (single-thread planning kernels excepted; the per-color passes have their
-    // own, for which color_plan sizes their dispatches).
+    // own, for which color_plan sizes their dispatches, and solve_worlds its own, one
+    // workgroup per world).
     for k in all_kernels() {
         let spec = k.spec;
         let (module, _) = spec.check_specialized(&k.overrides).unwrap();
         let size = module.entry_points[0].workgroup_size;
         let expected = if matches!(spec.name, "solve_color" | "solve_color_immediate") {
             tumble_gpu::solver::constants::COLOR_PASS_WORKGROUP_SIZE
+        } else if spec.name == "solve_worlds" {
+            tumble_gpu::solver::fused::WORLDS_WORKGROUP_SIZE
         } else {
             tumble_gpu::WORKGROUP_SIZE
         };

@@ -46,16 +46,20 @@ pub struct RegisteredKernel {
 }
 
 /// Every kernel with the override values the checks build it with: the effect switches it
-/// declares, all on, and `solve_color` as its biased pass. A shader that fails to parse gets
+/// declares, all on, `solve_color` as its biased pass, and `solve_worlds` with its own
+/// workgroup size. A shader that fails to parse gets
 /// no values, and the check then reports the parse error.
 pub fn all_kernels() -> Vec<RegisteredKernel> {
     let mut extra = effect_overrides(&Effects::ALL).to_vec();
     extra.push(("PASS", f64::from(solver::constants::PASS_SOLVE)));
     KERNELS
         .iter()
-        .map(|&spec| RegisteredKernel {
-            spec,
-            overrides: spec.declared(&extra).unwrap_or_default(),
+        .map(|&spec| {
+            let mut overrides = spec.declared(&extra).unwrap_or_default();
+            if std::ptr::eq(spec, &solver::fused::SOLVE_WORLDS) {
+                overrides.extend_from_slice(&solver::fused::WORLDS_OVERRIDES);
+            }
+            RegisteredKernel { spec, overrides }
         })
         .collect()
 }

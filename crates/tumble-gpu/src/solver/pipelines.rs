@@ -11,7 +11,7 @@ use super::color::{
     WORLD_STARTS,
 };
 use super::effects::{Effects, effect_overrides};
-use super::fused::{SOLVE_FUSED, SOLVE_FUSED_SHARED, SOLVE_WORLDS};
+use super::fused::{SOLVE_FUSED, SOLVE_FUSED_SHARED, SOLVE_WORLDS, WORLDS_OVERRIDES};
 use super::integrate::{FINALIZE_BODIES, INTEGRATE_POSITIONS, INTEGRATE_VELOCITIES};
 use super::prepare::{PREPARE_BODIES, PREPARE_CONTACTS, WARM_START_BODIES};
 use super::solve_color::{PassKind, solve_color_spec};
@@ -74,7 +74,14 @@ fn with_effects(
 impl SolverPipelines {
     /// Every pipeline for `effects`, built on first use on this device and shared after.
     pub fn new(ctx: &GpuContext, effects: &Effects) -> Result<Self, GpuError> {
-        Self::build(|spec| with_effects(ctx, effects, spec, &[]))
+        Self::build(|spec| {
+            let extra: &[(&'static str, f64)] = if std::ptr::eq(spec, &SOLVE_WORLDS) {
+                &WORLDS_OVERRIDES
+            } else {
+                &[]
+            };
+            with_effects(ctx, effects, spec, extra)
+        })
     }
 }
 

@@ -22,8 +22,9 @@ pub static SOLVE_WORLDS: KernelSpec = KernelSpec::new(file("solver/solve_worlds.
 /// Threads of a [`SOLVE_WORLDS`] workgroup: one warp on NVIDIA GPUs. A batch's worlds are
 /// small (a few dozen bodies and constraints), and a workgroup this size lets a GPU keep one
 /// world on every workgroup slot at once and makes its many barriers (between colors and
-/// passes) cheap; with the 256 threads of the other kernels, 4,096 columns of 20 solved in
-/// 5.3 ms on an H200, where the wide path takes 0.64 ms. `order_by_color` gives each color
+/// passes) cheap: on an H200, 4,096 columns of 20 solved in 1.35 ms with 32 threads and in
+/// 5.3 ms with the 256 of the other kernels (the wide path takes 0.64 ms there, which is why
+/// large batches take it: `path::WORLDS_MAX_TOTAL_BODIES`). `order_by_color` gives each color
 /// slot a thread, so it must exceed `EMPTY_COLOR`.
 pub const WORLDS_WORKGROUP_SIZE: u32 = 32;
 const _: () = assert!(WORLDS_WORKGROUP_SIZE > super::constants::EMPTY_COLOR);

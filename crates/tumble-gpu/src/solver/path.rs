@@ -14,8 +14,17 @@ pub const FUSED_MAX_CONSTRAINTS: u32 = 600;
 
 /// A batch of worlds takes [`SolvePath::Worlds`] while its largest world has at most this
 /// many bodies (a world's stage then runs in one workgroup, as the fused path's does for a
-/// world of about this size: the column of 20 has 21), and the wide path above.
+/// world of about this size: the column of 20 has 21) and the batch at most
+/// [`WORLDS_MAX_TOTAL_BODIES`], and the wide path otherwise.
 pub const WORLDS_MAX_BODIES: u32 = 128;
+
+/// Bodies up to which a batch of small worlds takes [`SolvePath::Worlds`]. Its cost grows with
+/// the worlds (each workgroup walks its world's colors and passes between barriers), the wide
+/// path's with the dispatches: on an H200 (`batch_table`, solve stage GPU time) columns of 20
+/// took 0.17 against 0.29 ms at 64 worlds, 0.36 against 0.35 ms at 1,024 (21,504 bodies),
+/// 1.35 against 0.64 ms at 4,096, and 1,024 pyramids of 4 (31,744 bodies) 1.93 against
+/// 1.56 ms.
+pub const WORLDS_MAX_TOTAL_BODIES: u32 = 16_384;
 
 /// The fused path is used up to this many bodies: its per-body stages also run in one
 /// workgroup, `WORKGROUP_SIZE` bodies at a time (a pile at the manifold bound above has

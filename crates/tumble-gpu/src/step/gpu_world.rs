@@ -20,7 +20,7 @@ use crate::sleep::constants::AWAKE;
 use crate::solver::constants::GRAPH_COLOR_COUNT;
 use crate::solver::convert::{gpu_body, gpu_manifold, gpu_shape, gpu_tilt, gpu_velocity};
 use crate::solver::layout::{GpuBody, GpuImpulse, GpuTilt};
-use crate::solver::path::WORLDS_MAX_BODIES;
+use crate::solver::path::{WORLDS_MAX_BODIES, WORLDS_MAX_TOTAL_BODIES};
 use crate::solver::{Effects, GpuSolver, SolvePath, SolverInputs, StepParams};
 use crate::{GpuContext, GpuError, MAX_MANIFOLD_POINTS, StageTimer};
 
@@ -301,7 +301,10 @@ impl GpuWorld {
             let per_world = match self.config.path {
                 PathPolicy::Always(SolvePath::Wide) => false,
                 PathPolicy::Always(_) => true,
-                PathPolicy::Auto => self.max_world_bodies <= WORLDS_MAX_BODIES,
+                PathPolicy::Auto => {
+                    self.max_world_bodies <= WORLDS_MAX_BODIES
+                        && self.bodies.len() as u32 <= WORLDS_MAX_TOTAL_BODIES
+                }
             };
             return if per_world {
                 SolvePath::Worlds

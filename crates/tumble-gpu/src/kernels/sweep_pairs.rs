@@ -3,7 +3,8 @@
 
 use crate::constants::{LONG_BOX_FACTOR, MAX_LONG_BOXES};
 use crate::kernel::KernelSpec;
-use crate::layout::{BODY_STATIC, GpuShape, GpuSweepBox};
+use crate::kernels::write_sort_keys::sweep_key;
+use crate::layout::{BODY_STATIC, BODY_WORLD_SHIFT, GpuShape, GpuSweepBox};
 use crate::shader::file;
 
 /// The kernel: one thread per sorted body, appending pairs through an atomic counter.
@@ -43,6 +44,18 @@ pub fn sweep_pairs_cpu(boxes: &[GpuSweepBox]) -> Vec<(u32, u32)> {
 /// as the GPU runs them with `long_extent` (in list order; the GPU's list order varies,
 /// the pair set does not), followed by the canonical sort: equal to [`sweep_pairs_cpu`].
 pub fn split_sweep_pairs_cpu(boxes: &[GpuSweepBox], long_extent: f32) -> Vec<(u32, u32)> {
+    split_sweep_pairs_in_worlds_cpu(boxes, long_extent, 0)
+}
+
+/// [`split_sweep_pairs_cpu`] for boxes sorted by [`sweep_key`] with `world_bits` bits of world
+/// (each box's world in its flags): as the GPU runs it, each box scans while the candidate's
+/// key is not past its upper bound's, and pairs only boxes of one world.
+pub fn split_sweep_pairs_in_worlds_cpu(
+    boxes: &[GpuSweepBox],
+    long_extent: f32,
+    world_bits: u32,
+) -> Vec<(u32, u32)> {
+    let world = |b: &GpuSweepBox| b.flags >> BODY_WORLD_SHIFT;
     let long_at = |b: &GpuSweepBox| b.hi_0 - b.lo_0 > long_extent;
     let long: Vec<usize> = (0..boxes.len()).filter(|&p| long_at(&boxes[p])).collect();
     let listed = long.len() <= MAX_LONG_BOXES as usize;
@@ -59,11 +72,18 @@ pub fn split_sweep_pairs_cpu(boxes: &[GpuSweepBox], long_extent: f32) -> Vec<(u3
         if is_long(me) {
             continue;
         }
+        let hi_key = sweep_key(world(me), me.hi_0, world_bits);
         for other in &boxes[p + 1..] {
-            if other.lo_0 > me.hi_0 {
+            if sweep_key(world(other), other.lo_0, world_bits) > hi_key {
                 break;
             }
-            if !is_long(other) && overlap_12(me, other) && !both_static(me, other) {
+            // The keys order the lower bounds only to their kept bits: the lower side is
+            // tested, as on the GPU.
+            if !is_long(other)
+                && other.hi_0 >= me.lo_0
+                && overlap_12(me, other)
+                && !both_static(me, other)
+            {
                 push(me, other);
             }
         }
@@ -76,7 +96,7 @@ pub fn split_sweep_pairs_cpu(boxes: &[GpuSweepBox], long_extent: f32) -> Vec<(u3
                     continue;
                 }
                 let overlaps = l.lo_0 <= me.hi_0 && me.lo_0 <= l.hi_0 && overlap_12(me, l);
-                if overlaps && !both_static(me, l) {
+                if overlaps && world(me) == world(l) && !both_static(me, l) {
                     push(me, l);
                 }
             }
@@ -91,7 +111,7 @@ mod tests {
     use super::*;
     use crate::kernels::gather_sweep_boxes::gather_sweep_boxes_cpu;
     use crate::kernels::radix_sort::radix_sort_cpu;
-    use crate::kernels::write_sort_keys::write_sort_keys_cpu;
+    use crate::kernels::write_sort_keys::{write_sort_keys_cpu, write_sort_keys_in_worlds_cpu};
     use crate::layout::{GpuAabb, GpuShape};
     use rand::{Rng, SeedableRng};
     use tumble_geometry::Aabb;
@@ -156,6 +176,53 @@ mod tests {
             });
         }
         (aabbs, shapes)
+    }
+
+    #[test]
+    fn worlds_sorted_by_world_key_pair_exactly_within_each_world() {
+        // 12 worlds of 120 random boxes each, all in the same 10 m cube (so boxes of different
+        // worlds overlap everywhere), with a slab each; the sweep over the world-led keys (4
+        // bits of world, so the bounds keep only 28 bits of their key) must give exactly the
+        // pairs of brute force within each world, listed long boxes or not.
+        let worlds = 12usize;
+        let per = 120usize;
+        let (mut aabbs, mut shapes) = (Vec::new(), Vec::new());
+        let mut index = Vec::new();
+        for w in 0..worlds {
+            let (a, mut s) = boxes_with_slabs(100 + w as u64, per - 1, 1);
+            for shape in &mut s {
+                shape.flags |= (w as u32) << BODY_WORLD_SHIFT;
+            }
+            aabbs.extend(a);
+            shapes.extend(s);
+            index.extend(std::iter::repeat_n(w as u32, per));
+        }
+        let world_bits = u32::BITS - (worlds as u32 - 1).leading_zeros();
+        let statics: Vec<bool> = shapes.iter().map(GpuShape::is_static).collect();
+        let boxes: Vec<Aabb> = aabbs.iter().map(crate::kernels::aabb_from_gpu).collect();
+        let all = tumble_broad::brute_force_pairs_filtered(&boxes, &statics).unwrap();
+        let want: Vec<(u32, u32)> = all
+            .iter()
+            .copied()
+            .filter(|&(a, b)| index[a as usize] == index[b as usize])
+            .collect();
+        // Pairs within worlds to find, and many more across worlds to leave out.
+        assert!(want.len() > 100, "{} pairs", want.len());
+        assert!(
+            all.len() > 5 * want.len(),
+            "{} pairs across worlds",
+            all.len()
+        );
+        for (extent, axis) in [(2.0, 0), (2.0, 1), (1000.0, 2)] {
+            let (keys, values) = write_sort_keys_in_worlds_cpu(&aabbs, &index, axis, world_bits);
+            let (_, order) = radix_sort_cpu(&keys, &values, 32);
+            let boxes = gather_sweep_boxes_cpu(&aabbs, &shapes, &order, axis);
+            assert_eq!(
+                split_sweep_pairs_in_worlds_cpu(&boxes, extent, world_bits),
+                want,
+                "axis {axis}, long extent {extent}"
+            );
+        }
     }
 
     #[test]

@@ -19,11 +19,36 @@ pub fn order_key(x: f32) -> u32 {
     }
 }
 
-/// The CPU twin of [`WRITE_SORT_KEYS`]: `(keys, body indices)`.
+/// The sort key of bound `x` in world `world` when the step's largest world index has
+/// `world_bits` bits: the world leads, then the top of [`order_key`] (`sweep_key` in
+/// `shaders/common/sweep.wgsl`). With one world (`world_bits` 0) it is `order_key(x)`.
+pub fn sweep_key(world: u32, x: f32, world_bits: u32) -> u32 {
+    if world_bits == 0 {
+        return order_key(x);
+    }
+    (world << (32 - world_bits)) | (order_key(x) >> world_bits)
+}
+
+/// The CPU twin of [`WRITE_SORT_KEYS`] for one world: `(keys, body indices)`.
 pub fn write_sort_keys_cpu(aabbs: &[GpuAabb], axis: u32) -> (Vec<u32>, Vec<u32>) {
+    write_sort_keys_in_worlds_cpu(aabbs, &[], axis, 0)
+}
+
+/// The CPU twin of [`WRITE_SORT_KEYS`]: `(keys, body indices)`, body `i` in world `worlds[i]`
+/// (all in world 0 when empty), `world_bits` the bits of the largest world index.
+pub fn write_sort_keys_in_worlds_cpu(
+    aabbs: &[GpuAabb],
+    worlds: &[u32],
+    axis: u32,
+    world_bits: u32,
+) -> (Vec<u32>, Vec<u32>) {
     let keys = aabbs
         .iter()
-        .map(|b| order_key(b.min[axis as usize]))
+        .enumerate()
+        .map(|(i, b)| {
+            let world = worlds.get(i).copied().unwrap_or(0);
+            sweep_key(world, b.min[axis as usize], world_bits)
+        })
         .collect();
     let values = (0..aabbs.len() as u32).collect();
     (keys, values)

@@ -240,17 +240,21 @@ impl WorldBatch {
     /// On `Backend::Gpu` with GPU timestamps, the GPU time of each stage of the last step,
     /// seconds, summed over the device worlds (empty otherwise). Waits for the GPU.
     pub fn device_timings(&self) -> Result<Vec<(&'static str, f64)>, Error> {
-        let mut out: Vec<(&'static str, f64)> = Vec::new();
         #[cfg(feature = "gpu")]
-        for g in &self.groups {
-            for (name, s) in g.timings()? {
-                match out.iter_mut().find(|(n, _)| *n == name) {
-                    Some(o) => o.1 += s,
-                    None => out.push((name, s)),
+        {
+            let mut out: Vec<(&'static str, f64)> = Vec::new();
+            for g in &self.groups {
+                for (name, s) in g.timings()? {
+                    match out.iter_mut().find(|(n, _)| *n == name) {
+                        Some(o) => o.1 += s,
+                        None => out.push((name, s)),
+                    }
                 }
             }
+            Ok(out)
         }
-        Ok(out)
+        #[cfg(not(feature = "gpu"))]
+        Ok(Vec::new())
     }
 
     /// Bytes of GPU buffers the batch holds: its device worlds' on `Backend::Gpu`, its worlds'

@@ -1,4 +1,4 @@
-// requires: common/indexing.wgsl solver/common/prepare_constraint.wgsl
+// requires: common/indexing.wgsl solver/common/prepare_constraint.wgsl solver/common/body_slot.wgsl
 // prepare_contacts: one thread per slot of the order by color builds the constraint of the
 // manifold there (a manifold without points gives an empty constraint): normal and two
 // friction rows per point, effective masses, anchors, softness, and the warm-start impulses

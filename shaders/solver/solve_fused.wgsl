@@ -1,4 +1,4 @@
-// requires: solver/common/fused_solve.wgsl solver/common/fused_bindings.wgsl
+// requires: solver/common/fused_solve.wgsl solver/common/fused_bindings.wgsl solver/common/body_slot.wgsl
 // solve_fused: the whole color-and-solve stage in one workgroup and one dispatch, for small
 // scenes (solver/common/fused_solve.wgsl), with the bodies' velocities and solver state in
 // their storage buffers.

@@ -1,4 +1,4 @@
-// requires: solver/common/fused_solve.wgsl solver/common/fused_bindings.wgsl
+// requires: solver/common/fused_solve.wgsl solver/common/fused_bindings.wgsl solver/common/body_slot.wgsl
 // solve_fused_shared: solve_fused with every body's velocity and solver state in workgroup
 // memory for the whole stage (at most FUSED_SHARED_BODIES bodies, 128 bytes each, within the
 // 16 KiB every device has), so the barriers between colors are workgroup barriers only and a

@@ -1,4 +1,4 @@
-// requires: solver/common/fused_solve.wgsl solver/common/fused_bindings.wgsl
+// requires: solver/common/fused_solve.wgsl solver/common/fused_bindings.wgsl solver/common/body_slot.wgsl
 // solve_worlds: the fused path for a batch of worlds (GpuWorld::set_bodies_in_worlds): one
 // workgroup per world runs that world's whole color-and-solve stage (fused_solve.wgsl) over its
 // constraints and bodies, in one dispatch for all the worlds. A world's constraints touch only

@@ -1,4 +1,4 @@
-// requires: common/indexing.wgsl solver/common/constraint_access.wgsl
+// requires: common/indexing.wgsl solver/common/constraint_access.wgsl solver/common/body_slot.wgsl
 // warm_start_bodies: the warm-start pass of a substep in one dispatch, one thread per body,
 // for the graph colors (the overflow set follows in solve_color's single thread, as in the
 // colored sweep). A warm start applies each constraint's stored impulses to its two bodies,

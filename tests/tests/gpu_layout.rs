@@ -101,7 +101,7 @@ fn workgroup_size_comes_from_the_host_constant() {
         let size = module.entry_points[0].workgroup_size;
         let expected = if matches!(spec.name, "solve_color" | "solve_color_immediate") {
             tumble_gpu::solver::constants::COLOR_PASS_WORKGROUP_SIZE
-        } else if spec.name == "solve_worlds" {
+        } else if matches!(spec.name, "solve_worlds" | "solve_worlds_shared") {
             tumble_gpu::solver::fused::WORLDS_WORKGROUP_SIZE
         } else {
             tumble_gpu::WORKGROUP_SIZE

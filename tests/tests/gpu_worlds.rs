@@ -12,7 +12,7 @@ use rand_chacha::ChaCha8Rng;
 use tumble_geometry::{Cuboid, Pose, Real, Vec3};
 use tumble_gpu::GpuContext;
 use tumble_gpu::layout::GpuPose;
-use tumble_gpu::solver::SolvePath;
+use tumble_gpu::solver::{FusedMemory, SolvePath};
 use tumble_gpu::step::{GpuWorld, GpuWorldConfig, PathPolicy, ReadRequest};
 use tumble_solver::{Body, BodyKind, BodyState, Material};
 use tumble_tests::gpu_solver_util::{floor, pose_bits};
@@ -116,22 +116,25 @@ fn run(
     worlds: &[u32],
     steps: usize,
 ) -> Vec<GpuPose> {
-    run_on(ctx, PathPolicy::Auto, bodies, states, worlds, steps)
+    run_on(
+        ctx,
+        GpuWorldConfig::default(),
+        bodies,
+        states,
+        worlds,
+        steps,
+    )
 }
 
-/// [`run`] along the solver path `path` chooses.
+/// [`run`] with `config` (its solver path and where the fused paths keep the bodies).
 fn run_on(
     ctx: &GpuContext,
-    path: PathPolicy,
+    config: GpuWorldConfig,
     bodies: &[Body],
     states: &[BodyState],
     worlds: &[u32],
     steps: usize,
 ) -> Vec<GpuPose> {
-    let config = GpuWorldConfig {
-        path,
-        ..GpuWorldConfig::default()
-    };
     let mut world = GpuWorld::new(ctx, config).unwrap();
     world.set_bodies_in_worlds(bodies, states, worlds).unwrap();
     for _ in 0..steps {
@@ -148,9 +151,10 @@ fn run_on(
 }
 
 /// Steps `count` small worlds as one batch and each alone, and requires every body of every
-/// world to end with the same bits both ways. The batch takes `path` (small worlds choose
-/// one fused workgroup per world, `SolvePath::Worlds`); the worlds alone choose their own.
-fn batch_matches_alone(count: u64, steps: usize, path: PathPolicy) {
+/// world to end with the same bits both ways. The batch runs with `config` (on the default,
+/// small worlds choose one fused workgroup per world, `SolvePath::Worlds`); the worlds alone
+/// run with the default config.
+fn batch_matches_alone(count: u64, steps: usize, config: GpuWorldConfig) {
     let Some(ctx) = GpuContext::for_tests() else {
         return;
     };
@@ -163,7 +167,7 @@ fn batch_matches_alone(count: u64, steps: usize, path: PathPolicy) {
         states.extend_from_slice(s);
         worlds.extend(std::iter::repeat_n(w as u32, b.len()));
     }
-    let batch = run_on(&ctx, path, &bodies, &states, &worlds, steps);
+    let batch = run_on(&ctx, config, &bodies, &states, &worlds, steps);
     let mut first = 0;
     let mut moved = 0.0;
     for (w, (b, s)) in scenes.iter().enumerate() {
@@ -195,14 +199,30 @@ fn worlds_stepped_as_one_batch_end_bitwise_equal_to_each_stepped_alone() {
     // bodies (under 1,024) and pairs take the single-workgroup sorts, and the solve one
     // fused workgroup per world (SolvePath::Worlds), where each world alone takes the
     // single-workgroup fused path.
-    batch_matches_alone(12, 200, PathPolicy::Auto);
+    batch_matches_alone(12, 200, GpuWorldConfig::default());
+}
+
+#[test]
+fn worlds_with_their_bodies_in_workgroup_memory_end_bitwise_equal_to_each_stepped_alone() {
+    // solve_worlds_shared (each world's bodies in workgroup memory, workgroup barriers only),
+    // which GPUs take and lavapipe only when asked: a barrier too weak or a body slot off by
+    // the world's first body would change a bit in these 120 steps.
+    let config = GpuWorldConfig {
+        fused_memory: FusedMemory::Workgroup,
+        ..GpuWorldConfig::default()
+    };
+    batch_matches_alone(12, 120, config);
 }
 
 #[test]
 fn worlds_on_the_wide_solver_path_end_bitwise_equal_to_each_stepped_alone() {
     // The batch on the wide path (one dispatch per color and pass for all worlds), as large
     // worlds take it: the coloring numbers each world's constraints from its first.
-    batch_matches_alone(12, 120, PathPolicy::Always(SolvePath::Wide));
+    let config = GpuWorldConfig {
+        path: PathPolicy::Always(SolvePath::Wide),
+        ..GpuWorldConfig::default()
+    };
+    batch_matches_alone(12, 120, config);
 }
 
 #[test]
@@ -210,7 +230,7 @@ fn a_batch_of_130_worlds_matches_on_the_radix_sort_and_without_long_box_lists() 
     // 130 worlds: more than 1,024 bodies (the radix sorts instead of the single-workgroup
     // ones), more floors than the long-box list holds (64, so every floor is swept with its
     // world's boxes) and 8 bits of world index in the sort keys.
-    batch_matches_alone(130, 60, PathPolicy::Auto);
+    batch_matches_alone(130, 60, GpuWorldConfig::default());
 }
 
 #[test]

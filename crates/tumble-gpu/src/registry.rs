@@ -59,6 +59,10 @@ pub fn all_kernels() -> Vec<RegisteredKernel> {
             if std::ptr::eq(spec, &solver::fused::SOLVE_WORLDS) {
                 overrides.extend_from_slice(&solver::fused::WORLDS_OVERRIDES);
             }
+            if std::ptr::eq(spec, &solver::fused::SOLVE_WORLDS_SHARED) {
+                overrides.retain(|(n, _)| *n != "FUSED_SHARED_BODIES");
+                overrides.extend_from_slice(&solver::fused::WORLDS_SHARED_OVERRIDES);
+            }
             RegisteredKernel { spec, overrides }
         })
         .collect()

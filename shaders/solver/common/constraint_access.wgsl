@@ -9,8 +9,8 @@
 
 fn visit_constraint(s: u32, kind: u32) {
     var c = load_constraint(s);
-    var a = body_sim(velocities[c.body_a], solver_bodies[c.body_a]);
-    var b = body_sim(velocities[c.body_b], solver_bodies[c.body_b]);
+    var a = body_sim(velocities[body_slot(c.body_a)], solver_bodies[body_slot(c.body_a)]);
+    var b = body_sim(velocities[body_slot(c.body_b)], solver_bodies[body_slot(c.body_b)]);
     if kind == PASS_WARM_START {
         warm_start_points(&c, &a, &b);
     } else if kind == PASS_SOLVE {
@@ -22,9 +22,9 @@ fn visit_constraint(s: u32, kind: u32) {
     }
     store_pass_impulses(s, c);
     if (c.flags & CONSTRAINT_DYNAMIC_A) != 0u {
-        velocities[c.body_a] = sim_velocity(a);
+        velocities[body_slot(c.body_a)] = sim_velocity(a);
     }
     if (c.flags & CONSTRAINT_DYNAMIC_B) != 0u {
-        velocities[c.body_b] = sim_velocity(b);
+        velocities[body_slot(c.body_b)] = sim_velocity(b);
     }
 }

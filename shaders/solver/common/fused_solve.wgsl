@@ -105,7 +105,7 @@ fn fused_solve_range(local: u32, base: u32, n: u32, first_body: u32, body_count:
     load_velocities(local, body_count);
     for (var k = local; k < body_count; k += WORKGROUP_SIZE) {
         let b = first_body + k;
-        solver_bodies[b] = prepare_body(bodies[b], poses[b]);
+        solver_bodies[body_slot(b)] = prepare_body(bodies[b], poses[b]);
     }
     sync_workgroup();
     for (var s = base + local; s < base + n; s += WORKGROUP_SIZE) {
@@ -117,11 +117,11 @@ fn fused_solve_range(local: u32, base: u32, n: u32, first_body: u32, body_count:
     for (var substep = 0u; substep < params.substeps; substep++) {
         for (var k = local; k < body_count; k += WORKGROUP_SIZE) {
             let b = first_body + k;
-            velocities[b] = integrate_velocity(
+            velocities[body_slot(b)] = integrate_velocity(
                 bodies[b],
                 poses[b].rotation,
-                solver_bodies[b],
-                velocities[b],
+                solver_bodies[body_slot(b)],
+                velocities[body_slot(b)],
                 params.gravity.xyz,
                 params.h,
             );
@@ -133,11 +133,11 @@ fn fused_solve_range(local: u32, base: u32, n: u32, first_body: u32, body_count:
         }
         for (var k = local; k < body_count; k += WORKGROUP_SIZE) {
             let b = first_body + k;
-            var velocity = velocities[b];
-            var state = solver_bodies[b];
+            var velocity = velocities[body_slot(b)];
+            var state = solver_bodies[body_slot(b)];
             integrate_position(bodies[b], poses[b].rotation, &velocity, &state, params.h);
-            velocities[b] = velocity;
-            solver_bodies[b] = state;
+            velocities[body_slot(b)] = velocity;
+            solver_bodies[body_slot(b)] = state;
         }
         sync_bodies();
         for (var k = 0u; k < params.relax_iterations; k++) {
@@ -157,7 +157,7 @@ fn fused_solve_range(local: u32, base: u32, n: u32, first_body: u32, body_count:
     sync_workgroup();
     for (var k = local; k < body_count; k += WORKGROUP_SIZE) {
         let b = first_body + k;
-        poses[b] = finalize_pose(bodies[b].kind, poses[b], solver_bodies[b]);
+        poses[b] = finalize_pose(bodies[b].kind, poses[b], solver_bodies[body_slot(b)]);
     }
     store_bodies(local, body_count);
 }

@@ -14,8 +14,8 @@ fn prepare_constraint(i: u32, s: u32) {
     let manifold = manifolds[i];
     let a = manifold.body_a;
     let b = manifold.body_b;
-    let sim_a = body_sim(velocities[a], solver_bodies[a]);
-    let sim_b = body_sim(velocities[b], solver_bodies[b]);
+    let sim_a = body_sim(velocities[body_slot(a)], solver_bodies[body_slot(a)]);
+    let sim_b = body_sim(velocities[body_slot(b)], solver_bodies[body_slot(b)]);
     let tilt = carried_tilt(manifold, previous_tilts[min(manifold.previous, arrayLength(&previous_tilts) - 1u)], poses[a].rotation);
     var c = begin_constraint(manifold, bodies[a], bodies[b], tilt, params);
     for (var p = 0u; p < MAX_MANIFOLD_POINTS; p++) {

@@ -1,4 +1,4 @@
-// requires: common/indexing.wgsl solver/common/constraint_access.wgsl
+// requires: common/indexing.wgsl solver/common/constraint_access.wgsl solver/common/body_slot.wgsl
 // The body of solve_color and solve_color_immediate, which differ only in where the pass's
 // ColorPass comes from (a uniform bound per color, or immediate data set per dispatch): one
 // thread per constraint of one graph color (ColorPass.color) applies the pass chosen by the

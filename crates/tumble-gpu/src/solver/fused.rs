@@ -32,6 +32,21 @@ const _: () = assert!(WORLDS_WORKGROUP_SIZE > super::constants::EMPTY_COLOR);
 /// The override values [`SOLVE_WORLDS`] is built with besides the effects.
 pub const WORLDS_OVERRIDES: [(&str, f64); 1] = [("WORKGROUP_SIZE", WORLDS_WORKGROUP_SIZE as f64)];
 
+/// Kernel: [`SOLVE_WORLDS`] with each world's bodies in workgroup memory, for worlds of at most
+/// [`WORLDS_SHARED_BODIES`] bodies (`shaders/solver/solve_worlds_shared.wgsl`).
+pub static SOLVE_WORLDS_SHARED: KernelSpec =
+    KernelSpec::new(file("solver/solve_worlds_shared.wgsl"));
+
+/// Bodies of one world [`SOLVE_WORLDS_SHARED`] holds in workgroup memory: 128 bytes each, 8 KiB
+/// per workgroup, so that a GPU keeps many worlds resident at once.
+pub const WORLDS_SHARED_BODIES: u32 = 64;
+
+/// The override values [`SOLVE_WORLDS_SHARED`] is built with besides the effects.
+pub const WORLDS_SHARED_OVERRIDES: [(&str, f64); 2] = [
+    ("WORKGROUP_SIZE", WORLDS_WORKGROUP_SIZE as f64),
+    ("FUSED_SHARED_BODIES", WORLDS_SHARED_BODIES as f64),
+];
+
 /// Bodies [`SOLVE_FUSED_SHARED`] holds in workgroup memory: 128 bytes each (a velocity and a
 /// solver state), 14 KiB in all, within the 16 KiB of workgroup memory every WebGPU device
 /// offers, with room for the coloring's own workgroup variables.

@@ -3,6 +3,7 @@
 
 use wgpu::util::DeviceExt;
 
+use super::fused::WORLDS_SHARED_BODIES;
 use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE, bytes_of};
 use crate::collision::StepBuffers;
 use crate::constants::MAX_WORKGROUPS_PER_DIMENSION;
@@ -102,6 +103,7 @@ struct BindGroups {
     solve_fused: [wgpu::BindGroup; 2],
     solve_fused_shared: [wgpu::BindGroup; 2],
     solve_worlds: [wgpu::BindGroup; 2],
+    solve_worlds_shared: [wgpu::BindGroup; 2],
 }
 
 /// The GPU solver stage: owns its pipelines (shared per device and effects), its buffers
@@ -121,6 +123,8 @@ pub struct GpuSolver {
     /// The world count, each world's first body and the body count, for `solve_worlds`;
     /// written to its buffer by the next record.
     world_bodies: Option<Vec<u32>>,
+    /// Bodies of the largest world.
+    max_world_bodies: u32,
     /// How the wide path's warm start visits the graph colors ([`WarmStartSweep`]).
     warm_start: WarmStartSweep,
     radix: RadixSort,
@@ -180,6 +184,7 @@ impl GpuSolver {
             color_dispatches: GRAPH_COLOR_COUNT,
             worlds: 1,
             world_bodies: None,
+            max_world_bodies: 0,
             warm_start: WarmStartSweep::default(),
             radix,
             pool: BufferPool::new(ctx).with_per_step(&PER_STEP),
@@ -307,6 +312,11 @@ impl GpuSolver {
         table.push(first_bodies.len() as u32);
         table.extend_from_slice(first_bodies);
         table.push(bodies);
+        self.max_world_bodies = table[1..]
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .max()
+            .unwrap_or(0);
         self.world_bodies = Some(table);
     }
 
@@ -495,12 +505,14 @@ impl GpuSolver {
                 groups.color[p].record_world_starts(&mut pass, k, inputs.contact_work);
                 let w = self.worlds;
                 let x = w.min(MAX_WORKGROUPS_PER_DIMENSION);
-                k.solve_worlds.dispatch_workgroups(
-                    &mut pass,
-                    &groups.solve_worlds[p],
-                    x,
-                    w.div_ceil(x),
-                );
+                let shared = self.fused_memory.in_workgroup(0, self.ctx.info.device_type)
+                    && self.max_world_bodies <= WORLDS_SHARED_BODIES;
+                let (kernel, group) = if shared {
+                    (&k.solve_worlds_shared, &groups.solve_worlds_shared[p])
+                } else {
+                    (&k.solve_worlds, &groups.solve_worlds[p])
+                };
+                kernel.dispatch_workgroups(&mut pass, group, x, w.div_ceil(x));
             }
             SolvePath::Wide => {
                 // The GPU starts on what the step recorded before the solver (wakes, impulses,

@@ -11,7 +11,10 @@ use super::color::{
     WORLD_STARTS,
 };
 use super::effects::{Effects, effect_overrides};
-use super::fused::{SOLVE_FUSED, SOLVE_FUSED_SHARED, SOLVE_WORLDS, WORLDS_OVERRIDES};
+use super::fused::{
+    SOLVE_FUSED, SOLVE_FUSED_SHARED, SOLVE_WORLDS, SOLVE_WORLDS_SHARED, WORLDS_OVERRIDES,
+    WORLDS_SHARED_OVERRIDES,
+};
 use super::integrate::{FINALIZE_BODIES, INTEGRATE_POSITIONS, INTEGRATE_VELOCITIES};
 use super::prepare::{PREPARE_BODIES, PREPARE_CONTACTS, WARM_START_BODIES};
 use super::solve_color::{PassKind, solve_color_spec};
@@ -54,6 +57,8 @@ pipelines! {
         solve_fused_shared: SOLVE_FUSED_SHARED,
         /// The same, one workgroup per world of a batch.
         solve_worlds: SOLVE_WORLDS,
+        /// The same with each world's bodies in workgroup memory.
+        solve_worlds_shared: SOLVE_WORLDS_SHARED,
         /// Impulses queued by the host.
         apply_impulses: APPLY_IMPULSES,
     }
@@ -77,6 +82,8 @@ impl SolverPipelines {
         Self::build(|spec| {
             let extra: &[(&'static str, f64)] = if std::ptr::eq(spec, &SOLVE_WORLDS) {
                 &WORLDS_OVERRIDES
+            } else if std::ptr::eq(spec, &SOLVE_WORLDS_SHARED) {
+                &WORLDS_SHARED_OVERRIDES
             } else {
                 &[]
             };

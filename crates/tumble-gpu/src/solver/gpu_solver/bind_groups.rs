@@ -72,6 +72,7 @@ impl GpuSolver {
             solve_fused: both(&k.solve_fused),
             solve_fused_shared: both(&k.solve_fused_shared),
             solve_worlds: both(&k.solve_worlds),
+            solve_worlds_shared: both(&k.solve_worlds_shared),
         }
     }
 }

@@ -2,7 +2,8 @@
 //! per world, read into one buffer; half the worlds are reset halfway.
 //!
 //! ```sh
-//! cargo run -p tumble --example batch
+//! cargo run -p tumble --example batch            # on the CPU, one rayon task per world
+//! cargo run -p tumble --example batch -- --gpu   # on the GPU, all sixteen in one GPU step
 //! ```
 
 use tumble::prelude::*;
@@ -13,14 +14,19 @@ fn main() -> Result<(), Error> {
         .cuboid(Vec3::new(20.0, 0.5, 20.0))
         .translation(0.0, -0.5, 0.0);
     let cube = BodyDesc::dynamic().translation(0.0, 0.5, 0.0);
+    let backend = if std::env::args().any(|a| a == "--gpu") {
+        Backend::Gpu
+    } else {
+        Backend::Cpu
+    };
+    let config = WorldConfig {
+        backend,
+        ..WorldConfig::default()
+    };
     let specs: Vec<WorldSpec> = (0..16)
-        .map(|_| {
-            WorldSpec::new(WorldConfig::default())
-                .body(floor)
-                .body(cube)
-        })
+        .map(|_| WorldSpec::new(config).body(floor).body(cube))
         .collect();
-    let mut batch = WorldBatch::from_specs(Backend::Cpu, specs)?;
+    let mut batch = WorldBatch::from_specs(backend, specs)?;
     let ids = batch.ids();
     // Every world has the same bodies: the floor, then the cube.
     let cube = batch.handles(ids[0])?[1];

@@ -22,10 +22,11 @@ var<workgroup> continue_flag: u32;
 
 // Tests one candidate against `me` and appends the pair when it overlaps.
 fn test_pair(me: GpuSweepBox, other: GpuSweepBox) {
-    // other.lo_0 <= me.hi_0 follows from the keys (and the world from the key's lead bits);
-    // me.lo_0 <= other.hi_0 follows from the order only for exact keys, so it is tested.
-    if other.hi_0 < me.lo_0 || !overlap_12(me, other) || both_static(me, other)
-        || !groups_interact(me.body, other.body) {
+    // The world follows from the keys' lead bits; the sweep axis only from exact keys (one
+    // world): with several, bounds closer than a key's dropped bits share a key, so both
+    // sides are tested.
+    if other.lo_0 > me.hi_0 || other.hi_0 < me.lo_0 || !overlap_12(me, other)
+        || both_static(me, other) || !groups_interact(me.body, other.body) {
         return;
     }
     append_pair(me, other);

@@ -77,9 +77,10 @@ pub fn split_sweep_pairs_in_worlds_cpu(
             if sweep_key(world(other), other.lo_0, world_bits) > hi_key {
                 break;
             }
-            // The keys order the lower bounds only to their kept bits: the lower side is
-            // tested, as on the GPU.
+            // The keys order the bounds only to their kept bits: both sides are tested, as
+            // on the GPU.
             if !is_long(other)
+                && other.lo_0 <= me.hi_0
                 && other.hi_0 >= me.lo_0
                 && overlap_12(me, other)
                 && !both_static(me, other)
@@ -223,6 +224,43 @@ mod tests {
                 "axis {axis}, long extent {extent}"
             );
         }
+    }
+
+    #[test]
+    fn bounds_closer_than_a_key_s_dropped_bits_do_not_pair() {
+        // Two worlds (1 bit of world: each key drops the bound's lowest bit), each with a box
+        // ending at x = 1 and one starting one ulp after it: equal keys, no overlap. Then
+        // one starting at exactly 1: a touching pair, which closed intervals keep.
+        let gap = f32::from_bits(1.0f32.to_bits() + 1);
+        let mut aabbs = Vec::new();
+        let mut shapes = Vec::new();
+        let mut index = Vec::new();
+        for w in 0..2u32 {
+            let start = if w == 0 { gap } else { 1.0 };
+            for (lo, hi) in [(0.0, 1.0), (start, 2.0)] {
+                aabbs.push(GpuAabb {
+                    min: [lo, 0.0, 0.0, 0.0],
+                    max: [hi, 1.0, 1.0, 0.0],
+                });
+                shapes.push(GpuShape {
+                    flags: w << BODY_WORLD_SHIFT,
+                    ..Default::default()
+                });
+                index.push(w);
+            }
+        }
+        assert_eq!(
+            crate::kernels::write_sort_keys::sweep_key(0, 1.0, 1),
+            crate::kernels::write_sort_keys::sweep_key(0, gap, 1),
+            "the two bounds share a key"
+        );
+        let (keys, values) = write_sort_keys_in_worlds_cpu(&aabbs, &index, 0, 1);
+        let (_, order) = radix_sort_cpu(&keys, &values, 32);
+        let boxes = gather_sweep_boxes_cpu(&aabbs, &shapes, &order, 0);
+        assert_eq!(
+            split_sweep_pairs_in_worlds_cpu(&boxes, f32::INFINITY, 1),
+            vec![(2, 3)]
+        );
     }
 
     #[test]

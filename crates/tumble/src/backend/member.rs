@@ -15,7 +15,9 @@
 //! the coloring numbers each world's constraints from its first, and every other kernel works
 //! per body or per pair. What a world alone has and a member has not: contacts, contact
 //! events, statistics and sleep flags are not read back, and the device's own check of each
-//! step's motion is off (the reads check every pose and velocity they fetch instead).
+//! step's motion is off (the reads check every pose and velocity they fetch instead, and
+//! name the body out of bounds). An upload that must grow the pair buffers, and a step whose
+//! pairs overflow them, restart every world's contacts of the group once.
 
 use std::sync::{Arc, Mutex, MutexGuard};
 
@@ -228,12 +230,14 @@ impl Group {
         }
         inner.effects = worlds.iter().map(|(_, w)| w.effects()).reduce(merge);
         let remap = remap(&inner.placed, &placed, &inner.forget, bodies.len());
-        if inner.gpu.body_count() > 0 && !bodies.is_empty() {
+        // The device keeps the last upload's bodies until the next: the remap is of those (an
+        // upload of no bodies at all leaves none to remap from).
+        if inner.gpu.body_count() > 0 && remap.len() == inner.gpu.body_count() {
             inner
                 .gpu
                 .set_bodies_in_worlds_keeping(&bodies, &states, &index, &remap)
                 .map_err(failed)?;
-        } else if !bodies.is_empty() {
+        } else {
             inner
                 .gpu
                 .set_bodies_in_worlds(&bodies, &states, &index)
@@ -393,12 +397,18 @@ impl Member {
         self.host_step != inner.steps
     }
 
-    /// Body `d`'s pose and velocities after the last step, from the group's readback.
-    fn read(&self, d: usize) -> Result<(Pose, BodyState), Error> {
+    /// Body `d`'s pose and velocities after the last step, from the group's readback; an
+    /// error naming the body when they are out of bounds (as `Backend::Gpu`'s reads).
+    fn read(&self, host: &Host, d: usize) -> Result<(Pose, BodyState), Error> {
         let mut inner = self.group.lock()?;
-        let first = self.placed(&inner)?.first;
+        let placed = self.placed(&inner)?;
+        let (first, handle) = (placed.first, placed.handles.get(d).copied());
         let snap = inner.snapshot()?;
-        Ok((snap.pose(first + d), snap.state(first + d)))
+        let (pose, state) = (snap.pose(first + d), snap.state(first + d));
+        if let Some(h) = handle {
+            checked(host, &[h], d, &pose, &state)?;
+        }
+        Ok((pose, state))
     }
 }
 
@@ -467,23 +477,35 @@ impl StepBackend for Member {
         if !self.behind(&*self.group.lock()?) {
             return Ok(host.bodies[d].pose);
         }
-        Ok(self.read(d)?.0)
+        Ok(self.read(host, d)?.0)
     }
 
     fn state(&self, host: &Host, d: usize) -> Result<BodyState, Error> {
         if !self.behind(&*self.group.lock()?) {
             return Ok(host.states[d]);
         }
-        Ok(self.read(d)?.1)
+        Ok(self.read(host, d)?.1)
     }
 
-    fn fetched_motion(&self) -> Result<Option<(Arc<Snapshot>, usize)>, Error> {
+    fn fetched_motion(&self, host: &Host) -> Result<Option<(Arc<Snapshot>, usize)>, Error> {
         let mut inner = self.group.lock()?;
         if !self.behind(&inner) {
             return Ok(None);
         }
-        let first = self.placed(&inner)?.first;
-        Ok(Some((inner.snapshot()?, first)))
+        let placed = self.placed(&inner)?;
+        let (first, handles) = (placed.first, placed.handles.clone());
+        let snap = inner.snapshot()?;
+        // Every body of the world is checked before any is read out.
+        for d in 0..handles.len() {
+            checked(
+                host,
+                &handles,
+                d,
+                &snap.pose(first + d),
+                &snap.state(first + d),
+            )?;
+        }
+        Ok(Some((snap, first)))
     }
 
     fn sync_motion(&mut self, host: &mut Host) -> Result<(), Error> {
@@ -563,6 +585,26 @@ fn merge(a: Effects, b: Effects) -> Effects {
         rotation: a.rotation || b.rotation,
         kinematic: a.kinematic || b.kinematic,
         sleep: a.sleep || b.sleep,
+    }
+}
+
+/// An error naming body `d` (of `handles`) when its pose or velocities are out of bounds:
+/// `check_results` for one body.
+fn checked(
+    host: &Host,
+    handles: &[BodyHandle],
+    d: usize,
+    pose: &Pose,
+    state: &BodyState,
+) -> Result<(), Error> {
+    let (Some(body), Some(handle)) = (host.bodies.get(d), handles.get(d..d + 1)) else {
+        return Ok(());
+    };
+    let mut one = Host::default();
+    one.bodies.push(*body);
+    match check_results(&one, handle, &[*pose], &[*state]) {
+        Some(e) => Err(e),
+        None => Ok(()),
     }
 }
 

@@ -125,7 +125,9 @@ pub(crate) trait StepBackend: fmt::Debug + Send + Sync {
     #[cfg(feature = "gpu")]
     fn fetched_motion(
         &self,
+        host: &Host,
     ) -> Result<Option<(std::sync::Arc<tumble_gpu::step::Snapshot>, usize)>, Error> {
+        let _ = host;
         Ok(None)
     }
 

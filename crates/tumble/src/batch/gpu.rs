@@ -187,10 +187,10 @@ impl WorldBatch {
             world.handles = g.saved.handles.clone();
             world.steps = g.saved.steps;
             world.query.invalidate();
+            // The world's pairs are dropped either way: laid out again or not, it restarts.
+            g.group.forget(id.index)?;
             if reshaped {
                 g.group.reshaped()?;
-            } else {
-                g.group.forget(id.index)?;
             }
             entry.history.rewind();
         }

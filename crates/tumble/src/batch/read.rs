@@ -65,7 +65,7 @@ const STRIDED_VELOCITIES: Read = VELOCITIES.named("read_all_velocities_strided")
 /// Writes every body of `world` into `out` (exactly its length).
 fn write_world(read: &Read, world: &World, out: &mut [f32]) -> Result<(), Error> {
     #[cfg(feature = "gpu")]
-    if let Some((snap, first)) = world.backend.fetched_motion()? {
+    if let Some((snap, first)) = world.backend.fetched_motion(&world.host)? {
         // A GPU batch's world whose host copy is behind: straight from the device's readback.
         for (d, chunk) in out.chunks_exact_mut(read.floats).enumerate() {
             if read.floats == POSE_FLOATS {

@@ -14,6 +14,7 @@ use tumble_solver::Body;
 
 use crate::GpuError;
 use crate::buffer_pool::SavedBuffer;
+use crate::error::invalid;
 use crate::layout::WorkList;
 use crate::solver::{Effects, SolvePath};
 
@@ -150,7 +151,18 @@ fn effects_of(b: [bool; 6]) -> Effects {
 impl GpuWorld {
     /// Everything the next steps read, copied to the host (blocking: waits for the submitted
     /// steps). Impulses queued for the next step are submitted first, as the step would.
+    /// Errs for a world of several worlds ([`Self::set_bodies_in_worlds`]): the saved state
+    /// holds one world's layout.
     pub fn save_state(&mut self) -> Result<GpuWorldState, GpuError> {
+        if self.world_count() > 1 {
+            return Err(invalid(
+                "worlds",
+                format!(
+                    "{} (a saved state holds one world; save each world alone)",
+                    self.world_count()
+                ),
+            ));
+        }
         self.flush_impulses()?;
         self.ctx.wait_idle()?;
         let lagged = self.stats.peek()?;

@@ -108,6 +108,21 @@ fn small_world(seed: u64) -> (Vec<Body>, Vec<BodyState>) {
     (bodies, states)
 }
 
+/// The worlds `scenes` laid end to end, as `set_bodies_in_worlds` takes them: bodies,
+/// states, each body's world, and each world's first body.
+fn concat(
+    scenes: &[(Vec<Body>, Vec<BodyState>)],
+) -> (Vec<Body>, Vec<BodyState>, Vec<u32>, Vec<usize>) {
+    let (mut bodies, mut states, mut worlds, mut firsts) = (vec![], vec![], vec![], vec![]);
+    for (w, (b, s)) in scenes.iter().enumerate() {
+        firsts.push(bodies.len());
+        bodies.extend_from_slice(b);
+        states.extend_from_slice(s);
+        worlds.extend(std::iter::repeat_n(w as u32, b.len()));
+    }
+    (bodies, states, worlds, firsts)
+}
+
 /// Steps a world of `bodies` (in `worlds`, or all in world 0 when empty) and reads the poses.
 fn run(
     ctx: &GpuContext,
@@ -159,14 +174,7 @@ fn batch_matches_alone(count: u64, steps: usize, config: GpuWorldConfig) {
         return;
     };
     let scenes: Vec<_> = (0..count).map(small_world).collect();
-    let mut bodies = Vec::new();
-    let mut states = Vec::new();
-    let mut worlds = Vec::new();
-    for (w, (b, s)) in scenes.iter().enumerate() {
-        bodies.extend_from_slice(b);
-        states.extend_from_slice(s);
-        worlds.extend(std::iter::repeat_n(w as u32, b.len()));
-    }
+    let (bodies, states, worlds, _) = concat(&scenes);
     let batch = run_on(&ctx, config, &bodies, &states, &worlds, steps);
     let mut first = 0;
     let mut moved = 0.0;
@@ -283,14 +291,7 @@ fn a_forgotten_world_restarts_as_if_new_and_the_others_keep_their_history() {
     // a pair carried into a reset world (its impulses, hysteresis or color seed) or a pair
     // dropped from a kept one would change a bit.
     let scenes: Vec<_> = (0..6).map(small_world).collect();
-    let (mut bodies, mut states, mut worlds) = (Vec::new(), Vec::new(), Vec::new());
-    let mut firsts = Vec::new();
-    for (w, (b, s)) in scenes.iter().enumerate() {
-        firsts.push(bodies.len());
-        bodies.extend_from_slice(b);
-        states.extend_from_slice(s);
-        worlds.extend(std::iter::repeat_n(w as u32, b.len()));
-    }
+    let (bodies, states, worlds, firsts) = concat(&scenes);
     let mut batch = GpuWorld::new(&ctx, GpuWorldConfig::default()).unwrap();
     batch
         .set_bodies_in_worlds(&bodies, &states, &worlds)
@@ -344,13 +345,7 @@ fn worlds_whose_bodies_did_not_change_keep_their_history_through_a_new_upload() 
     // step 100 with the new box, as a world alone does when a body is added (it uploads
     // again); the new world as run 60 steps alone.
     let scenes: Vec<_> = (0..5).map(small_world).collect();
-    let (mut bodies, mut states, mut worlds, mut firsts) = (vec![], vec![], vec![], vec![]);
-    for (w, (b, s)) in scenes.iter().enumerate() {
-        firsts.push(bodies.len());
-        bodies.extend_from_slice(b);
-        states.extend_from_slice(s);
-        worlds.extend(std::iter::repeat_n(w as u32, b.len()));
-    }
+    let (bodies, states, worlds, firsts) = concat(&scenes);
     let mut batch = GpuWorld::new(&ctx, GpuWorldConfig::default()).unwrap();
     batch
         .set_bodies_in_worlds(&bodies, &states, &worlds)
@@ -396,13 +391,7 @@ fn worlds_whose_bodies_did_not_change_keep_their_history_through_a_new_upload() 
         (w3_bodies.clone(), w3_states.clone()),
         state_of(4),
     ];
-    let (mut bodies2, mut states2, mut worlds2, mut firsts2) = (vec![], vec![], vec![], vec![]);
-    for (w, (b, s)) in order.iter().enumerate() {
-        firsts2.push(bodies2.len());
-        bodies2.extend_from_slice(b);
-        states2.extend_from_slice(s);
-        worlds2.extend(std::iter::repeat_n(w as u32, b.len()));
-    }
+    let (bodies2, states2, worlds2, firsts2) = concat(&order);
     // Old world -> new position when kept; world 1 (gone) drops to where world 2 now
     // starts, world 3 (changed) to its own new start.
     let mut remap = vec![0u32; bodies.len()];

@@ -35,20 +35,11 @@ impl World {
     pub fn new(config: WorldConfig) -> Result<Self, Error> {
         config.validate()?;
         let backend = new_backend(&config)?;
-        Ok(Self {
-            config,
-            handles: HandleMap::default(),
-            host: Host::default(),
-            backend,
-            query: QueryCache::default(),
-            events: EventState::default(),
-            steps: 0,
-        })
+        Self::with_backend(config, backend)
     }
 
-    /// An empty world of `config` stepped by `backend` (a batch's worlds). `config` must be
-    /// valid.
-    #[cfg(feature = "gpu")]
+    /// An empty world of `config` stepped by `backend` (`World::new`'s, or a GPU batch's
+    /// member). Errs on a bad config, naming the field.
     pub(crate) fn with_backend(
         config: WorldConfig,
         backend: Box<dyn StepBackend>,

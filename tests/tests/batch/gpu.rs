@@ -4,38 +4,6 @@
 
 use super::*;
 
-/// [`knocked_batch`]'s worlds on `backend`.
-fn knocked_on(backend: Backend) -> WorldBatch {
-    let scenes: Vec<Scene> = (0..8)
-        .map(|i| match i % 2 {
-            0 => builders::stack(4 + i),
-            _ => builders::pyramid(3),
-        })
-        .collect();
-    let config = WorldConfig {
-        backend,
-        ..WorldConfig::default()
-    };
-    let mut batch = WorldBatch::from_scenes(&scenes, config).unwrap();
-    let actions: Vec<Action> = batch
-        .ids()
-        .into_iter()
-        .map(|id| {
-            let top = *batch.handles(id).unwrap().last().unwrap();
-            let p = batch
-                .world(id)
-                .unwrap()
-                .pose(top)
-                .unwrap()
-                .translation
-                .vector;
-            Action::impulse(id, top, Vec3::new(3.0, 0.0, 1.0), Point3::from(p))
-        })
-        .collect();
-    batch.apply_actions(&actions).unwrap();
-    batch
-}
-
 #[test]
 fn gpu_reset_to_a_mid_run_save_restarts_from_the_saved_bodies_and_touches_no_other_world() {
     if !gpu_available(Backend::Gpu) {

@@ -346,13 +346,22 @@ fn batch_of_64_different_scenes_matches_each_scene_stepped_alone() {
 
 /// Eight worlds of columns and pyramids, each knocked by an impulse so they move.
 fn knocked_batch() -> WorldBatch {
+    knocked_on(Backend::Cpu)
+}
+
+/// [`knocked_batch`]'s worlds on `backend`.
+fn knocked_on(backend: Backend) -> WorldBatch {
     let scenes: Vec<Scene> = (0..8)
         .map(|i| match i % 2 {
             0 => builders::stack(4 + i),
             _ => builders::pyramid(3),
         })
         .collect();
-    let mut batch = WorldBatch::from_scenes(&scenes, WorldConfig::default()).unwrap();
+    let config = WorldConfig {
+        backend,
+        ..WorldConfig::default()
+    };
+    let mut batch = WorldBatch::from_scenes(&scenes, config).unwrap();
     let actions: Vec<Action> = batch
         .ids()
         .into_iter()

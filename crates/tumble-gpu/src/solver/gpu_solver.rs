@@ -3,10 +3,8 @@
 
 use wgpu::util::DeviceExt;
 
-use super::fused::WORLDS_SHARED_BODIES;
 use crate::buffer_pool::{BufferPool, STORAGE_USAGE, UNIFORM_USAGE, bytes_of};
 use crate::collision::StepBuffers;
-use crate::constants::MAX_WORKGROUPS_PER_DIMENSION;
 use crate::kernel::Kernel;
 use crate::kernels::radix_sort::{
     RadixBindGroups, RadixBuffers, RadixPass, RadixSort, index_bits, result_copy,
@@ -28,6 +26,7 @@ use super::solve_color::PassKind;
 
 mod bind_groups;
 mod sweep;
+mod worlds;
 
 use sweep::PassGroups;
 
@@ -301,30 +300,6 @@ impl GpuSolver {
         Ok(())
     }
 
-    /// Sets the independent worlds the bodies form: `first_bodies[w]` is world `w`'s first
-    /// body (their `GpuBody::world`, numbered from 0 without gaps, each world's bodies one
-    /// run), `bodies` the body count. With more than one, the coloring numbers each world's
-    /// constraints from its first (`world_starts.wgsl`), so each world gets the colors it gets
-    /// alone, and a step takes the wide path or [`SolvePath::Worlds`], never the fused one.
-    pub fn set_worlds(&mut self, first_bodies: &[u32], bodies: u32) {
-        self.worlds = (first_bodies.len() as u32).max(1);
-        let mut table = Vec::with_capacity(first_bodies.len() + 2);
-        table.push(first_bodies.len() as u32);
-        table.extend_from_slice(first_bodies);
-        table.push(bodies);
-        self.max_world_bodies = table[1..]
-            .windows(2)
-            .map(|w| w[1] - w[0])
-            .max()
-            .unwrap_or(0);
-        self.world_bodies = Some(table);
-    }
-
-    /// Independent worlds in the step.
-    pub fn world_count(&self) -> u32 {
-        self.worlds
-    }
-
     /// Forgets last step's colors, so the next step's coloring is not seeded (after the
     /// contact list was rebuilt on the host and `previous` indices no longer apply).
     pub fn forget_colors(&mut self) {
@@ -490,29 +465,9 @@ impl GpuSolver {
                 }
             }
             SolvePath::Worlds => {
-                // Small (the world count plus one word per world): written every step, so a
-                // reallocated buffer never holds a stale table.
-                if let Some(table) = &self.world_bodies {
-                    self.ctx.queue.write_buffer(
-                        self.pool.get(WORLD_BODIES),
-                        0,
-                        bytemuck::cast_slice(table),
-                    );
-                }
-                encoder.clear_buffer(self.pool.get(WORLD_FIRST), 0, None);
-                encoder.clear_buffer(self.pool.get(WORLD_END), 0, None);
+                self.clear_world_ranges(encoder);
                 let mut pass = timer.begin_pass(encoder, "solve_worlds");
-                groups.color[p].record_world_starts(&mut pass, k, inputs.contact_work);
-                let w = self.worlds;
-                let x = w.min(MAX_WORKGROUPS_PER_DIMENSION);
-                let shared = self.fused_memory.in_workgroup(0, self.ctx.info.device_type)
-                    && self.max_world_bodies <= WORLDS_SHARED_BODIES;
-                let (kernel, group) = if shared {
-                    (&k.solve_worlds_shared, &groups.solve_worlds_shared[p])
-                } else {
-                    (&k.solve_worlds, &groups.solve_worlds[p])
-                };
-                kernel.dispatch_workgroups(&mut pass, group, x, w.div_ceil(x));
+                self.record_worlds(&mut pass, groups, inputs.contact_work);
             }
             SolvePath::Wide => {
                 // The GPU starts on what the step recorded before the solver (wakes, impulses,

@@ -39,6 +39,22 @@ fn poisoned() -> Error {
     failed("the GPU world's lock was poisoned by a panic")
 }
 
+/// The device world's settings for a world of `config` on `ctx` (timestamps where the
+/// device has them), for `Backend::Gpu` and the GPU batch's groups alike.
+pub(crate) fn gpu_world_config(
+    config: &WorldConfig,
+    ctx: &tumble_gpu::GpuContext,
+) -> GpuWorldConfig {
+    GpuWorldConfig {
+        gravity: config.gravity,
+        dt: config.dt,
+        margin: config.margin,
+        solver: config.solver,
+        timestamps: ctx.has_timestamps,
+        ..Default::default()
+    }
+}
+
 /// State of `Backend::Gpu`.
 #[derive(Debug)]
 pub(crate) struct GpuBackend {
@@ -71,18 +87,7 @@ impl GpuBackend {
     /// The GPU world for `config`. Errs when no GPU is available.
     pub(crate) fn new(config: &WorldConfig) -> Result<Self, Error> {
         let ctx = shared_context().map_err(failed)?;
-        let gpu = GpuWorld::new(
-            &ctx,
-            GpuWorldConfig {
-                gravity: config.gravity,
-                dt: config.dt,
-                margin: config.margin,
-                solver: config.solver,
-                timestamps: ctx.has_timestamps,
-                ..Default::default()
-            },
-        )
-        .map_err(failed)?;
+        let gpu = GpuWorld::new(&ctx, gpu_world_config(config, &ctx)).map_err(failed)?;
         let mut gpu = gpu;
         gpu.set_motion_check(true).map_err(failed)?;
         Ok(Self {

@@ -18,6 +18,8 @@ pub(crate) mod cpu;
 #[cfg(feature = "gpu")]
 pub(crate) mod gpu;
 #[cfg(feature = "gpu")]
+pub(crate) mod group;
+#[cfg(feature = "gpu")]
 pub(crate) mod hybrid;
 #[cfg(feature = "gpu")]
 pub(crate) mod member;

@@ -3,9 +3,9 @@
 
 use std::sync::Arc;
 
-use super::{BatchError, Entry, GpuEntry, History, Saved, WorldBatch, WorldId, WorldSpec};
-use super::{build_error, world_error};
-use crate::backend::member::Group;
+use super::build::{build_error, check_backend, fill, world_error};
+use super::{Entry, GpuEntry, Saved, WorldBatch, WorldId, WorldSpec};
+use crate::backend::group::Group;
 use crate::{Error, World};
 
 impl WorldBatch {
@@ -27,35 +27,16 @@ impl WorldBatch {
     /// Builds a GPU world for the next slot (`index` names it in errors); on an error the
     /// group forgets the slot again.
     pub(super) fn build_gpu(&mut self, index: usize, spec: WorldSpec) -> Result<Entry, Error> {
-        if spec.config.backend != self.backend {
-            return Err(BatchError::BackendMismatch {
-                world: index,
-                given: spec.config.backend,
-                batch: self.backend,
-            }
-            .into());
-        }
+        check_backend(self.backend, index, &spec)?;
         spec.config
             .validate()
             .map_err(|e| build_error(index, None, e.into()))?;
         let slot = self.next_slot();
         let group = self.group_for(&spec)?;
-        let built = (|| {
-            let mut world = group.world(slot).map_err(|e| build_error(index, None, e))?;
-            let mut history = History::new(spec.config);
-            for (b, desc) in spec.bodies.into_iter().enumerate() {
-                world
-                    .add_body(desc)
-                    .map_err(|e| build_error(index, Some(b), e))?;
-                history.add(desc);
-            }
-            history.save();
-            Ok(Entry {
-                world,
-                history,
-                gpu: None,
-            })
-        })();
+        let built = group
+            .world(slot)
+            .map_err(|e| build_error(index, None, e))
+            .and_then(|world| fill(world, index, spec));
         match built {
             Ok(mut entry) => {
                 entry.gpu = Some(GpuEntry {

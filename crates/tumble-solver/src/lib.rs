@@ -70,6 +70,7 @@ mod error;
 mod gyroscopic;
 mod integrate;
 mod islands;
+mod lanes;
 mod mass;
 mod material;
 mod pair_hash;
@@ -120,7 +121,10 @@ pub use sleep::{
     is_moving_kinematic, is_resting,
 };
 pub use softness::Softness;
-pub use solve::{SolveBuffers, SolveStats, solve, solve_with_buffers, solve_with_effects};
+pub use lanes::LANES;
+pub use solve::{
+    SolveBuffers, SolveKernel, SolveStats, solve, solve_with_buffers, solve_with_effects,
+};
 pub use stage::Stage;
 pub use tangent_basis::tangent_basis;
 pub use tumble_broad::CollisionGroups;

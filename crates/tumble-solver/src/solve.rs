@@ -10,7 +10,8 @@
 use rayon::prelude::*;
 use tumble_geometry::{Real, Vec3};
 
-use crate::sweep::{Batch, check_disjoint, sweep};
+use crate::lanes::{self, LANES, LaneBlock, LaneBodies};
+use crate::sweep::{Batch, Pass, check_disjoint, sweep};
 use crate::{
     Body, BodyState, Coloring, Contact, ContactConstraint, Effects, Mat3, OVERFLOW_COLOR,
     PassContext, PrepareContext, SolveOrder, SolverConfig, begin_step, integrate_positions,
@@ -32,18 +33,84 @@ pub struct SolveStats {
     pub parallel_batches: usize,
 }
 
+/// How the passes visit the constraints of a graph color.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SolveKernel {
+    /// Blocks of [`LANES`] constraints of a color solved side by side, one vector instruction
+    /// per arithmetic step (`lanes.rs`). The same bits as `Scalar`.
+    #[default]
+    Lanes,
+    /// One constraint at a time (`contact_solver.rs`): the reference the lanes are tested
+    /// against, and the kernel of the overflow set and of the sequential order in any case.
+    Scalar,
+}
+
 /// What the solve stage keeps between steps so that a step allocates nothing once the scene's
-/// size has been reached: the constraints (about 1 KB each, megabytes on a large pile), the
-/// bodies' world inverse inertias, the visiting order and its batches, and the scratch of the
-/// batch check. Holding one across steps changes no result: every buffer is rewritten in
-/// full before it is read.
+/// size has been reached: the constraints (about 1 KB each, megabytes on a large pile), their
+/// lane blocks, the bodies' world inverse inertias, the visiting order and its batches, and
+/// the scratch of the batch check. Holding one across steps changes no result: every buffer
+/// is rewritten in full before it is read.
 #[derive(Debug, Default)]
 pub struct SolveBuffers {
+    kernel: SolveKernel,
     constraints: Vec<ContactConstraint>,
+    blocks: Vec<LaneBlock>,
     inverse_inertia: Vec<Mat3>,
     order: Vec<u32>,
     batches: Vec<Batch>,
     stamps: Vec<u32>,
+}
+
+impl SolveBuffers {
+    /// Empty buffers whose solves visit each color with `kernel`. Every kernel gives the same
+    /// bits; [`SolveKernel::Lanes`] (the default) is the fast one.
+    pub fn with_kernel(kernel: SolveKernel) -> Self {
+        Self {
+            kernel,
+            ..Self::default()
+        }
+    }
+
+    /// The kernel these buffers' solves use.
+    pub fn kernel(&self) -> SolveKernel {
+        self.kernel
+    }
+}
+
+/// The warm start: each constraint's stored impulses applied again.
+struct WarmStart;
+
+impl Pass for WarmStart {
+    fn scalar(&self, c: &mut ContactConstraint, a: &mut BodyState, b: &mut BodyState) {
+        warm_start_contact(c, a, b);
+    }
+    fn lanes(&self, c: &mut LaneBlock, bodies: &mut LaneBodies) {
+        lanes::warm_start(c, bodies);
+    }
+}
+
+/// A biased or relax pass.
+struct Velocity(PassContext);
+
+impl Pass for Velocity {
+    fn scalar(&self, c: &mut ContactConstraint, a: &mut BodyState, b: &mut BodyState) {
+        solve_contact(c, a, b, &self.0);
+    }
+    fn lanes(&self, c: &mut LaneBlock, bodies: &mut LaneBodies) {
+        lanes::solve(c, bodies, &self.0);
+    }
+}
+
+/// The restitution pass after the substeps, with its approach-speed threshold.
+struct Restitution(Real);
+
+impl Pass for Restitution {
+    fn scalar(&self, c: &mut ContactConstraint, a: &mut BodyState, b: &mut BodyState) {
+        restitution_contact(c, a, b, self.0);
+    }
+    fn lanes(&self, c: &mut LaneBlock, bodies: &mut LaneBodies) {
+        lanes::restitution(c, bodies, self.0);
+    }
 }
 
 /// The visiting order: the constraint permutation (`order`) and its batches.
@@ -65,6 +132,8 @@ fn plan(
         batches.push(Batch {
             range: 0..contacts.len(),
             parallel: false,
+            color: false,
+            lanes: 0..0,
         });
         return;
     }
@@ -74,28 +143,82 @@ fn plan(
             .map(|c| {
                 let range = coloring.offsets[c as usize] as usize
                     ..coloring.offsets[c as usize + 1] as usize;
-                let parallel =
-                    c != OVERFLOW_COLOR && range.len() >= config.parallel_threshold as usize;
-                Batch { range, parallel }
+                let color = c != OVERFLOW_COLOR;
+                let parallel = color && range.len() >= config.parallel_threshold as usize;
+                Batch {
+                    range,
+                    parallel,
+                    color,
+                    lanes: 0..0,
+                }
             })
             .filter(|b| !b.range.is_empty()),
     );
 }
 
-/// Makes sure every parallel batch shares no dynamic body between its constraints, which the
-/// in-place parallel sweep relies on; a batch that does (a coloring that is not one) is
-/// visited sequentially, which gives the reference result.
+/// Makes sure every color's batch shares no dynamic body between its constraints, which the
+/// in-place parallel sweep and the lanes rely on; a batch that does (a coloring that is not
+/// one) is visited sequentially by the scalar kernel, which gives the reference result. With
+/// the lane kernel, gives each checked batch its lane blocks' range (filled by [`pack`]).
 fn check_batches(
     constraints: &[ContactConstraint],
     batches: &mut [Batch],
     stamps: &mut Vec<u32>,
     bodies: usize,
-) {
+    kernel: SolveKernel,
+) -> usize {
     stamps.clear();
     stamps.resize(bodies, u32::MAX);
+    let mut blocks = 0;
     for (k, batch) in batches.iter_mut().enumerate() {
-        if batch.parallel && !check_disjoint(&constraints[batch.range.clone()], stamps, k as u32) {
-            batch.parallel = false;
+        let disjoint =
+            batch.color && check_disjoint(&constraints[batch.range.clone()], stamps, k as u32);
+        batch.parallel &= disjoint;
+        batch.lanes = if disjoint && kernel == SolveKernel::Lanes {
+            let n = batch.range.len().div_ceil(LANES);
+            blocks += n;
+            blocks - n..blocks
+        } else {
+            0..0
+        };
+    }
+    blocks
+}
+
+/// Packs each lane batch's constraints into its blocks (on the pool for a large step).
+fn pack(constraints: &[ContactConstraint], batches: &[Batch], blocks: &mut Vec<LaneBlock>, n: usize) {
+    blocks.clear();
+    blocks.resize(n, LaneBlock::default());
+    let wide = constraints.len() >= PARALLEL_PREPARE_MIN;
+    for batch in batches.iter().filter(|b| !b.lanes.is_empty()) {
+        let out = &mut blocks[batch.lanes.clone()];
+        let from = constraints[batch.range.clone()].chunks(LANES);
+        if wide {
+            out.par_iter_mut()
+                .zip(constraints[batch.range.clone()].par_chunks(LANES))
+                .for_each(|(b, c)| *b = LaneBlock::pack(c));
+        } else {
+            for (b, c) in out.iter_mut().zip(from) {
+                *b = LaneBlock::pack(c);
+            }
+        }
+    }
+}
+
+/// Writes the lane blocks' impulses back into their constraints.
+fn unpack(constraints: &mut [ContactConstraint], batches: &[Batch], blocks: &[LaneBlock]) {
+    let wide = constraints.len() >= PARALLEL_PREPARE_MIN;
+    for batch in batches.iter().filter(|b| !b.lanes.is_empty()) {
+        let from = &blocks[batch.lanes.clone()];
+        let out = &mut constraints[batch.range.clone()];
+        if wide {
+            from.par_iter()
+                .zip(out.par_chunks_mut(LANES))
+                .for_each(|(b, c)| b.unpack(c));
+        } else {
+            for (b, c) in from.iter().zip(out.chunks_mut(LANES)) {
+                b.unpack(c);
+            }
         }
     }
 }
@@ -172,7 +295,9 @@ pub fn solve_with_buffers(
     buffers: &mut SolveBuffers,
 ) -> SolveStats {
     let SolveBuffers {
+        kernel,
         constraints,
+        blocks,
         inverse_inertia,
         order,
         batches,
@@ -223,7 +348,7 @@ pub fn solve_with_buffers(
         constraints.clear();
         constraints.extend(order.iter().map(prepare));
     }
-    check_batches(constraints, batches, stamps, states.len());
+    let block_count = check_batches(constraints, batches, stamps, states.len(), *kernel);
     if !effects.friction {
         // A zero coefficient is what makes the passes skip the tangent rows; the warm start
         // must not re-apply friction impulses carried from before the effect went off.
@@ -234,36 +359,34 @@ pub fn solve_with_buffers(
             }
         }
     }
+    pack(constraints, batches, blocks, block_count);
     let gravity = effects.gravity.then_some(gravity);
 
-    let solve_pass = |use_bias| PassContext {
-        inv_h,
-        use_bias,
-        max_push_out: config.max_push_out,
+    let solve_pass = |use_bias| {
+        Velocity(PassContext {
+            inv_h,
+            use_bias,
+            max_push_out: config.max_push_out,
+        })
     };
     let biased = solve_pass(true);
     let relaxed = solve_pass(false);
     for _ in 0..substeps {
         integrate_velocities_with(bodies, states, gravity, effects.rotation, h);
-        sweep(constraints, batches, states, &warm_start_contact);
+        sweep(constraints, blocks, batches, states, &WarmStart);
         for _ in 0..config.iterations {
-            sweep(constraints, batches, states, &|c, a, b| {
-                solve_contact(c, a, b, &biased)
-            });
+            sweep(constraints, blocks, batches, states, &biased);
         }
         integrate_positions(bodies, states, h);
         for _ in 0..config.relax_iterations {
-            sweep(constraints, batches, states, &|c, a, b| {
-                solve_contact(c, a, b, &relaxed)
-            });
+            sweep(constraints, blocks, batches, states, &relaxed);
         }
     }
     if effects.restitution && constraints.iter().any(|c| c.restitution > 0.0) {
         let threshold = config.restitution_threshold;
-        sweep(constraints, batches, states, &|c, a, b| {
-            restitution_contact(c, a, b, threshold)
-        });
+        sweep(constraints, blocks, batches, states, &Restitution(threshold));
     }
+    unpack(constraints, batches, blocks);
     for c in constraints.iter() {
         c.store_impulses(&mut contacts[c.contact as usize]);
     }

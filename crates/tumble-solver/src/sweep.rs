@@ -14,6 +14,7 @@
 use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use crate::lanes::{LANES, LaneBlock, LaneBodies};
 use crate::{BodyState, ContactConstraint};
 
 /// Constraints per block of a parallel batch: enough work (a few microseconds) to pay for a
@@ -28,74 +29,98 @@ pub struct Batch {
     /// True when no two constraints of the batch share a dynamic body and it is large enough
     /// to be worth the thread pool.
     pub parallel: bool,
+    /// The batch is one graph color (not the overflow set, not the sequential order): its
+    /// constraints should share no dynamic body, which the step checks before relying on it.
+    pub color: bool,
+    /// The batch's constraints packed [`LANES`] to a block (indices into the step's lane
+    /// blocks), when no two of them share a dynamic body and the solve runs the lane kernels;
+    /// empty when the batch runs the scalar kernels one constraint at a time.
+    pub lanes: Range<usize>,
 }
 
-/// Applies `op` to every constraint, batch by batch.
+/// One kind of pass over the constraints, as a scalar kernel (one constraint) and as a lane
+/// kernel (a block of [`LANES`] constraints of one color), which give the same bits.
+pub(crate) trait Pass: Sync {
+    /// The pass on one constraint and copies of its two bodies.
+    fn scalar(&self, c: &mut ContactConstraint, a: &mut BodyState, b: &mut BodyState);
+    /// The pass on a block and its bodies' lanes.
+    fn lanes(&self, c: &mut LaneBlock, bodies: &mut LaneBodies);
+}
+
+/// Applies `pass` to every constraint, batch by batch: a batch with lane blocks through the
+/// lane kernel, block by block, any other through the scalar kernel, constraint by constraint.
 ///
-/// Every batch marked parallel must have no dynamic body twice (as [`check_disjoint`] says).
-/// With one thread, or no parallel batch, the batches run in order on the calling thread.
-/// Otherwise the pool's workers start once for the whole sweep: each batch is a stage of
-/// blocks (a parallel batch [`BLOCK`] constraints per block, a sequential one a single
-/// block), a worker claims the next block of the current stage with an atomic counter and
-/// solves it in place, and moves to the next stage once every block of this one is done. A
-/// worker that starts late finds the finished stages' blocks all claimed and catches up, so
-/// the sweep never waits for a worker that the pool has not started, and the calling thread
-/// alone can finish it.
-pub(crate) fn sweep<F>(
+/// Every batch marked parallel or packed into lanes must have no dynamic body twice (as
+/// [`check_disjoint`] says). With one thread, or no parallel batch, the batches run in order
+/// on the calling thread. Otherwise the pool's workers start once for the whole sweep: each
+/// batch is a stage of blocks (a parallel batch [`BLOCK`] constraints per block, a sequential
+/// one a single block), a worker claims the next block of the current stage with an atomic
+/// counter and solves it in place, and moves to the next stage once every block of this one
+/// is done. A worker that starts late finds the finished stages' blocks all claimed and
+/// catches up, so the sweep never waits for a worker that the pool has not started, and the
+/// calling thread alone can finish it.
+pub(crate) fn sweep<P: Pass>(
     constraints: &mut [ContactConstraint],
+    blocks: &mut [LaneBlock],
     batches: &[Batch],
     states: &mut [BodyState],
-    op: &F,
-) where
-    F: Fn(&mut ContactConstraint, &mut BodyState, &mut BodyState) + Sync,
-{
+    pass: &P,
+) {
+    assert!(
+        batches
+            .iter()
+            .all(|b| b.range.end <= constraints.len() && b.lanes.end <= blocks.len()),
+        "batch out of range"
+    );
+    let shared = Shared {
+        constraints: constraints.as_mut_ptr(),
+        blocks: blocks.as_mut_ptr(),
+        states: states.as_mut_ptr(),
+        len: states.len(),
+    };
     let threads = rayon::current_num_threads();
     let wide = batches.iter().any(|b| b.parallel && b.range.len() > BLOCK);
     if threads == 1 || !wide {
         for batch in batches {
-            solve_run(&mut constraints[batch.range.clone()], states, op);
+            // SAFETY: one thread; the ranges are in bounds (checked above); a lane batch's
+            // constraints share no dynamic body (the caller's contract).
+            unsafe { shared.solve_batch(batch, 0..batch_items(batch), pass) };
         }
         return;
     }
     let stages: Vec<Stage> = batches
         .iter()
-        .map(|b| Stage {
-            start: b.range.start,
-            len: b.range.len(),
-            block: if b.parallel {
-                BLOCK
-            } else {
-                b.range.len().max(1)
-            },
-            next: AtomicUsize::new(0),
-            done: AtomicUsize::new(0),
+        .map(|b| {
+            let items = batch_items(b);
+            let per_block = match (b.parallel, b.lanes.is_empty()) {
+                (true, true) => BLOCK,
+                (true, false) => BLOCK / LANES,
+                (false, _) => items.max(1),
+            };
+            Stage {
+                items,
+                block: per_block,
+                next: AtomicUsize::new(0),
+                done: AtomicUsize::new(0),
+            }
         })
         .collect();
-    assert!(
-        batches.iter().all(|b| b.range.end <= constraints.len()),
-        "batch out of range"
-    );
-    let shared = Shared {
-        constraints: constraints.as_mut_ptr(),
-        states: states.as_mut_ptr(),
-        len: states.len(),
-    };
     let work = || {
-        for stage in &stages {
-            let blocks = stage.len.div_ceil(stage.block);
+        for (stage, batch) in stages.iter().zip(batches) {
+            let blocks = stage.items.div_ceil(stage.block);
             loop {
                 let k = stage.next.fetch_add(1, Ordering::Relaxed);
                 if k >= blocks {
                     break;
                 }
-                let from = stage.start + k * stage.block;
-                let to = (from + stage.block).min(stage.start + stage.len);
-                // SAFETY: blocks of a stage are disjoint ranges of `constraints` (checked in
-                // range above), each claimed by exactly one worker; the stage's dynamic
-                // bodies are disjoint between its blocks (a parallel batch's contract; a
-                // sequential batch is one block), and no other stage runs meanwhile: a
-                // worker enters the next stage only after every block of this one is done.
-                unsafe { shared.solve_block(from..to, op) };
+                let from = k * stage.block;
+                let to = (from + stage.block).min(stage.items);
+                // SAFETY: blocks of a stage are disjoint runs of the batch (in range, checked
+                // above), each claimed by exactly one worker; the stage's dynamic bodies are
+                // disjoint between its blocks (a parallel batch's contract; a sequential
+                // batch is one block), and no other stage runs meanwhile: a worker enters
+                // the next stage only after every block of this one is done.
+                unsafe { shared.solve_batch(batch, from..to, pass) };
                 stage.done.fetch_add(1, Ordering::Release);
             }
             // Every block is claimed: wait for the ones still being solved, whose writes
@@ -119,19 +144,29 @@ pub(crate) fn sweep<F>(
     });
 }
 
-/// One stage of a staged sweep: a batch cut into blocks, with its claim and done counters.
+/// The units a batch is visited in: its lane blocks, or its constraints.
+fn batch_items(batch: &Batch) -> usize {
+    if batch.lanes.is_empty() {
+        batch.range.len()
+    } else {
+        batch.lanes.len()
+    }
+}
+
+/// One stage of a staged sweep: a batch cut into blocks of `block` items (constraints or lane
+/// blocks), with its claim and done counters.
 struct Stage {
-    start: usize,
-    len: usize,
+    items: usize,
     block: usize,
     next: AtomicUsize,
     done: AtomicUsize,
 }
 
-/// The constraint and state arrays shared by the workers of a staged sweep.
+/// The constraint, lane block and state arrays shared by the workers of a staged sweep.
 #[derive(Clone, Copy)]
 struct Shared {
     constraints: *mut ContactConstraint,
+    blocks: *mut LaneBlock,
     states: *mut BodyState,
     len: usize,
 }
@@ -143,23 +178,34 @@ unsafe impl Send for Shared {}
 unsafe impl Sync for Shared {}
 
 impl Shared {
-    /// Solves constraints `range` in order, in place.
+    /// Solves items `items` of `batch` (lane blocks, or constraints) in order, in place.
     ///
     /// # Safety
-    /// `range` lies inside the constraint array; no other thread touches these constraints,
-    /// writes any body they read, or reads or writes a dynamic body of theirs meanwhile.
-    unsafe fn solve_block<F>(self, range: Range<usize>, op: &F)
-    where
-        F: Fn(&mut ContactConstraint, &mut BodyState, &mut BodyState),
-    {
-        for i in range {
+    /// The batch's ranges lie inside the arrays; no other thread touches these items, writes
+    /// any body they read, or reads or writes a dynamic body of theirs meanwhile; a lane
+    /// batch's constraints share no dynamic body.
+    unsafe fn solve_batch<P: Pass>(self, batch: &Batch, items: Range<usize>, pass: &P) {
+        if !batch.lanes.is_empty() {
+            for i in items {
+                // SAFETY: the caller's contract: block `i` of the batch is this thread's alone.
+                let block = unsafe { &mut *self.blocks.add(batch.lanes.start + i) };
+                // SAFETY: `gather` checks every body index against the states' length; the
+                // bodies it reads are written by no other thread meanwhile.
+                let mut bodies = unsafe { block.gather(self.states, self.len) };
+                pass.lanes(block, &mut bodies);
+                // SAFETY: indices checked by `gather`; the dynamic bodies are this block's.
+                unsafe { block.scatter(&bodies, self.states) };
+            }
+            return;
+        }
+        for i in items {
             // SAFETY: the caller's contract: constraint `i` is this thread's alone.
-            let c = unsafe { &mut *self.constraints.add(i) };
+            let c = unsafe { &mut *self.constraints.add(batch.range.start + i) };
             let (ia, ib) = (c.body_a as usize, c.body_b as usize);
             assert!(ia < self.len && ib < self.len, "body index out of range");
             // SAFETY: in range (checked); no other thread writes these bodies meanwhile.
             let (mut a, mut b) = unsafe { (*self.states.add(ia), *self.states.add(ib)) };
-            op(c, &mut a, &mut b);
+            pass.scalar(c, &mut a, &mut b);
             // SAFETY: a dynamic body of this constraint is no other thread's meanwhile.
             unsafe {
                 if c.dynamic_a {
@@ -169,24 +215,6 @@ impl Shared {
                     set_velocities(&mut *self.states.add(ib), &b);
                 }
             }
-        }
-    }
-}
-
-/// Solves `constraints` one after another on the calling thread.
-fn solve_run<F>(constraints: &mut [ContactConstraint], states: &mut [BodyState], op: &F)
-where
-    F: Fn(&mut ContactConstraint, &mut BodyState, &mut BodyState),
-{
-    for c in constraints {
-        let mut a = states[c.body_a as usize];
-        let mut b = states[c.body_b as usize];
-        op(c, &mut a, &mut b);
-        if c.dynamic_a {
-            set_velocities(&mut states[c.body_a as usize], &a);
-        }
-        if c.dynamic_b {
-            set_velocities(&mut states[c.body_b as usize], &b);
         }
     }
 }

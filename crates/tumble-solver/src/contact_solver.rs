@@ -19,6 +19,21 @@ pub struct PassContext {
     pub max_push_out: Real,
 }
 
+/// `a` when it is greater than `b`, else `b`: the clamps of the passes, written as a compare
+/// and a select so that the scalar and the lane kernels (`lanes.rs`) agree to the bit.
+/// `f32::max` leaves the sign of a zero result open (`max(-0.0, 0.0)` may be either), and
+/// the compiler's scalar and vector forms of it need not choose alike.
+#[inline(always)]
+pub(crate) fn max_of(a: Real, b: Real) -> Real {
+    if a > b { a } else { b }
+}
+
+/// `a` when it is less than `b`, else `b` (see [`max_of`]).
+#[inline(always)]
+pub(crate) fn min_of(a: Real, b: Real) -> Real {
+    if a < b { a } else { b }
+}
+
 /// Velocity of row `d` (with angular part `row`): `d . (v_b - v_a) + arm_b . w_b - arm_a . w_a`.
 #[inline]
 fn row_velocity(a: &BodyState, b: &BodyState, d: &Vec3, row: &AngularRow) -> Real {
@@ -85,8 +100,8 @@ fn solve_tilt(c: &mut ContactConstraint, a: &mut BodyState, b: &mut BodyState) {
     let least = points
         .iter()
         .map(|p| p.normal_impulse)
-        .fold(Real::INFINITY, Real::min);
-    let limit = points.len() as Real * c.patch_radius * least.max(0.0);
+        .fold(Real::INFINITY, min_of);
+    let limit = points.len() as Real * c.patch_radius * max_of(least, 0.0);
     let (t1, t2) = (c.tangent1, c.tangent2);
     let relative = b.angular_velocity - a.angular_velocity;
     let old = c.tilt_impulse;
@@ -125,14 +140,17 @@ fn solve_normal_rows(
         } else if ctx.use_bias {
             let soft = c.softness;
             let bias =
-                (soft.mass_scale * soft.bias_rate * (s + c.slop).min(0.0)).max(-ctx.max_push_out);
+                max_of(
+                    soft.mass_scale * soft.bias_rate * min_of(s + c.slop, 0.0),
+                    -ctx.max_push_out,
+                );
             (bias, soft.mass_scale, soft.impulse_scale)
         } else {
             (0.0, 1.0, 0.0)
         };
         let vn = row_velocity(a, b, &normal, &cp.normal_row);
         let delta = -cp.normal_mass * (mass_scale * vn + bias) - impulse_scale * cp.normal_impulse;
-        let accumulated = (cp.normal_impulse + delta).max(0.0);
+        let accumulated = max_of(cp.normal_impulse + delta, 0.0);
         let applied = accumulated - cp.normal_impulse;
         c.points[i].normal_impulse = accumulated;
         c.points[i].total_normal_impulse += applied;
@@ -226,7 +244,7 @@ pub fn restitution_contact(
         }
         let vn = row_velocity(a, b, &normal, &cp.normal_row);
         let delta = -cp.normal_mass * (vn + c.restitution * cp.relative_velocity);
-        let accumulated = (cp.normal_impulse + delta).max(0.0);
+        let accumulated = max_of(cp.normal_impulse + delta, 0.0);
         let applied = accumulated - cp.normal_impulse;
         c.points[i].normal_impulse = accumulated;
         c.points[i].total_normal_impulse += applied;

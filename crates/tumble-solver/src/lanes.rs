@@ -5,7 +5,7 @@
 //! Each lane does exactly what [`crate::contact_solver`] does for one constraint, operation for
 //! operation and in the same order (the dot product `(x x' + y y') + z z'` as nalgebra forms
 //! it, a quaternion turning a vector as nalgebra does, `f32::max` and `f32::min` for the
-//! clamps), and a branch of the scalar code becomes a mask that selects, lane by lane, the new
+//! clamps as a compare and a select), and a branch of the scalar code becomes a mask that selects, lane by lane, the new
 //! value or the old one. Skipped work is never computed as "add zero": adding `0.0` to `-0.0`
 //! changes a bit. So a lane ends with the bits the scalar kernel gives, and the solve's result
 //! does not depend on the kernel width (the tests compare the two bit for bit).
@@ -19,10 +19,11 @@ use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
 use tumble_geometry::{MAX_MANIFOLD_POINTS, Real, Vec3};
 
-use crate::{BodyState, ContactConstraint, PassContext};
+use crate::{AngularRow, BodyState, ContactConstraint, PassContext};
 
-/// Constraints per block: 4 lanes of `f32` fill one 128-bit vector register, which every
-/// x86-64 and aarch64 processor has.
+/// Constraints per block: 8 lanes of `f32` fill one 256-bit AVX register (x86-64 processors
+/// with AVX2 run the kernels so, detected at run time); elsewhere each step takes two 128-bit
+/// instructions, which every x86-64 and aarch64 processor has.
 pub const LANES: usize = 4;
 
 /// One `f32` per lane.
@@ -66,16 +67,16 @@ impl F {
         F([v; LANES])
     }
 
-    /// `f32::max` lane by lane.
+    /// `contact_solver::max_of` lane by lane: `self > o ? self : o`.
     #[inline(always)]
     fn max(self, o: F) -> F {
-        F(from_fn(|i| self.0[i].max(o.0[i])))
+        self.gt(o).select(self, o)
     }
 
-    /// `f32::min` lane by lane.
+    /// `contact_solver::min_of` lane by lane: `self < o ? self : o`.
     #[inline(always)]
     fn min(self, o: F) -> F {
-        F(from_fn(|i| self.0[i].min(o.0[i])))
+        o.gt(self).select(self, o)
     }
 
     #[inline(always)]
@@ -162,7 +163,7 @@ pub(crate) struct V3 {
 }
 
 impl V3 {
-    /// Lane `l` of the block set to `v`.
+    /// Lane `l` set to `v`.
     #[inline(always)]
     fn set(&mut self, l: usize, v: &Vec3) {
         self.x.0[l] = v.x;
@@ -263,6 +264,17 @@ struct Row {
     push_b: V3,
 }
 
+impl Row {
+    /// Lane `l` set to `row`.
+    #[inline(always)]
+    fn set(&mut self, l: usize, row: &AngularRow) {
+        self.arm_a.set(l, &row.arm_a);
+        self.arm_b.set(l, &row.arm_b);
+        self.push_a.set(l, &row.push_a);
+        self.push_b.set(l, &row.push_b);
+    }
+}
+
 /// [`crate::ConstraintPoint`] per lane, without what the passes never read.
 #[derive(Clone, Copy, Debug, Default)]
 struct Point {
@@ -316,17 +328,19 @@ pub(crate) struct LaneBlock {
 }
 
 impl LaneBlock {
-    /// Packs `constraints` (1 to [`LANES`] of them, no dynamic body twice) into a block.
-    pub(crate) fn pack(constraints: &[ContactConstraint]) -> LaneBlock {
+    /// Packs `constraints` (1 to [`LANES`] of them, no dynamic body twice) into this block,
+    /// overwriting every lane: the lanes and points past the constraints' are zero.
+    pub(crate) fn pack(&mut self, constraints: &[ContactConstraint]) {
         debug_assert!(!constraints.is_empty() && constraints.len() <= LANES);
-        let mut b = LaneBlock {
+        *self = LaneBlock {
             len: constraints.len() as u32,
+            // Padding lanes read the first constraint's bodies (any index in range would
+            // do): they are computed and thrown away.
+            body_a: [constraints[0].body_a; LANES],
+            body_b: [constraints[0].body_b; LANES],
             ..LaneBlock::default()
         };
-        // Padding lanes read the first constraint's bodies (any index in range would do):
-        // they are computed and thrown away.
-        b.body_a = [constraints[0].body_a; LANES];
-        b.body_b = [constraints[0].body_b; LANES];
+        let b = self;
         let mut patch = [false; LANES];
         let mut has_point = [[false; LANES]; MAX_MANIFOLD_POINTS];
         for (l, c) in constraints.iter().enumerate() {
@@ -365,24 +379,16 @@ impl LaneBlock {
                 q.normal_impulse.0[l] = p.normal_impulse;
                 q.total_normal_impulse.0[l] = p.total_normal_impulse;
                 q.relative_velocity.0[l] = p.relative_velocity;
-                let rows = [&p.normal_row, &p.tangent_rows[0], &p.tangent_rows[1]];
-                let [t0, t1] = &mut q.tangent_rows;
-                let lane_rows = [&mut q.normal_row, t0, t1];
-                for (row, lane_row) in rows.into_iter().zip(lane_rows) {
-                    lane_row.arm_a.set(l, &row.arm_a);
-                    lane_row.arm_b.set(l, &row.arm_b);
-                    lane_row.push_a.set(l, &row.push_a);
-                    lane_row.push_b.set(l, &row.push_b);
-                }
+                q.normal_row.set(l, &p.normal_row);
                 for k in 0..2 {
                     q.tangent_mass[k].0[l] = p.tangent_mass[k];
                     q.tangent_impulse[k].0[l] = p.tangent_impulse[k];
+                    q.tangent_rows[k].set(l, &p.tangent_rows[k]);
                 }
             }
         }
         b.patch = M::from_flags(patch);
         b.point_mask = has_point.map(M::from_flags);
-        b
     }
 
     /// Writes the impulses the passes changed back into `constraints` (the ones packed).
@@ -410,9 +416,13 @@ impl LaneBlock {
     ///
     /// # Safety
     /// `states` points at `len` states that no other thread writes meanwhile.
-    #[inline]
+    #[inline(always)]
     pub(crate) unsafe fn gather(&self, states: *const BodyState, len: usize) -> LaneBodies {
-        let mut v = LaneBodies::default();
+        let mut v = LaneBodies {
+            inverse_mass_a: self.inverse_mass_a,
+            inverse_mass_b: self.inverse_mass_b,
+            ..LaneBodies::default()
+        };
         for l in 0..LANES {
             let (ia, ib) = (self.body_a[l] as usize, self.body_b[l] as usize);
             assert!(ia < len && ib < len, "body index out of range");
@@ -439,7 +449,7 @@ impl LaneBlock {
     /// `states` points at `len` states; every body index of the block is below `len`
     /// (checked by [`LaneBlock::gather`] on the same states), and no other thread reads or
     /// writes this block's dynamic bodies meanwhile.
-    #[inline]
+    #[inline(always)]
     pub(crate) unsafe fn scatter(&self, v: &LaneBodies, states: *mut BodyState) {
         for l in 0..self.len as usize {
             // SAFETY: the caller's contract.
@@ -459,14 +469,16 @@ impl LaneBlock {
     }
 }
 
-/// The two bodies of each lane: velocities (which the passes change) and the step's deltas
-/// (which they read to rebuild the separation).
+/// The two bodies of each lane: velocities (which the passes change), inverse masses, and
+/// the step's deltas (which they read to rebuild the separation).
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct LaneBodies {
     a_linear: V3,
     a_angular: V3,
     b_linear: V3,
     b_angular: V3,
+    inverse_mass_a: V3,
+    inverse_mass_b: V3,
     /// `delta_position_b - delta_position_a`.
     delta_position: V3,
     rotation_a: Q,
@@ -481,10 +493,10 @@ fn row_velocity(v: &LaneBodies, d: &V3, row: &Row) -> F {
 
 /// Applies `lambda` along a row in the lanes of `m`: `-lambda` on A, `+lambda` on B.
 #[inline(always)]
-fn apply_row(c: &LaneBlock, v: &mut LaneBodies, d: &V3, row: &Row, lambda: F, m: M) {
-    let a_linear = v.a_linear - c.inverse_mass_a.cmul(d).scale(lambda);
+fn apply_row(v: &mut LaneBodies, d: &V3, row: &Row, lambda: F, m: M) {
+    let a_linear = v.a_linear - v.inverse_mass_a.cmul(d).scale(lambda);
     let a_angular = v.a_angular - row.push_a.scale(lambda);
-    let b_linear = v.b_linear + c.inverse_mass_b.cmul(d).scale(lambda);
+    let b_linear = v.b_linear + v.inverse_mass_b.cmul(d).scale(lambda);
     let b_angular = v.b_angular + row.push_b.scale(lambda);
     v.a_linear = m.select3(a_linear, v.a_linear);
     v.a_angular = m.select3(a_angular, v.a_angular);
@@ -494,32 +506,33 @@ fn apply_row(c: &LaneBlock, v: &mut LaneBodies, d: &V3, row: &Row, lambda: F, m:
 
 /// Applies tilt impulses about the two tangents in the lanes of `m`.
 #[inline(always)]
-fn apply_tilt(c: &LaneBlock, v: &mut LaneBodies, lambda: [F; 2], m: M) {
-    let a = v.a_angular - (c.tilt_push_a[0].scale(lambda[0]) + c.tilt_push_a[1].scale(lambda[1]));
-    let b = v.b_angular + (c.tilt_push_b[0].scale(lambda[0]) + c.tilt_push_b[1].scale(lambda[1]));
+fn apply_tilt(v: &mut LaneBodies, push_a: &[V3; 2], push_b: &[V3; 2], lambda: [F; 2], m: M) {
+    let a = v.a_angular - (push_a[0].scale(lambda[0]) + push_a[1].scale(lambda[1]));
+    let b = v.b_angular + (push_b[0].scale(lambda[0]) + push_b[1].scale(lambda[1]));
     v.a_angular = m.select3(a, v.a_angular);
     v.b_angular = m.select3(b, v.b_angular);
 }
 
 /// [`crate::warm_start_contact`] on every lane.
+#[inline(always)]
 pub(crate) fn warm_start(c: &mut LaneBlock, v: &mut LaneBodies) {
     let (normal, t1, t2) = (c.normal, c.tangent1, c.tangent2);
     let friction = c.friction.gt(F::splat(0.0));
     for i in 0..c.max_points as usize {
         let m = c.point_mask[i];
-        let p = c.points[i];
-        c.points[i].total_normal_impulse = m.select(
+        let p = &mut c.points[i];
+        p.total_normal_impulse = m.select(
             p.total_normal_impulse + p.normal_impulse,
             p.total_normal_impulse,
         );
-        apply_row(c, v, &normal, &p.normal_row, p.normal_impulse, m);
+        apply_row(v, &normal, &p.normal_row, p.normal_impulse, m);
         let mf = m & friction;
         if mf.any() {
-            apply_row(c, v, &t1, &p.tangent_rows[0], p.tangent_impulse[0], mf);
-            apply_row(c, v, &t2, &p.tangent_rows[1], p.tangent_impulse[1], mf);
+            apply_row(v, &t1, &p.tangent_rows[0], p.tangent_impulse[0], mf);
+            apply_row(v, &t2, &p.tangent_rows[1], p.tangent_impulse[1], mf);
         }
     }
-    apply_tilt(c, v, c.tilt_impulse, M::ALL);
+    apply_tilt(v, &c.tilt_push_a, &c.tilt_push_b, c.tilt_impulse, M::ALL);
 }
 
 /// Each point's current separation, from the bodies' deltas.
@@ -547,18 +560,20 @@ fn normal_rows(
     let normal = c.normal;
     let zero = F::splat(0.0);
     let one = F::splat(1.0);
+    // The soft row's coefficients, the same for every point.
+    let soft_rate = c.mass_scale * c.bias_rate;
+    let (slop, soft_mass, soft_impulse) = (c.slop, c.mass_scale, c.impulse_scale);
     for i in 0..c.max_points as usize {
         let m = lanes & c.point_mask[i];
-        let p = c.points[i];
+        let p = &mut c.points[i];
         let s = s[i];
         let speculative = s.gt(zero);
         let (bias, mass_scale, impulse_scale) = if ctx.use_bias {
-            let soft = (c.mass_scale * c.bias_rate * (s + c.slop).min(zero))
-                .max(F::splat(-ctx.max_push_out));
+            let soft = (soft_rate * (s + slop).min(zero)).max(F::splat(-ctx.max_push_out));
             (
                 speculative.select(s * F::splat(ctx.inv_h), soft),
-                speculative.select(one, c.mass_scale),
-                speculative.select(zero, c.impulse_scale),
+                speculative.select(one, soft_mass),
+                speculative.select(zero, soft_impulse),
             )
         } else {
             (
@@ -571,10 +586,10 @@ fn normal_rows(
         let delta = -p.normal_mass * (mass_scale * vn + bias) - impulse_scale * p.normal_impulse;
         let accumulated = (p.normal_impulse + delta).max(zero);
         let applied = accumulated - p.normal_impulse;
-        c.points[i].normal_impulse = m.select(accumulated, p.normal_impulse);
-        c.points[i].total_normal_impulse =
+        p.normal_impulse = m.select(accumulated, p.normal_impulse);
+        p.total_normal_impulse =
             m.select(p.total_normal_impulse + applied, p.total_normal_impulse);
-        apply_row(c, v, &normal, &p.normal_row, applied, m);
+        apply_row(v, &normal, &p.normal_row, applied, m);
     }
 }
 
@@ -601,7 +616,13 @@ fn tilt(c: &mut LaneBlock, v: &mut LaneBodies, m: M) {
         clamp.select(new[1] * scale, new[1]),
     ];
     c.tilt_impulse = [m.select(new[0], old[0]), m.select(new[1], old[1])];
-    apply_tilt(c, v, [new[0] - old[0], new[1] - old[1]], m);
+    apply_tilt(
+        v,
+        &c.tilt_push_a,
+        &c.tilt_push_b,
+        [new[0] - old[0], new[1] - old[1]],
+        m,
+    );
 }
 
 /// Coulomb friction at every point, in the lanes of `lanes`; returns the lanes whose every
@@ -609,17 +630,18 @@ fn tilt(c: &mut LaneBlock, v: &mut LaneBodies, m: M) {
 #[inline(always)]
 fn friction_rows(c: &mut LaneBlock, v: &mut LaneBodies, lanes: M) -> M {
     let (t1, t2) = (c.tangent1, c.tangent2);
+    let friction = c.friction;
     let zero = F::splat(0.0);
     let mut all_slide = M::ALL;
     for i in 0..c.max_points as usize {
         let m = lanes & c.point_mask[i];
-        let p = c.points[i];
+        let p = &mut c.points[i];
         let old = p.tangent_impulse;
         let mut new = [
             old[0] - p.tangent_mass[0] * row_velocity(v, &t1, &p.tangent_rows[0]),
             old[1] - p.tangent_mass[1] * row_velocity(v, &t2, &p.tangent_rows[1]),
         ];
-        let limit = c.friction * p.normal_impulse;
+        let limit = friction * p.normal_impulse;
         let length = (new[0] * new[0] + new[1] * new[1]).sqrt();
         let clamp = length.gt(limit);
         let scale = length.gt(zero).select(limit / length, zero);
@@ -628,14 +650,15 @@ fn friction_rows(c: &mut LaneBlock, v: &mut LaneBodies, lanes: M) -> M {
             clamp.select(new[1] * scale, new[1]),
         ];
         all_slide = all_slide & (clamp | !m);
-        c.points[i].tangent_impulse = [m.select(new[0], old[0]), m.select(new[1], old[1])];
-        apply_row(c, v, &t1, &p.tangent_rows[0], new[0] - old[0], m);
-        apply_row(c, v, &t2, &p.tangent_rows[1], new[1] - old[1], m);
+        p.tangent_impulse = [m.select(new[0], old[0]), m.select(new[1], old[1])];
+        apply_row(v, &t1, &p.tangent_rows[0], new[0] - old[0], m);
+        apply_row(v, &t2, &p.tangent_rows[1], new[1] - old[1], m);
     }
     all_slide
 }
 
 /// [`crate::solve_contact`] on every lane.
+#[inline(always)]
 pub(crate) fn solve(c: &mut LaneBlock, v: &mut LaneBodies, ctx: &PassContext) {
     let s = separations(c, v);
     normal_rows(c, v, ctx, &s, M::ALL);
@@ -655,26 +678,27 @@ pub(crate) fn solve(c: &mut LaneBlock, v: &mut LaneBodies, ctx: &PassContext) {
 }
 
 /// [`crate::restitution_contact`] on every lane.
+#[inline(always)]
 pub(crate) fn restitution(c: &mut LaneBlock, v: &mut LaneBodies, threshold: Real) {
     let zero = F::splat(0.0);
     let lanes = !c.restitution.eq(zero);
     if !lanes.any() {
         return;
     }
-    let normal = c.normal;
+    let (normal, restitution) = (c.normal, c.restitution);
     let threshold = F::splat(-threshold);
     for i in 0..c.max_points as usize {
-        let p = c.points[i];
+        let p = &mut c.points[i];
         // Points that did not approach fast enough, or never pushed, keep their impulse.
         let skip = p.relative_velocity.gt(threshold) | p.total_normal_impulse.eq(zero);
         let m = lanes & c.point_mask[i] & !skip;
         let vn = row_velocity(v, &normal, &p.normal_row);
-        let delta = -p.normal_mass * (vn + c.restitution * p.relative_velocity);
+        let delta = -p.normal_mass * (vn + restitution * p.relative_velocity);
         let accumulated = (p.normal_impulse + delta).max(zero);
         let applied = accumulated - p.normal_impulse;
-        c.points[i].normal_impulse = m.select(accumulated, p.normal_impulse);
-        c.points[i].total_normal_impulse =
+        p.normal_impulse = m.select(accumulated, p.normal_impulse);
+        p.total_normal_impulse =
             m.select(p.total_normal_impulse + applied, p.total_normal_impulse);
-        apply_row(c, v, &normal, &p.normal_row, applied, m);
+        apply_row(v, &normal, &p.normal_row, applied, m);
     }
 }

@@ -11,7 +11,7 @@ use rayon::prelude::*;
 use tumble_geometry::{Real, Vec3};
 
 use crate::lanes::{self, LANES, LaneBlock, LaneBodies};
-use crate::sweep::{Batch, Pass, check_disjoint, sweep};
+use crate::sweep::{Batch, Isa, Pass, check_disjoint, sweep};
 use crate::{
     Body, BodyState, Coloring, Contact, ContactConstraint, Effects, Mat3, OVERFLOW_COLOR,
     PassContext, PrepareContext, SolveOrder, SolverConfig, begin_step, integrate_positions,
@@ -37,9 +37,13 @@ pub struct SolveStats {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum SolveKernel {
     /// Blocks of [`LANES`] constraints of a color solved side by side, one vector instruction
-    /// per arithmetic step (`lanes.rs`). The same bits as `Scalar`.
+    /// per arithmetic step (`lanes.rs`), on the widest registers the processor has (AVX2 when
+    /// detected at run time). The same bits as `Scalar`.
     #[default]
     Lanes,
+    /// The lane kernels on the instructions the build targets only (no run-time detection).
+    /// The same bits.
+    PortableLanes,
     /// One constraint at a time (`contact_solver.rs`): the reference the lanes are tested
     /// against, and the kernel of the overflow set and of the sequential order in any case.
     Scalar,
@@ -84,6 +88,7 @@ impl Pass for WarmStart {
     fn scalar(&self, c: &mut ContactConstraint, a: &mut BodyState, b: &mut BodyState) {
         warm_start_contact(c, a, b);
     }
+    #[inline(always)]
     fn lanes(&self, c: &mut LaneBlock, bodies: &mut LaneBodies) {
         lanes::warm_start(c, bodies);
     }
@@ -96,6 +101,7 @@ impl Pass for Velocity {
     fn scalar(&self, c: &mut ContactConstraint, a: &mut BodyState, b: &mut BodyState) {
         solve_contact(c, a, b, &self.0);
     }
+    #[inline(always)]
     fn lanes(&self, c: &mut LaneBlock, bodies: &mut LaneBodies) {
         lanes::solve(c, bodies, &self.0);
     }
@@ -108,6 +114,7 @@ impl Pass for Restitution {
     fn scalar(&self, c: &mut ContactConstraint, a: &mut BodyState, b: &mut BodyState) {
         restitution_contact(c, a, b, self.0);
     }
+    #[inline(always)]
     fn lanes(&self, c: &mut LaneBlock, bodies: &mut LaneBodies) {
         lanes::restitution(c, bodies, self.0);
     }
@@ -174,7 +181,7 @@ fn check_batches(
         let disjoint =
             batch.color && check_disjoint(&constraints[batch.range.clone()], stamps, k as u32);
         batch.parallel &= disjoint;
-        batch.lanes = if disjoint && kernel == SolveKernel::Lanes {
+        batch.lanes = if disjoint && kernel != SolveKernel::Scalar {
             let n = batch.range.len().div_ceil(LANES);
             blocks += n;
             blocks - n..blocks
@@ -187,7 +194,7 @@ fn check_batches(
 
 /// Packs each lane batch's constraints into its blocks (on the pool for a large step).
 fn pack(constraints: &[ContactConstraint], batches: &[Batch], blocks: &mut Vec<LaneBlock>, n: usize) {
-    blocks.clear();
+    // Blocks kept from the last step are overwritten whole by `pack`.
     blocks.resize(n, LaneBlock::default());
     let wide = constraints.len() >= PARALLEL_PREPARE_MIN;
     for batch in batches.iter().filter(|b| !b.lanes.is_empty()) {
@@ -196,10 +203,10 @@ fn pack(constraints: &[ContactConstraint], batches: &[Batch], blocks: &mut Vec<L
         if wide {
             out.par_iter_mut()
                 .zip(constraints[batch.range.clone()].par_chunks(LANES))
-                .for_each(|(b, c)| *b = LaneBlock::pack(c));
+                .for_each(|(b, c)| b.pack(c));
         } else {
             for (b, c) in out.iter_mut().zip(from) {
-                *b = LaneBlock::pack(c);
+                b.pack(c);
             }
         }
     }
@@ -360,6 +367,10 @@ pub fn solve_with_buffers(
         }
     }
     pack(constraints, batches, blocks, block_count);
+    let isa = match kernel {
+        SolveKernel::Lanes => Isa::detect(),
+        SolveKernel::PortableLanes | SolveKernel::Scalar => Isa::Portable,
+    };
     let gravity = effects.gravity.then_some(gravity);
 
     let solve_pass = |use_bias| {
@@ -373,18 +384,18 @@ pub fn solve_with_buffers(
     let relaxed = solve_pass(false);
     for _ in 0..substeps {
         integrate_velocities_with(bodies, states, gravity, effects.rotation, h);
-        sweep(constraints, blocks, batches, states, &WarmStart);
+        sweep(constraints, blocks, batches, states, &WarmStart, isa);
         for _ in 0..config.iterations {
-            sweep(constraints, blocks, batches, states, &biased);
+            sweep(constraints, blocks, batches, states, &biased, isa);
         }
         integrate_positions(bodies, states, h);
         for _ in 0..config.relax_iterations {
-            sweep(constraints, blocks, batches, states, &relaxed);
+            sweep(constraints, blocks, batches, states, &relaxed, isa);
         }
     }
     if effects.restitution && constraints.iter().any(|c| c.restitution > 0.0) {
         let threshold = config.restitution_threshold;
-        sweep(constraints, blocks, batches, states, &Restitution(threshold));
+        sweep(constraints, blocks, batches, states, &Restitution(threshold), isa);
     }
     unpack(constraints, batches, blocks);
     for c in constraints.iter() {

@@ -38,6 +38,30 @@ pub struct Batch {
     pub lanes: Range<usize>,
 }
 
+/// The instructions the lane kernels run on. Both give the same bits: the same IEEE operations
+/// in the same order, on wider registers (Rust never fuses a multiply and an add on its own).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Isa {
+    /// What the build targets (SSE2 on x86-64, NEON on aarch64).
+    Portable,
+    /// AVX2, detected at run time on x86-64.
+    Avx2,
+}
+
+impl Isa {
+    /// The widest the processor runs.
+    pub(crate) fn detect() -> Isa {
+        if std::env::var_os("TUMBLE_EXPERIMENT_PORTABLE").is_some() {
+            return Isa::Portable;
+        }
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            return Isa::Avx2;
+        }
+        Isa::Portable
+    }
+}
+
 /// One kind of pass over the constraints, as a scalar kernel (one constraint) and as a lane
 /// kernel (a block of [`LANES`] constraints of one color), which give the same bits.
 pub(crate) trait Pass: Sync {
@@ -65,6 +89,7 @@ pub(crate) fn sweep<P: Pass>(
     batches: &[Batch],
     states: &mut [BodyState],
     pass: &P,
+    isa: Isa,
 ) {
     assert!(
         batches
@@ -84,7 +109,7 @@ pub(crate) fn sweep<P: Pass>(
         for batch in batches {
             // SAFETY: one thread; the ranges are in bounds (checked above); a lane batch's
             // constraints share no dynamic body (the caller's contract).
-            unsafe { shared.solve_batch(batch, 0..batch_items(batch), pass) };
+            unsafe { shared.solve_batch(batch, 0..batch_items(batch), pass, isa) };
         }
         return;
     }
@@ -120,7 +145,7 @@ pub(crate) fn sweep<P: Pass>(
                 // disjoint between its blocks (a parallel batch's contract; a sequential
                 // batch is one block), and no other stage runs meanwhile: a worker enters
                 // the next stage only after every block of this one is done.
-                unsafe { shared.solve_batch(batch, from..to, pass) };
+                unsafe { shared.solve_batch(batch, from..to, pass, isa) };
                 stage.done.fetch_add(1, Ordering::Release);
             }
             // Every block is claimed: wait for the ones still being solved, whose writes
@@ -178,23 +203,60 @@ unsafe impl Send for Shared {}
 unsafe impl Sync for Shared {}
 
 impl Shared {
+    /// Solves lane blocks `blocks` in order, in place: each block's bodies gathered into
+    /// lanes, the pass's lane kernel, the dynamic bodies' velocities scattered back.
+    ///
+    /// # Safety
+    /// As [`Shared::solve_batch`], for a lane batch.
+    #[inline(always)]
+    unsafe fn solve_blocks<P: Pass>(self, blocks: Range<usize>, pass: &P) {
+        for i in blocks {
+            // SAFETY: the caller's contract: block `i` is this thread's alone.
+            let block = unsafe { &mut *self.blocks.add(i) };
+            // SAFETY: `gather` checks every body index against the states' length; the
+            // bodies it reads are written by no other thread meanwhile.
+            let mut bodies = unsafe { block.gather(self.states, self.len) };
+            pass.lanes(block, &mut bodies);
+            // SAFETY: indices checked by `gather`; the dynamic bodies are this block's.
+            unsafe { block.scatter(&bodies, self.states) };
+        }
+    }
+
+    /// [`Shared::solve_blocks`] compiled for AVX2: the same operations, on 256-bit registers.
+    ///
+    /// # Safety
+    /// The processor has AVX2, and [`Shared::solve_blocks`]'s contract.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn solve_blocks_avx2<P: Pass>(self, blocks: Range<usize>, pass: &P) {
+        // SAFETY: the caller's contract.
+        unsafe { self.solve_blocks(blocks, pass) }
+    }
+
+    /// No AVX2 off x86-64: the portable blocks.
+    ///
+    /// # Safety
+    /// [`Shared::solve_blocks`]'s contract.
+    #[cfg(not(target_arch = "x86_64"))]
+    unsafe fn solve_blocks_avx2<P: Pass>(self, blocks: Range<usize>, pass: &P) {
+        // SAFETY: the caller's contract.
+        unsafe { self.solve_blocks(blocks, pass) }
+    }
+
     /// Solves items `items` of `batch` (lane blocks, or constraints) in order, in place.
     ///
     /// # Safety
     /// The batch's ranges lie inside the arrays; no other thread touches these items, writes
     /// any body they read, or reads or writes a dynamic body of theirs meanwhile; a lane
     /// batch's constraints share no dynamic body.
-    unsafe fn solve_batch<P: Pass>(self, batch: &Batch, items: Range<usize>, pass: &P) {
+    unsafe fn solve_batch<P: Pass>(self, batch: &Batch, items: Range<usize>, pass: &P, isa: Isa) {
         if !batch.lanes.is_empty() {
-            for i in items {
-                // SAFETY: the caller's contract: block `i` of the batch is this thread's alone.
-                let block = unsafe { &mut *self.blocks.add(batch.lanes.start + i) };
-                // SAFETY: `gather` checks every body index against the states' length; the
-                // bodies it reads are written by no other thread meanwhile.
-                let mut bodies = unsafe { block.gather(self.states, self.len) };
-                pass.lanes(block, &mut bodies);
-                // SAFETY: indices checked by `gather`; the dynamic bodies are this block's.
-                unsafe { block.scatter(&bodies, self.states) };
+            let blocks = batch.lanes.start + items.start..batch.lanes.start + items.end;
+            match isa {
+                // SAFETY: AVX2 was detected (`Isa::detect`); the rest is the caller's contract.
+                Isa::Avx2 => unsafe { self.solve_blocks_avx2(blocks, pass) },
+                // SAFETY: the caller's contract.
+                Isa::Portable => unsafe { self.solve_blocks(blocks, pass) },
             }
             return;
         }

@@ -19,21 +19,23 @@ use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
 use tumble_geometry::{MAX_MANIFOLD_POINTS, Real, Vec3};
 
-use crate::{AngularRow, BodyState, ContactConstraint, PassContext};
+use crate::Mat3;
+
+use crate::{BodyState, ContactConstraint, PassContext};
 
 /// Constraints per block: 8 lanes of `f32` fill one 256-bit AVX register (x86-64 processors
 /// with AVX2 run the kernels so, detected at run time); elsewhere each step takes two 128-bit
 /// instructions, which every x86-64 and aarch64 processor has.
-pub const LANES: usize = 4;
+pub const LANES: usize = 8;
 
 /// One `f32` per lane.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-#[repr(C, align(16))]
+#[repr(C, align(32))]
 pub(crate) struct F(pub [Real; LANES]);
 
 /// A lane mask: all ones (true) or all zeros (false) per lane, as vector compares give.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[repr(C, align(16))]
+#[repr(C, align(32))]
 pub(crate) struct M(pub [u32; LANES]);
 
 macro_rules! lane_op {
@@ -255,7 +257,35 @@ impl Q {
     }
 }
 
-/// [`crate::AngularRow`] per lane.
+/// A 3 x 3 matrix per lane, row by row.
+#[derive(Clone, Copy, Debug, Default)]
+struct M3([V3; 3]);
+
+impl M3 {
+    /// Lane `l` set to `m`.
+    #[inline(always)]
+    fn set(&mut self, l: usize, m: &Mat3) {
+        for (i, row) in self.0.iter_mut().enumerate() {
+            row.set(l, &Vec3::new(m[(i, 0)], m[(i, 1)], m[(i, 2)]));
+        }
+    }
+
+    /// nalgebra's `Matrix3 * Vector3`: row `i` is `(m_i0 x + m_i1 y) + m_i2 z`.
+    #[inline(always)]
+    fn mul(&self, v: &V3) -> V3 {
+        let row = |r: &V3| r.x * v.x + r.y * v.y + r.z * v.z;
+        V3 {
+            x: row(&self.0[0]),
+            y: row(&self.0[1]),
+            z: row(&self.0[2]),
+        }
+    }
+}
+
+/// [`crate::AngularRow`] per lane, rebuilt in the passes from the point's anchors and the
+/// bodies' inverse inertias as `prepare_contact` builds it (`AngularRow::new`): four vectors
+/// per row and three rows per point would be most of the block, and the passes are bound by
+/// the memory they stream more than by arithmetic.
 #[derive(Clone, Copy, Debug, Default)]
 struct Row {
     arm_a: V3,
@@ -265,13 +295,17 @@ struct Row {
 }
 
 impl Row {
-    /// Lane `l` set to `row`.
+    /// The row of direction `d` at point `p`.
     #[inline(always)]
-    fn set(&mut self, l: usize, row: &AngularRow) {
-        self.arm_a.set(l, &row.arm_a);
-        self.arm_b.set(l, &row.arm_b);
-        self.push_a.set(l, &row.push_a);
-        self.push_b.set(l, &row.push_b);
+    fn new(c: &LaneBlock, p: &Point, d: &V3) -> Row {
+        let arm_a = p.anchor_a.cross(d);
+        let arm_b = p.anchor_b.cross(d);
+        Row {
+            arm_a,
+            arm_b,
+            push_a: c.inverse_inertia_a.mul(&arm_a),
+            push_b: c.inverse_inertia_b.mul(&arm_b),
+        }
     }
 }
 
@@ -287,8 +321,6 @@ struct Point {
     tangent_impulse: [F; 2],
     total_normal_impulse: F,
     relative_velocity: F,
-    normal_row: Row,
-    tangent_rows: [Row; 2],
 }
 
 /// Up to [`LANES`] constraints of one color, field by field.
@@ -322,8 +354,8 @@ pub(crate) struct LaneBlock {
     patch_radius: F,
     tilt_mass: [F; 2],
     tilt_impulse: [F; 2],
-    tilt_push_a: [V3; 2],
-    tilt_push_b: [V3; 2],
+    inverse_inertia_a: M3,
+    inverse_inertia_b: M3,
     points: [Point; MAX_MANIFOLD_POINTS],
 }
 
@@ -361,13 +393,13 @@ impl LaneBlock {
             b.impulse_scale.0[l] = c.softness.impulse_scale;
             b.slop.0[l] = c.slop;
             b.point_count.0[l] = c.point_count as Real;
+            b.inverse_inertia_a.set(l, &c.inverse_inertia_a);
+            b.inverse_inertia_b.set(l, &c.inverse_inertia_b);
             patch[l] = c.patch_radius > 0.0;
             b.patch_radius.0[l] = c.patch_radius;
             for k in 0..2 {
                 b.tilt_mass[k].0[l] = c.tilt_mass[k];
                 b.tilt_impulse[k].0[l] = c.tilt_impulse[k];
-                b.tilt_push_a[k].set(l, &c.tilt_push_a[k]);
-                b.tilt_push_b[k].set(l, &c.tilt_push_b[k]);
             }
             for (i, p) in c.points[..c.point_count as usize].iter().enumerate() {
                 has_point[i][l] = true;
@@ -379,11 +411,9 @@ impl LaneBlock {
                 q.normal_impulse.0[l] = p.normal_impulse;
                 q.total_normal_impulse.0[l] = p.total_normal_impulse;
                 q.relative_velocity.0[l] = p.relative_velocity;
-                q.normal_row.set(l, &p.normal_row);
                 for k in 0..2 {
                     q.tangent_mass[k].0[l] = p.tangent_mass[k];
                     q.tangent_impulse[k].0[l] = p.tangent_impulse[k];
-                    q.tangent_rows[k].set(l, &p.tangent_rows[k]);
                 }
             }
         }
@@ -520,19 +550,30 @@ pub(crate) fn warm_start(c: &mut LaneBlock, v: &mut LaneBodies) {
     let friction = c.friction.gt(F::splat(0.0));
     for i in 0..c.max_points as usize {
         let m = c.point_mask[i];
-        let p = &mut c.points[i];
-        p.total_normal_impulse = m.select(
+        let p = c.points[i];
+        c.points[i].total_normal_impulse = m.select(
             p.total_normal_impulse + p.normal_impulse,
             p.total_normal_impulse,
         );
-        apply_row(v, &normal, &p.normal_row, p.normal_impulse, m);
+        apply_row(v, &normal, &Row::new(c, &p, &normal), p.normal_impulse, m);
         let mf = m & friction;
         if mf.any() {
-            apply_row(v, &t1, &p.tangent_rows[0], p.tangent_impulse[0], mf);
-            apply_row(v, &t2, &p.tangent_rows[1], p.tangent_impulse[1], mf);
+            apply_row(v, &t1, &Row::new(c, &p, &t1), p.tangent_impulse[0], mf);
+            apply_row(v, &t2, &Row::new(c, &p, &t2), p.tangent_impulse[1], mf);
         }
     }
-    apply_tilt(v, &c.tilt_push_a, &c.tilt_push_b, c.tilt_impulse, M::ALL);
+    let (push_a, push_b) = tilt_push(c);
+    apply_tilt(v, &push_a, &push_b, c.tilt_impulse, M::ALL);
+}
+
+/// `I_a^-1 t_k` and `I_b^-1 t_k` of the two tangents, as `prepare_contact` computes them.
+#[inline(always)]
+fn tilt_push(c: &LaneBlock) -> ([V3; 2], [V3; 2]) {
+    let t = [c.tangent1, c.tangent2];
+    (
+        t.map(|t| c.inverse_inertia_a.mul(&t)),
+        t.map(|t| c.inverse_inertia_b.mul(&t)),
+    )
 }
 
 /// Each point's current separation, from the bodies' deltas.
@@ -565,6 +606,7 @@ fn normal_rows(
     let (slop, soft_mass, soft_impulse) = (c.slop, c.mass_scale, c.impulse_scale);
     for i in 0..c.max_points as usize {
         let m = lanes & c.point_mask[i];
+        let row = Row::new(c, &c.points[i], &normal);
         let p = &mut c.points[i];
         let s = s[i];
         let speculative = s.gt(zero);
@@ -582,14 +624,14 @@ fn normal_rows(
                 zero,
             )
         };
-        let vn = row_velocity(v, &normal, &p.normal_row);
+        let vn = row_velocity(v, &normal, &row);
         let delta = -p.normal_mass * (mass_scale * vn + bias) - impulse_scale * p.normal_impulse;
         let accumulated = (p.normal_impulse + delta).max(zero);
         let applied = accumulated - p.normal_impulse;
         p.normal_impulse = m.select(accumulated, p.normal_impulse);
         p.total_normal_impulse =
             m.select(p.total_normal_impulse + applied, p.total_normal_impulse);
-        apply_row(v, &normal, &p.normal_row, applied, m);
+        apply_row(v, &normal, &row, applied, m);
     }
 }
 
@@ -616,13 +658,8 @@ fn tilt(c: &mut LaneBlock, v: &mut LaneBodies, m: M) {
         clamp.select(new[1] * scale, new[1]),
     ];
     c.tilt_impulse = [m.select(new[0], old[0]), m.select(new[1], old[1])];
-    apply_tilt(
-        v,
-        &c.tilt_push_a,
-        &c.tilt_push_b,
-        [new[0] - old[0], new[1] - old[1]],
-        m,
-    );
+    let (push_a, push_b) = tilt_push(c);
+    apply_tilt(v, &push_a, &push_b, [new[0] - old[0], new[1] - old[1]], m);
 }
 
 /// Coulomb friction at every point, in the lanes of `lanes`; returns the lanes whose every
@@ -635,11 +672,12 @@ fn friction_rows(c: &mut LaneBlock, v: &mut LaneBodies, lanes: M) -> M {
     let mut all_slide = M::ALL;
     for i in 0..c.max_points as usize {
         let m = lanes & c.point_mask[i];
+        let rows = [Row::new(c, &c.points[i], &t1), Row::new(c, &c.points[i], &t2)];
         let p = &mut c.points[i];
         let old = p.tangent_impulse;
         let mut new = [
-            old[0] - p.tangent_mass[0] * row_velocity(v, &t1, &p.tangent_rows[0]),
-            old[1] - p.tangent_mass[1] * row_velocity(v, &t2, &p.tangent_rows[1]),
+            old[0] - p.tangent_mass[0] * row_velocity(v, &t1, &rows[0]),
+            old[1] - p.tangent_mass[1] * row_velocity(v, &t2, &rows[1]),
         ];
         let limit = friction * p.normal_impulse;
         let length = (new[0] * new[0] + new[1] * new[1]).sqrt();
@@ -651,8 +689,8 @@ fn friction_rows(c: &mut LaneBlock, v: &mut LaneBodies, lanes: M) -> M {
         ];
         all_slide = all_slide & (clamp | !m);
         p.tangent_impulse = [m.select(new[0], old[0]), m.select(new[1], old[1])];
-        apply_row(v, &t1, &p.tangent_rows[0], new[0] - old[0], m);
-        apply_row(v, &t2, &p.tangent_rows[1], new[1] - old[1], m);
+        apply_row(v, &t1, &rows[0], new[0] - old[0], m);
+        apply_row(v, &t2, &rows[1], new[1] - old[1], m);
     }
     all_slide
 }
@@ -688,17 +726,18 @@ pub(crate) fn restitution(c: &mut LaneBlock, v: &mut LaneBodies, threshold: Real
     let (normal, restitution) = (c.normal, c.restitution);
     let threshold = F::splat(-threshold);
     for i in 0..c.max_points as usize {
+        let row = Row::new(c, &c.points[i], &normal);
         let p = &mut c.points[i];
         // Points that did not approach fast enough, or never pushed, keep their impulse.
         let skip = p.relative_velocity.gt(threshold) | p.total_normal_impulse.eq(zero);
         let m = lanes & c.point_mask[i] & !skip;
-        let vn = row_velocity(v, &normal, &p.normal_row);
+        let vn = row_velocity(v, &normal, &row);
         let delta = -p.normal_mass * (vn + restitution * p.relative_velocity);
         let accumulated = (p.normal_impulse + delta).max(zero);
         let applied = accumulated - p.normal_impulse;
         p.normal_impulse = m.select(accumulated, p.normal_impulse);
         p.total_normal_impulse =
             m.select(p.total_normal_impulse + applied, p.total_normal_impulse);
-        apply_row(v, &normal, &p.normal_row, applied, m);
+        apply_row(v, &normal, &row, applied, m);
     }
 }

@@ -21,7 +21,7 @@ use tumble_geometry::{MAX_MANIFOLD_POINTS, Real, Vec3};
 
 use crate::Mat3;
 
-use crate::{BodyState, ContactConstraint, PassContext};
+use crate::{BodyState, Contact, ContactConstraint, PassContext};
 
 /// Constraints per block: 8 lanes of `f32` fill one 256-bit AVX register (x86-64 processors
 /// with AVX2 run the kernels so, detected at run time); elsewhere each step takes two 128-bit
@@ -102,12 +102,6 @@ impl F {
 impl M {
     pub(crate) const ALL: M = M([!0; LANES]);
 
-    /// A mask from one flag per lane.
-    #[inline(always)]
-    pub(crate) fn from_flags(flags: [bool; LANES]) -> M {
-        M(flags.map(|f| if f { !0 } else { 0 }))
-    }
-
     /// True when any lane is set.
     #[inline(always)]
     fn any(self) -> bool {
@@ -175,7 +169,7 @@ impl V3 {
 
     /// Lane `l` as a vector.
     #[inline(always)]
-    fn get(&self, l: usize) -> Vec3 {
+    pub(crate) fn get(&self, l: usize) -> Vec3 {
         Vec3::new(self.x.0[l], self.y.0[l], self.z.0[l])
     }
 
@@ -328,6 +322,8 @@ struct Point {
 pub(crate) struct LaneBlock {
     /// Constraints in the block (the lanes past it are padding, never written back).
     len: u32,
+    /// Each lane's contact (index into the step's contacts).
+    contact: [u32; LANES],
     /// Most points of any lane.
     max_points: u32,
     body_a: [u32; LANES],
@@ -360,81 +356,98 @@ pub(crate) struct LaneBlock {
 }
 
 impl LaneBlock {
-    /// Packs `constraints` (1 to [`LANES`] of them, no dynamic body twice) into this block,
-    /// overwriting every lane: the lanes and points past the constraints' are zero.
-    pub(crate) fn pack(&mut self, constraints: &[ContactConstraint]) {
-        debug_assert!(!constraints.is_empty() && constraints.len() <= LANES);
-        *self = LaneBlock {
-            len: constraints.len() as u32,
-            // Padding lanes read the first constraint's bodies (any index in range would
-            // do): they are computed and thrown away.
-            body_a: [constraints[0].body_a; LANES],
-            body_b: [constraints[0].body_b; LANES],
-            ..LaneBlock::default()
-        };
-        let b = self;
-        let mut patch = [false; LANES];
-        let mut has_point = [[false; LANES]; MAX_MANIFOLD_POINTS];
-        for (l, c) in constraints.iter().enumerate() {
-            b.max_points = b.max_points.max(c.point_count);
-            b.body_a[l] = c.body_a;
-            b.body_b[l] = c.body_b;
-            b.dynamic_a[l] = c.dynamic_a;
-            b.dynamic_b[l] = c.dynamic_b;
-            b.normal.set(l, &c.normal);
-            b.tangent1.set(l, &c.tangent1);
-            b.tangent2.set(l, &c.tangent2);
-            b.inverse_mass_a.set(l, &c.inverse_mass_a);
-            b.inverse_mass_b.set(l, &c.inverse_mass_b);
-            b.friction.0[l] = c.friction;
-            b.restitution.0[l] = c.restitution;
-            b.bias_rate.0[l] = c.softness.bias_rate;
-            b.mass_scale.0[l] = c.softness.mass_scale;
-            b.impulse_scale.0[l] = c.softness.impulse_scale;
-            b.slop.0[l] = c.slop;
-            b.point_count.0[l] = c.point_count as Real;
-            b.inverse_inertia_a.set(l, &c.inverse_inertia_a);
-            b.inverse_inertia_b.set(l, &c.inverse_inertia_b);
-            patch[l] = c.patch_radius > 0.0;
-            b.patch_radius.0[l] = c.patch_radius;
-            for k in 0..2 {
-                b.tilt_mass[k].0[l] = c.tilt_mass[k];
-                b.tilt_impulse[k].0[l] = c.tilt_impulse[k];
-            }
-            for (i, p) in c.points[..c.point_count as usize].iter().enumerate() {
-                has_point[i][l] = true;
-                let q = &mut b.points[i];
-                q.anchor_a.set(l, &p.anchor_a);
-                q.anchor_b.set(l, &p.anchor_b);
-                q.base_separation.0[l] = p.base_separation;
-                q.normal_mass.0[l] = p.normal_mass;
-                q.normal_impulse.0[l] = p.normal_impulse;
-                q.total_normal_impulse.0[l] = p.total_normal_impulse;
-                q.relative_velocity.0[l] = p.relative_velocity;
-                for k in 0..2 {
-                    q.tangent_mass[k].0[l] = p.tangent_mass[k];
-                    q.tangent_impulse[k].0[l] = p.tangent_impulse[k];
-                }
-            }
+    /// Starts a block of `len` constraints (1 to [`LANES`]) whose lanes [`LaneBlock::set`]
+    /// fills next. A block with padding lanes is cleared first, so that they hold zeros; a
+    /// full block keeps last step's values in the points past each lane's count, which the
+    /// point masks leave out of every result.
+    #[inline]
+    pub(crate) fn start(&mut self, len: usize) {
+        debug_assert!(len > 0 && len <= LANES);
+        if len < LANES {
+            *self = LaneBlock::default();
         }
-        b.patch = M::from_flags(patch);
-        b.point_mask = has_point.map(M::from_flags);
+        self.len = len as u32;
+        self.max_points = 0;
     }
 
-    /// Writes the impulses the passes changed back into `constraints` (the ones packed).
-    pub(crate) fn unpack(&self, constraints: &mut [ContactConstraint]) {
-        for (l, c) in constraints.iter_mut().enumerate().take(self.len as usize) {
+    /// Lane `l` set to constraint `c`. Lane 0's bodies are also every padding lane's (any
+    /// index in range would do: padding lanes are computed and thrown away).
+    #[inline]
+    pub(crate) fn set(&mut self, l: usize, c: &ContactConstraint) {
+        let b = self;
+        if l == 0 {
+            b.body_a = [c.body_a; LANES];
+            b.body_b = [c.body_b; LANES];
+        }
+        b.max_points = b.max_points.max(c.point_count);
+        b.contact[l] = c.contact;
+        b.body_a[l] = c.body_a;
+        b.body_b[l] = c.body_b;
+        b.dynamic_a[l] = c.dynamic_a;
+        b.dynamic_b[l] = c.dynamic_b;
+        b.normal.set(l, &c.normal);
+        b.tangent1.set(l, &c.tangent1);
+        b.tangent2.set(l, &c.tangent2);
+        b.inverse_mass_a.set(l, &c.inverse_mass_a);
+        b.inverse_mass_b.set(l, &c.inverse_mass_b);
+        b.inverse_inertia_a.set(l, &c.inverse_inertia_a);
+        b.inverse_inertia_b.set(l, &c.inverse_inertia_b);
+        b.friction.0[l] = c.friction;
+        b.restitution.0[l] = c.restitution;
+        b.bias_rate.0[l] = c.softness.bias_rate;
+        b.mass_scale.0[l] = c.softness.mass_scale;
+        b.impulse_scale.0[l] = c.softness.impulse_scale;
+        b.slop.0[l] = c.slop;
+        b.point_count.0[l] = c.point_count as Real;
+        b.patch.0[l] = if c.patch_radius > 0.0 { !0 } else { 0 };
+        b.patch_radius.0[l] = c.patch_radius;
+        for k in 0..2 {
+            b.tilt_mass[k].0[l] = c.tilt_mass[k];
+            b.tilt_impulse[k].0[l] = c.tilt_impulse[k];
+        }
+        for (i, q) in b.points.iter_mut().enumerate() {
+            let has = i < c.point_count as usize;
+            b.point_mask[i].0[l] = if has { !0 } else { 0 };
+            if !has {
+                continue;
+            }
+            let p = &c.points[i];
+            q.anchor_a.set(l, &p.anchor_a);
+            q.anchor_b.set(l, &p.anchor_b);
+            q.base_separation.0[l] = p.base_separation;
+            q.normal_mass.0[l] = p.normal_mass;
+            q.normal_impulse.0[l] = p.normal_impulse;
+            q.total_normal_impulse.0[l] = p.total_normal_impulse;
+            q.relative_velocity.0[l] = p.relative_velocity;
             for k in 0..2 {
-                c.tilt_impulse[k] = self.tilt_impulse[k].0[l];
+                q.tangent_mass[k].0[l] = p.tangent_mass[k];
+                q.tangent_impulse[k].0[l] = p.tangent_impulse[k];
             }
-            for (i, p) in c.points[..c.point_count as usize].iter_mut().enumerate() {
-                let q = &self.points[i];
-                p.normal_impulse = q.normal_impulse.0[l];
-                p.total_normal_impulse = q.total_normal_impulse.0[l];
-                for k in 0..2 {
-                    p.tangent_impulse[k] = q.tangent_impulse[k].0[l];
+        }
+    }
+
+    /// True when some lane has restitution.
+    pub(crate) fn has_restitution(&self) -> bool {
+        self.restitution.0[..self.len as usize].iter().any(|&r| r > 0.0)
+    }
+
+    /// Writes each lane's impulses into its contact, as
+    /// [`ContactConstraint::store_impulses`] does.
+    pub(crate) fn store(&self, contacts: &mut [Contact]) {
+        for l in 0..self.len as usize {
+            let (t1, t2) = (self.tangent1.get(l), self.tangent2.get(l));
+            let contact = &mut contacts[self.contact[l] as usize];
+            for (i, p) in self.points.iter().enumerate() {
+                if self.point_mask[i].0[l] == 0 {
+                    continue;
                 }
+                contact.impulses[i].normal = p.normal_impulse.0[l];
+                contact.impulses[i].friction =
+                    t1 * p.tangent_impulse[0].0[l] + t2 * p.tangent_impulse[1].0[l];
+                contact.total_normal_impulse[i] = p.total_normal_impulse.0[l];
             }
+            contact.tilt_impulse =
+                t1 * self.tilt_impulse[0].0[l] + t2 * self.tilt_impulse[1].0[l];
         }
     }
 

@@ -141,6 +141,7 @@ fn plan(
             parallel: false,
             color: false,
             lanes: 0..0,
+            scalar: 0..0,
         });
         return;
     }
@@ -157,6 +158,7 @@ fn plan(
                     parallel,
                     color,
                     lanes: 0..0,
+                    scalar: 0..0,
                 }
             })
             .filter(|b| !b.range.is_empty()),
@@ -166,68 +168,42 @@ fn plan(
 /// Makes sure every color's batch shares no dynamic body between its constraints, which the
 /// in-place parallel sweep and the lanes rely on; a batch that does (a coloring that is not
 /// one) is visited sequentially by the scalar kernel, which gives the reference result. With
-/// the lane kernel, gives each checked batch its lane blocks' range (filled by [`pack`]).
+/// a lane kernel, gives each checked batch its lane blocks' range; every other batch gets its
+/// range of scalar constraints. Returns the number of lane blocks and of scalar constraints.
 fn check_batches(
-    constraints: &[ContactConstraint],
+    bodies: &[Body],
+    contacts: &[Contact],
+    order: &[u32],
     batches: &mut [Batch],
     stamps: &mut Vec<u32>,
-    bodies: usize,
     kernel: SolveKernel,
-) -> usize {
+) -> (usize, usize) {
     stamps.clear();
-    stamps.resize(bodies, u32::MAX);
-    let mut blocks = 0;
+    stamps.resize(bodies.len(), u32::MAX);
+    let (mut blocks, mut scalar) = (0, 0);
     for (k, batch) in batches.iter_mut().enumerate() {
-        let disjoint =
-            batch.color && check_disjoint(&constraints[batch.range.clone()], stamps, k as u32);
+        let ends = order[batch.range.clone()].iter().map(|&i| {
+            let c = &contacts[i as usize];
+            [c.body_a, c.body_b].map(|body| {
+                let dynamic = bodies.get(body as usize).is_some_and(Body::is_dynamic);
+                (body, dynamic)
+            })
+        });
+        let disjoint = batch.color && check_disjoint(ends, stamps, k as u32);
         batch.parallel &= disjoint;
-        batch.lanes = if disjoint && kernel != SolveKernel::Scalar {
-            let n = batch.range.len().div_ceil(LANES);
-            blocks += n;
-            blocks - n..blocks
+        let n = batch.range.len();
+        if disjoint && kernel != SolveKernel::Scalar {
+            let count = n.div_ceil(LANES);
+            batch.lanes = blocks..blocks + count;
+            batch.scalar = 0..0;
+            blocks += count;
         } else {
-            0..0
-        };
-    }
-    blocks
-}
-
-/// Packs each lane batch's constraints into its blocks (on the pool for a large step).
-fn pack(constraints: &[ContactConstraint], batches: &[Batch], blocks: &mut Vec<LaneBlock>, n: usize) {
-    // Blocks kept from the last step are overwritten whole by `pack`.
-    blocks.resize(n, LaneBlock::default());
-    let wide = constraints.len() >= PARALLEL_PREPARE_MIN;
-    for batch in batches.iter().filter(|b| !b.lanes.is_empty()) {
-        let out = &mut blocks[batch.lanes.clone()];
-        let from = constraints[batch.range.clone()].chunks(LANES);
-        if wide {
-            out.par_iter_mut()
-                .zip(constraints[batch.range.clone()].par_chunks(LANES))
-                .for_each(|(b, c)| b.pack(c));
-        } else {
-            for (b, c) in out.iter_mut().zip(from) {
-                b.pack(c);
-            }
+            batch.lanes = 0..0;
+            batch.scalar = scalar..scalar + n;
+            scalar += n;
         }
     }
-}
-
-/// Writes the lane blocks' impulses back into their constraints.
-fn unpack(constraints: &mut [ContactConstraint], batches: &[Batch], blocks: &[LaneBlock]) {
-    let wide = constraints.len() >= PARALLEL_PREPARE_MIN;
-    for batch in batches.iter().filter(|b| !b.lanes.is_empty()) {
-        let from = &blocks[batch.lanes.clone()];
-        let out = &mut constraints[batch.range.clone()];
-        if wide {
-            from.par_iter()
-                .zip(out.par_chunks_mut(LANES))
-                .for_each(|(b, c)| b.unpack(c));
-        } else {
-            for (b, c) in from.iter().zip(out.chunks_mut(LANES)) {
-                b.unpack(c);
-            }
-        }
-    }
+    (blocks, scalar)
 }
 
 /// Runs the solve stage for one step of length `dt`.
@@ -338,35 +314,63 @@ pub fn solve_with_buffers(
         inverse_inertia.resize(bodies.len(), Mat3::zeros());
     }
     plan(contacts, coloring, config, order, batches);
+    let (block_count, scalar_count) =
+        check_batches(bodies, contacts, order, batches, stamps, *kernel);
     let inverse_inertia: &[Mat3] = inverse_inertia;
     let prepare = |&i: &u32| {
-        prepare_contact(
+        let mut c = prepare_contact(
             bodies,
             inverse_inertia,
             states,
             contacts,
             i as usize,
             &prepare_ctx,
-        )
-    };
-    if order.len() >= PARALLEL_PREPARE_MIN {
-        order.par_iter().map(prepare).collect_into_vec(constraints);
-    } else {
-        constraints.clear();
-        constraints.extend(order.iter().map(prepare));
-    }
-    let block_count = check_batches(constraints, batches, stamps, states.len(), *kernel);
-    if !effects.friction {
-        // A zero coefficient is what makes the passes skip the tangent rows; the warm start
-        // must not re-apply friction impulses carried from before the effect went off.
-        for c in constraints.iter_mut() {
+        );
+        if !effects.friction {
+            // A zero coefficient is what makes the passes skip the tangent rows; the warm
+            // start must not re-apply friction impulses carried from before the effect went
+            // off.
             c.friction = 0.0;
             for p in &mut c.points {
                 p.tangent_impulse = [0.0; 2];
             }
         }
+        c
+    };
+    // Each constraint is prepared straight into its lane block, or into the scalar
+    // constraints: a lane batch's constraints never go through memory in between.
+    let wide = order.len() >= PARALLEL_PREPARE_MIN;
+    constraints.clear();
+    constraints.reserve(scalar_count);
+    // Blocks kept from the last step are overwritten by `LaneBlock::start` and `set`.
+    blocks.resize(block_count, LaneBlock::default());
+    let fill = |block: &mut LaneBlock, indices: &[u32]| {
+        block.start(indices.len());
+        for (l, i) in indices.iter().enumerate() {
+            block.set(l, &prepare(i));
+        }
+    };
+    for batch in batches.iter() {
+        let indices = &order[batch.range.clone()];
+        if batch.lanes.is_empty() {
+            if wide {
+                constraints.par_extend(indices.par_iter().map(prepare));
+            } else {
+                constraints.extend(indices.iter().map(prepare));
+            }
+            continue;
+        }
+        let out = &mut blocks[batch.lanes.clone()];
+        if wide {
+            out.par_iter_mut()
+                .zip(indices.par_chunks(LANES))
+                .for_each(|(b, c)| fill(b, c));
+        } else {
+            for (b, c) in out.iter_mut().zip(indices.chunks(LANES)) {
+                fill(b, c);
+            }
+        }
     }
-    pack(constraints, batches, blocks, block_count);
     let isa = match kernel {
         SolveKernel::Lanes => Isa::detect(),
         SolveKernel::PortableLanes | SolveKernel::Scalar => Isa::Portable,
@@ -393,17 +397,21 @@ pub fn solve_with_buffers(
             sweep(constraints, blocks, batches, states, &relaxed, isa);
         }
     }
-    if effects.restitution && constraints.iter().any(|c| c.restitution > 0.0) {
+    let restitution = constraints.iter().any(|c| c.restitution > 0.0)
+        || blocks.iter().any(LaneBlock::has_restitution);
+    if effects.restitution && restitution {
         let threshold = config.restitution_threshold;
         sweep(constraints, blocks, batches, states, &Restitution(threshold), isa);
     }
-    unpack(constraints, batches, blocks);
     for c in constraints.iter() {
         c.store_impulses(&mut contacts[c.contact as usize]);
     }
+    for b in blocks.iter() {
+        b.store(contacts);
+    }
     SolveStats {
-        constraints: constraints.len(),
-        points: constraints.iter().map(|c| c.point_count as usize).sum(),
+        constraints: order.len(),
+        points: contacts.iter().map(|c| c.manifold.len as usize).sum(),
         parallel_batches: batches.iter().filter(|b| b.parallel).count(),
     }
 }

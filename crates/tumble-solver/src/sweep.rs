@@ -36,6 +36,9 @@ pub struct Batch {
     /// blocks), when no two of them share a dynamic body and the solve runs the lane kernels;
     /// empty when the batch runs the scalar kernels one constraint at a time.
     pub lanes: Range<usize>,
+    /// The batch's constraints as scalar constraints (indices into the step's scalar
+    /// constraints); empty for a lane batch.
+    pub scalar: Range<usize>,
 }
 
 /// The instructions the lane kernels run on. Both give the same bits: the same IEEE operations
@@ -94,7 +97,7 @@ pub(crate) fn sweep<P: Pass>(
     assert!(
         batches
             .iter()
-            .all(|b| b.range.end <= constraints.len() && b.lanes.end <= blocks.len()),
+            .all(|b| b.scalar.end <= constraints.len() && b.lanes.end <= blocks.len()),
         "batch out of range"
     );
     let shared = Shared {
@@ -172,7 +175,7 @@ pub(crate) fn sweep<P: Pass>(
 /// The units a batch is visited in: its lane blocks, or its constraints.
 fn batch_items(batch: &Batch) -> usize {
     if batch.lanes.is_empty() {
-        batch.range.len()
+        batch.scalar.len()
     } else {
         batch.lanes.len()
     }
@@ -262,7 +265,7 @@ impl Shared {
         }
         for i in items {
             // SAFETY: the caller's contract: constraint `i` is this thread's alone.
-            let c = unsafe { &mut *self.constraints.add(batch.range.start + i) };
+            let c = unsafe { &mut *self.constraints.add(batch.scalar.start + i) };
             let (ia, ib) = (c.body_a as usize, c.body_b as usize);
             assert!(ia < self.len && ib < self.len, "body index out of range");
             // SAFETY: in range (checked); no other thread writes these bodies meanwhile.
@@ -281,16 +284,17 @@ impl Shared {
     }
 }
 
-/// True when no dynamic body appears in two of `constraints`: the condition for visiting
-/// them as one parallel batch. `stamps` (one entry per body, any contents) is scratch space,
+/// True when no dynamic body appears in two of the constraints whose two bodies (index, and
+/// whether it is dynamic) `ends` lists: the condition for visiting them as one parallel batch
+/// or side by side in lanes. `stamps` (one entry per body, any contents) is scratch space,
 /// `stamp` a value not yet written into it for this batch.
 pub(crate) fn check_disjoint(
-    constraints: &[ContactConstraint],
+    ends: impl IntoIterator<Item = [(u32, bool); 2]>,
     stamps: &mut [u32],
     stamp: u32,
 ) -> bool {
-    for c in constraints {
-        for (body, dynamic) in [(c.body_a, c.dynamic_a), (c.body_b, c.dynamic_b)] {
+    for pair in ends {
+        for (body, dynamic) in pair {
             if !dynamic {
                 continue;
             }
@@ -345,6 +349,13 @@ mod tests {
         }
     }
 
+    /// The two bodies of each constraint, as the batch check reads them.
+    fn ends(cs: &[ContactConstraint]) -> Vec<[(u32, bool); 2]> {
+        cs.iter()
+            .map(|c| [(c.body_a, c.dynamic_a), (c.body_b, c.dynamic_b)])
+            .collect()
+    }
+
     #[test]
     fn a_batch_is_disjoint_unless_a_dynamic_body_repeats() {
         let mut stamps = vec![u32::MAX; 4];
@@ -353,13 +364,13 @@ mod tests {
             between((0, false), (1, true)),
             between((0, false), (2, true)),
         ];
-        assert!(check_disjoint(&shared_floor, &mut stamps, 0));
+        assert!(check_disjoint(ends(&shared_floor), &mut stamps, 0));
         // Body 2 is dynamic in two constraints: in place, their writes would race.
         let shared_box = [between((1, true), (2, true)), between((2, true), (3, true))];
-        assert!(!check_disjoint(&shared_box, &mut stamps, 1));
+        assert!(!check_disjoint(ends(&shared_box), &mut stamps, 1));
         // A body index past the state array is refused, not read.
         assert!(!check_disjoint(
-            &[between((0, false), (9, true))],
+            ends(&[between((0, false), (9, true))]),
             &mut stamps,
             2
         ));

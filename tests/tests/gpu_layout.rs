@@ -12,7 +12,7 @@ use tumble_gpu::naga;
 use tumble_gpu::registry::{
     KERNELS, all_common_files, all_kernels, all_struct_layouts, host_shared_files,
 };
-use tumble_gpu::shader::{FILES, ShaderSource, reflect_bindings};
+use tumble_gpu::shader::{Binding, FILES, ShaderSource, reflect_bindings};
 use tumble_tests::shader_checks::{assert_same_layout, compute_spirv, fully_specialized, is_vec3};
 
 fn shaders_dir() -> PathBuf {
@@ -112,6 +112,32 @@ fn workgroup_size_comes_from_the_host_constant() {
             spec.name
         );
     }
+}
+
+/// The device check asks for as many storage buffers per stage as the widest kernel binds: a
+/// device with fewer is refused when it opens (naming the limit), not when a pipeline that
+/// binds more is first built, midway through a world's construction. A constant larger than
+/// any kernel needs would refuse devices for nothing.
+#[test]
+fn the_storage_buffer_limit_asked_for_is_the_widest_kernels_count() {
+    let counts: Vec<(&str, u32)> = KERNELS
+        .iter()
+        .map(|&spec| {
+            let module = spec.check().unwrap_or_else(|e| panic!("{e}"));
+            let storage = reflect_bindings(&module)
+                .iter()
+                .filter(|b| matches!(b.kind, Binding::StorageRead | Binding::StorageReadWrite))
+                .count();
+            (spec.name, storage as u32)
+        })
+        .collect();
+    let widest = counts.iter().max_by_key(|c| c.1).unwrap();
+    assert_eq!(
+        widest.1,
+        tumble_gpu::context::REQUIRED_STORAGE_BUFFERS_PER_STAGE,
+        "{} binds the most storage buffers",
+        widest.0
+    );
 }
 
 #[test]

@@ -25,9 +25,12 @@ pub fn require_gpu_value(value: Option<&str>) -> bool {
     })
 }
 
-/// Storage buffers a single kernel may bind. The narrow phase binds the most (bodies, pairs,
-/// last step's pairs and manifolds, and its outputs); WebGPU's default of 8 is too few.
-pub const REQUIRED_STORAGE_BUFFERS_PER_STAGE: u32 = 10;
+/// Storage buffers a single kernel may bind: as many as the widest kernel binds (the batch
+/// solve, `solve_worlds_shared`: the fused solve's thirteen, velocities and solver bodies, and
+/// three per-world ranges), checked by a test against every kernel's reflected bindings. A device
+/// with fewer is refused when it opens, naming the limit, rather than failing later when that
+/// pipeline is built; WebGPU's default of 8 is too few, and GL adapters often offer 16.
+pub const REQUIRED_STORAGE_BUFFERS_PER_STAGE: u32 = 18;
 
 /// Bytes of immediate data the wide solver path sets per dispatch (one `ColorPass`): a
 /// device whose limit is smaller is opened without immediate data and binds a uniform per

@@ -33,6 +33,23 @@ pub enum SolveOrder {
     ColoredInRounds,
 }
 
+/// How the passes visit the constraints of a graph color.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum SolveKernel {
+    /// Blocks of [`crate::LANES`] constraints of a color solved side by side, one vector instruction
+    /// per arithmetic step (`lanes.rs`), on the widest registers the processor has (AVX2 when
+    /// detected at run time). The same bits as `Scalar`.
+    #[default]
+    Lanes,
+    /// The lane kernels on the instructions the build targets only (no run-time detection).
+    /// The same bits.
+    PortableLanes,
+    /// One constraint at a time (`contact_solver.rs`): the reference the lanes are tested
+    /// against, and the kernel of the overflow set and of the sequential order in any case.
+    Scalar,
+}
+
 /// Everything the solver stage needs besides bodies and contacts.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -64,6 +81,10 @@ pub struct SolverConfig {
     pub restitution_threshold: Real,
     /// Colors with at least this many constraints are solved on the rayon pool.
     pub parallel_threshold: u32,
+    /// How a color's constraints are visited: side by side in vector lanes (the default) or
+    /// one at a time. Every kernel gives the same bits; only the time differs.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub kernel: SolveKernel,
 }
 
 /// Contact stiffness: 60 Hz, a sixth of the default substep rate (6 substeps of a 60 Hz step);
@@ -118,6 +139,7 @@ impl Default for SolverConfig {
             slop: DEFAULT_SLOP,
             restitution_threshold: DEFAULT_RESTITUTION_THRESHOLD,
             parallel_threshold: DEFAULT_PARALLEL_THRESHOLD,
+            kernel: SolveKernel::Lanes,
         }
     }
 }

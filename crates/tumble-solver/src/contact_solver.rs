@@ -139,11 +139,10 @@ fn solve_normal_rows(
             (s * ctx.inv_h, 1.0, 0.0)
         } else if ctx.use_bias {
             let soft = c.softness;
-            let bias =
-                max_of(
-                    soft.mass_scale * soft.bias_rate * min_of(s + c.slop, 0.0),
-                    -ctx.max_push_out,
-                );
+            let bias = max_of(
+                soft.mass_scale * soft.bias_rate * min_of(s + c.slop, 0.0),
+                -ctx.max_push_out,
+            );
             (bias, soft.mass_scale, soft.impulse_scale)
         } else {
             (0.0, 1.0, 0.0)

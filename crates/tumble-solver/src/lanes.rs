@@ -428,7 +428,9 @@ impl LaneBlock {
 
     /// True when some lane has restitution.
     pub(crate) fn has_restitution(&self) -> bool {
-        self.restitution.0[..self.len as usize].iter().any(|&r| r > 0.0)
+        self.restitution.0[..self.len as usize]
+            .iter()
+            .any(|&r| r > 0.0)
     }
 
     /// Writes each lane's impulses into its contact, as
@@ -446,8 +448,7 @@ impl LaneBlock {
                     t1 * p.tangent_impulse[0].0[l] + t2 * p.tangent_impulse[1].0[l];
                 contact.total_normal_impulse[i] = p.total_normal_impulse.0[l];
             }
-            contact.tilt_impulse =
-                t1 * self.tilt_impulse[0].0[l] + t2 * self.tilt_impulse[1].0[l];
+            contact.tilt_impulse = t1 * self.tilt_impulse[0].0[l] + t2 * self.tilt_impulse[1].0[l];
         }
     }
 
@@ -595,8 +596,8 @@ fn separations(c: &LaneBlock, v: &LaneBodies) -> [F; MAX_MANIFOLD_POINTS] {
     let mut s = [F::default(); MAX_MANIFOLD_POINTS];
     for (i, s) in s.iter_mut().enumerate().take(c.max_points as usize) {
         let p = &c.points[i];
-        let ds = v.delta_position + v.rotation_b.rotate(&p.anchor_b)
-            - v.rotation_a.rotate(&p.anchor_a);
+        let ds =
+            v.delta_position + v.rotation_b.rotate(&p.anchor_b) - v.rotation_a.rotate(&p.anchor_a);
         *s = p.base_separation + ds.dot(&c.normal);
     }
     s
@@ -631,19 +632,14 @@ fn normal_rows(
                 speculative.select(zero, soft_impulse),
             )
         } else {
-            (
-                speculative.select(s * F::splat(ctx.inv_h), zero),
-                one,
-                zero,
-            )
+            (speculative.select(s * F::splat(ctx.inv_h), zero), one, zero)
         };
         let vn = row_velocity(v, &normal, &row);
         let delta = -p.normal_mass * (mass_scale * vn + bias) - impulse_scale * p.normal_impulse;
         let accumulated = (p.normal_impulse + delta).max(zero);
         let applied = accumulated - p.normal_impulse;
         p.normal_impulse = m.select(accumulated, p.normal_impulse);
-        p.total_normal_impulse =
-            m.select(p.total_normal_impulse + applied, p.total_normal_impulse);
+        p.total_normal_impulse = m.select(p.total_normal_impulse + applied, p.total_normal_impulse);
         apply_row(v, &normal, &row, applied, m);
     }
 }
@@ -685,7 +681,10 @@ fn friction_rows(c: &mut LaneBlock, v: &mut LaneBodies, lanes: M) -> M {
     let mut all_slide = M::ALL;
     for i in 0..c.max_points as usize {
         let m = lanes & c.point_mask[i];
-        let rows = [Row::new(c, &c.points[i], &t1), Row::new(c, &c.points[i], &t2)];
+        let rows = [
+            Row::new(c, &c.points[i], &t1),
+            Row::new(c, &c.points[i], &t2),
+        ];
         let p = &mut c.points[i];
         let old = p.tangent_impulse;
         let mut new = [
@@ -749,8 +748,7 @@ pub(crate) fn restitution(c: &mut LaneBlock, v: &mut LaneBodies, threshold: Real
         let accumulated = (p.normal_impulse + delta).max(zero);
         let applied = accumulated - p.normal_impulse;
         p.normal_impulse = m.select(accumulated, p.normal_impulse);
-        p.total_normal_impulse =
-            m.select(p.total_normal_impulse + applied, p.total_normal_impulse);
+        p.total_normal_impulse = m.select(p.total_normal_impulse + applied, p.total_normal_impulse);
         apply_row(v, &normal, &row, applied, m);
     }
 }

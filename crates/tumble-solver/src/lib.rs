@@ -94,7 +94,7 @@ pub use coloring::{
 pub use config::{
     DEFAULT_BAUMGARTE, DEFAULT_BAUMGARTE_ITERATIONS, DEFAULT_CONTACT_HERTZ, DEFAULT_DAMPING_RATIO,
     DEFAULT_MAX_PUSH_OUT, DEFAULT_PARALLEL_THRESHOLD, DEFAULT_RESTITUTION_THRESHOLD, DEFAULT_SLOP,
-    DEFAULT_SUBSTEPS, SolveOrder, SolverConfig, SolverKind,
+    DEFAULT_SUBSTEPS, SolveKernel, SolveOrder, SolverConfig, SolverKind,
 };
 pub use constraint::{
     AngularRow, ConstraintPoint, ContactConstraint, PrepareContext, patch_radius, prepare_contact,
@@ -112,6 +112,7 @@ pub use integrate::{
     integrate_velocities, integrate_velocities_with,
 };
 pub use islands::Islands;
+pub use lanes::LANES;
 pub use mass::MassProperties;
 pub use material::{DEFAULT_FRICTION, Material, mix_friction, mix_restitution};
 pub use pair_hash::{PairBuildHasher, PairHasher};
@@ -121,10 +122,7 @@ pub use sleep::{
     is_moving_kinematic, is_resting,
 };
 pub use softness::Softness;
-pub use lanes::LANES;
-pub use solve::{
-    SolveBuffers, SolveKernel, SolveStats, solve, solve_with_buffers, solve_with_effects,
-};
+pub use solve::{SolveBuffers, SolveStats, solve, solve_with_buffers, solve_with_effects};
 pub use stage::Stage;
 pub use tangent_basis::tangent_basis;
 pub use tumble_broad::CollisionGroups;

@@ -14,9 +14,9 @@ use crate::lanes::{self, LANES, LaneBlock, LaneBodies};
 use crate::sweep::{Batch, Isa, Pass, check_disjoint, sweep};
 use crate::{
     Body, BodyState, Coloring, Contact, ContactConstraint, Effects, Mat3, OVERFLOW_COLOR,
-    PassContext, PrepareContext, SolveOrder, SolverConfig, begin_step, integrate_positions,
-    integrate_velocities_with, prepare_contact, restitution_contact, solve_contact,
-    warm_start_contact,
+    PassContext, PrepareContext, SolveKernel, SolveOrder, SolverConfig, begin_step,
+    integrate_positions, integrate_velocities_with, prepare_contact, restitution_contact,
+    solve_contact, warm_start_contact,
 };
 
 /// Constraint preparation goes wide from this many manifolds (below, the pool costs more).
@@ -33,22 +33,6 @@ pub struct SolveStats {
     pub parallel_batches: usize,
 }
 
-/// How the passes visit the constraints of a graph color.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum SolveKernel {
-    /// Blocks of [`LANES`] constraints of a color solved side by side, one vector instruction
-    /// per arithmetic step (`lanes.rs`), on the widest registers the processor has (AVX2 when
-    /// detected at run time). The same bits as `Scalar`.
-    #[default]
-    Lanes,
-    /// The lane kernels on the instructions the build targets only (no run-time detection).
-    /// The same bits.
-    PortableLanes,
-    /// One constraint at a time (`contact_solver.rs`): the reference the lanes are tested
-    /// against, and the kernel of the overflow set and of the sequential order in any case.
-    Scalar,
-}
-
 /// What the solve stage keeps between steps so that a step allocates nothing once the scene's
 /// size has been reached: the constraints (about 1 KB each, megabytes on a large pile), their
 /// lane blocks, the bodies' world inverse inertias, the visiting order and its batches, and
@@ -56,29 +40,12 @@ pub enum SolveKernel {
 /// is rewritten in full before it is read.
 #[derive(Debug, Default)]
 pub struct SolveBuffers {
-    kernel: SolveKernel,
     constraints: Vec<ContactConstraint>,
     blocks: Vec<LaneBlock>,
     inverse_inertia: Vec<Mat3>,
     order: Vec<u32>,
     batches: Vec<Batch>,
     stamps: Vec<u32>,
-}
-
-impl SolveBuffers {
-    /// Empty buffers whose solves visit each color with `kernel`. Every kernel gives the same
-    /// bits; [`SolveKernel::Lanes`] (the default) is the fast one.
-    pub fn with_kernel(kernel: SolveKernel) -> Self {
-        Self {
-            kernel,
-            ..Self::default()
-        }
-    }
-
-    /// The kernel these buffers' solves use.
-    pub fn kernel(&self) -> SolveKernel {
-        self.kernel
-    }
 }
 
 /// The warm start: each constraint's stored impulses applied again.
@@ -277,8 +244,8 @@ pub fn solve_with_buffers(
     effects: &Effects,
     buffers: &mut SolveBuffers,
 ) -> SolveStats {
+    let kernel = &config.kernel;
     let SolveBuffers {
-        kernel,
         constraints,
         blocks,
         inverse_inertia,
@@ -401,7 +368,14 @@ pub fn solve_with_buffers(
         || blocks.iter().any(LaneBlock::has_restitution);
     if effects.restitution && restitution {
         let threshold = config.restitution_threshold;
-        sweep(constraints, blocks, batches, states, &Restitution(threshold), isa);
+        sweep(
+            constraints,
+            blocks,
+            batches,
+            states,
+            &Restitution(threshold),
+            isa,
+        );
     }
     for c in constraints.iter() {
         c.store_impulses(&mut contacts[c.contact as usize]);

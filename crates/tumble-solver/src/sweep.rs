@@ -54,9 +54,6 @@ pub(crate) enum Isa {
 impl Isa {
     /// The widest the processor runs.
     pub(crate) fn detect() -> Isa {
-        if std::env::var_os("TUMBLE_EXPERIMENT_PORTABLE").is_some() {
-            return Isa::Portable;
-        }
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             return Isa::Avx2;

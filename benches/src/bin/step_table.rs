@@ -22,7 +22,7 @@ use tumble::EffectOverrides;
 use tumble::prelude::*;
 use tumble_benches::cli::{SceneName, count};
 use tumble_scenes::{RapierOptions, Scene, build_rapier_with};
-use tumble_solver::Stage;
+use tumble_solver::{SolveKernel, Stage};
 
 /// Steps run before timing starts: pipelines compile, buffers grow, caches warm up.
 const WARMUP_STEPS: usize = 10;
@@ -72,6 +72,9 @@ enum Order {
 enum Engine {
     /// Tumble, every stage on the CPU.
     Cpu,
+    /// Tumble on the CPU with the scalar solve kernel (one constraint at a time,
+    /// `SolveKernel::Scalar`) instead of the lanes: the same bits, the reference's time.
+    CpuScalar,
     /// Tumble, every stage on the GPU.
     Gpu,
     /// Tumble, collision on the GPU and the solver on the CPU.
@@ -84,10 +87,18 @@ impl Engine {
     /// Tumble's backend, or `None` for rapier3d.
     fn backend(self) -> Option<Backend> {
         match self {
-            Engine::Cpu => Some(Backend::Cpu),
+            Engine::Cpu | Engine::CpuScalar => Some(Backend::Cpu),
             Engine::Gpu => Some(Backend::Gpu),
             Engine::Hybrid => Some(Backend::Hybrid),
             Engine::Rapier => None,
+        }
+    }
+
+    /// The solve kernel of a Tumble row.
+    fn kernel(self) -> SolveKernel {
+        match self {
+            Engine::CpuScalar => SolveKernel::Scalar,
+            _ => SolveKernel::Lanes,
         }
     }
 
@@ -95,6 +106,7 @@ impl Engine {
     fn name(self) -> &'static str {
         match self {
             Engine::Cpu => "cpu",
+            Engine::CpuScalar => "cpu-scalar",
             Engine::Gpu => "gpu",
             Engine::Hybrid => "hybrid",
             Engine::Rapier => "rapier",
@@ -128,10 +140,12 @@ fn run_tumble(
     backend: Backend,
     substeps: u32,
     order: Order,
+    kernel: SolveKernel,
     steps: usize,
 ) -> Result<Run, Error> {
     let solver = SolverConfig {
         substeps,
+        kernel,
         order: match order {
             Order::Colored => SolveOrder::Colored,
             Order::Rounds => SolveOrder::ColoredInRounds,
@@ -262,7 +276,14 @@ fn main() {
         let mut rows = Vec::new();
         for &engine in &args.backends {
             let run = match engine.backend() {
-                Some(backend) => run_tumble(&scene, backend, args.substeps, args.order, args.steps),
+                Some(backend) => run_tumble(
+                    &scene,
+                    backend,
+                    args.substeps,
+                    args.order,
+                    engine.kernel(),
+                    args.steps,
+                ),
                 None => Ok(run_rapier(&scene, args.substeps, args.steps)),
             };
             rows.push((engine.name(), run));

@@ -8,14 +8,15 @@
 //! point operation in order. The scenes below reach each of those: piles of four-point patches,
 //! dominoes that tip onto edges (two points), a cube sliding down a ramp (every point clamped,
 //! no second visit), a pool of boxes of mixed sizes that bounce (restitution) with friction
-//! from zero up, mass ratios of 100, and a fast box that needs speculative points. Each ends
-//! after enough steps that any difference in any bit would have spread to the poses. The
-//! Baumgarte solver and the step with friction switched off run the same kernels through other
-//! paths and are compared too.
+//! from zero up, mass ratios of 100, a fast box that needs speculative points, and a pyramid
+//! on a kinematic floor that slides and turns. Each ends after enough steps that any
+//! difference in any bit would have spread to the poses. The Baumgarte solver, the step
+//! without warm starting and the step with friction switched off run the same kernels through
+//! other paths and are compared too.
 
 use tumble::{Backend, EffectOverrides, EffectSwitch, World, WorldConfig};
 use tumble_scenes::{
-    Scene, dominoes, friction_ramp, high_speed, mass_ratio, pool, pyramid, wide_on_small,
+    BodyKind, Scene, dominoes, friction_ramp, high_speed, mass_ratio, pool, pyramid, wide_on_small,
 };
 use tumble_solver::{SolveKernel, SolverConfig};
 
@@ -34,9 +35,27 @@ fn bouncing_pool() -> Scene {
     scene
 }
 
+/// A small pyramid on a kinematic floor that slides and turns: lanes whose static side is a
+/// moving body (read by several lanes, written by none).
+fn turntable() -> Scene {
+    let mut scene = pyramid(4);
+    for body in scene
+        .bodies
+        .iter_mut()
+        .filter(|b| b.kind == BodyKind::Fixed)
+    {
+        body.kind = BodyKind::Kinematic;
+        body.linear_velocity = [0.3, 0.0, 0.1];
+        body.angular_velocity = [0.0, 0.4, 0.0];
+    }
+    scene.name = "turntable".into();
+    scene
+}
+
 fn scenes() -> Vec<Scene> {
     vec![
         pyramid(8),
+        turntable(),
         dominoes(12),
         friction_ramp(30.0, 0.3),
         bouncing_pool(),
@@ -46,8 +65,14 @@ fn scenes() -> Vec<Scene> {
     ]
 }
 
-/// Every pose and velocity bit of `scene` after `steps` steps on the CPU backend.
-fn run(scene: &Scene, solver: SolverConfig, effects: EffectOverrides, steps: usize) -> Vec<u32> {
+/// Every pose and velocity bit of `scene` after `steps` steps on the CPU backend, and the
+/// most colors any step solved on the thread pool.
+fn run(
+    scene: &Scene,
+    solver: SolverConfig,
+    effects: EffectOverrides,
+    steps: usize,
+) -> (Vec<u32>, usize) {
     let (mut world, handles) = World::from_scene(
         scene,
         WorldConfig {
@@ -58,8 +83,10 @@ fn run(scene: &Scene, solver: SolverConfig, effects: EffectOverrides, steps: usi
         },
     )
     .expect("the scene builds");
+    let mut pooled = 0;
     for _ in 0..steps {
         world.step().expect("the step runs");
+        pooled = pooled.max(world.stats().parallel_colors);
     }
     let mut bits = Vec::new();
     for &h in &handles {
@@ -79,7 +106,7 @@ fn run(scene: &Scene, solver: SolverConfig, effects: EffectOverrides, steps: usi
             c.to_bits()
         }));
     }
-    bits
+    (bits, pooled)
 }
 
 fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
@@ -92,14 +119,30 @@ fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
 
 /// Runs each scene with every kernel and checks that they agree bit for bit. The scalar run
 /// must also differ from the scene's start, or equality would prove nothing.
+///
+/// Colors from 8 constraints up go to the thread pool (the default waits for 256, more than
+/// these scenes' colors hold), so that on 2 threads the pyramid of 8's colors of several dozen
+/// constraints are claimed block by block by both workers: the staged lane path, not the
+/// one-thread loop.
 fn check(solver: SolverConfig, effects: EffectOverrides) {
+    let solver = SolverConfig {
+        parallel_threshold: 8,
+        ..solver
+    };
     for scene in scenes() {
         let with = |kernel, threads| {
             let config = SolverConfig { kernel, ..solver };
             on_threads(threads, || run(&scene, config, effects, STEPS))
         };
-        let scalar = with(SolveKernel::Scalar, 1);
-        let start = run(&scene, solver, effects, 0);
+        let (scalar, pooled) = with(SolveKernel::Scalar, 1);
+        if scene.name.starts_with("pyramid") {
+            assert!(
+                pooled > 0,
+                "{}: no color reached the thread pool",
+                scene.name
+            );
+        }
+        let (start, _) = run(&scene, solver, effects, 0);
         assert_ne!(
             scalar.len(),
             0,
@@ -114,7 +157,7 @@ fn check(solver: SolverConfig, effects: EffectOverrides) {
             (SolveKernel::Lanes, 2),
             (SolveKernel::PortableLanes, 1),
         ] {
-            let lanes = with(kernel, threads);
+            let (lanes, _) = with(kernel, threads);
             let first = scalar.iter().zip(&lanes).position(|(a, b)| a != b);
             assert!(
                 first.is_none() && lanes.len() == scalar.len(),
@@ -134,9 +177,17 @@ fn lane_kernels_match_the_scalar_kernel_bit_for_bit() {
 }
 
 #[test]
-fn lane_kernels_match_the_scalar_kernel_for_baumgarte_and_without_friction() {
+fn lane_kernels_match_the_scalar_kernel_for_baumgarte_cold_starts_and_without_friction() {
     // Baumgarte: rigid rows, a slop, several biased passes and no relax pass.
     check(SolverConfig::baumgarte(), EffectOverrides::NO_SLEEP);
+    // Without warm starting every block starts from zero impulses.
+    check(
+        SolverConfig {
+            warm_start: false,
+            ..SolverConfig::default()
+        },
+        EffectOverrides::NO_SLEEP,
+    );
     // Friction off: every lane skips its tangent rows and the second visit.
     check(
         SolverConfig::default(),

@@ -38,8 +38,8 @@ pub enum SolveOrder {
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum SolveKernel {
     /// Blocks of [`crate::LANES`] constraints of a color solved side by side, one vector instruction
-    /// per arithmetic step (`lanes.rs`), on the widest registers the processor has (AVX2 when
-    /// detected at run time). The same bits as `Scalar`.
+    /// per arithmetic step (`lanes.rs`), on AVX2 when detected at run time (the build's baseline
+    /// instructions otherwise). The same bits as `Scalar`.
     #[default]
     Lanes,
     /// The lane kernels on the instructions the build targets only (no run-time detection).

@@ -212,8 +212,9 @@ pub fn solve_contact(
         solve_tilt(c, a, b);
     }
     // Zero friction means one row per point: skip the tangent rows entirely, and with them
-    // the second visit, which only restores what they disturbed.
-    if c.friction == 0.0 {
+    // the second visit, which only restores what they disturbed. The same test as prepare's
+    // (`friction > 0` builds the rows) and the lanes' mask.
+    if c.friction <= 0.0 {
         return;
     }
     let all_slide = solve_friction_rows(c, a, b);

@@ -4,9 +4,9 @@
 //!
 //! Each lane does exactly what [`crate::contact_solver`] does for one constraint, operation for
 //! operation and in the same order (the dot product `(x x' + y y') + z z'` as nalgebra forms
-//! it, a quaternion turning a vector as nalgebra does, `f32::max` and `f32::min` for the
-//! clamps as a compare and a select), and a branch of the scalar code becomes a mask that selects, lane by lane, the new
-//! value or the old one. Skipped work is never computed as "add zero": adding `0.0` to `-0.0`
+//! it, a quaternion turning a vector as nalgebra does, the clamps as a compare and a select,
+//! as the scalar kernel's `max_of` and `min_of` do), and a branch of the scalar code becomes a
+//! mask that selects, lane by lane, the new value or the old one. Skipped work is never computed as "add zero": adding `0.0` to `-0.0`
 //! changes a bit. So a lane ends with the bits the scalar kernel gives, and the solve's result
 //! does not depend on the kernel width (the tests compare the two bit for bit).
 //!
@@ -491,8 +491,9 @@ impl LaneBlock {
     ///
     /// # Safety
     /// `states` points at `len` states; every body index of the block is below `len`
-    /// (checked by [`LaneBlock::gather`] on the same states), and no other thread reads or
-    /// writes this block's dynamic bodies meanwhile.
+    /// (checked by [`LaneBlock::gather`] on the same states, and no kernel changes a block's
+    /// body indices or dynamic flags: they are written by [`LaneBlock::set`] only), and no
+    /// other thread reads or writes this block's dynamic bodies meanwhile.
     #[inline(always)]
     pub(crate) unsafe fn scatter(&self, v: &LaneBodies, states: *mut BodyState) {
         for l in 0..self.len as usize {
@@ -715,7 +716,7 @@ pub(crate) fn solve(c: &mut LaneBlock, v: &mut LaneBodies, ctx: &PassContext) {
     if c.patch.any() {
         tilt(c, v, c.patch);
     }
-    let friction = !c.friction.eq(F::splat(0.0));
+    let friction = c.friction.gt(F::splat(0.0));
     if !friction.any() {
         return;
     }

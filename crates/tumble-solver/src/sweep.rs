@@ -4,9 +4,11 @@
 //!
 //! The workers start once per sweep (one pass over every batch) and take blocks of
 //! [`BLOCK`] constraints of the current batch by an atomic counter, as Box2D v3's solver
-//! stages do; each constraint copies its two body states, solves on the copies and writes the
-//! dynamic ones straight back into the shared state array, with no scratch copy and no serial
-//! write-back. Inside a color no dynamic body appears twice ([`Batch::parallel`] promises it
+//! stages do. A color solved by the lane kernels is taken as `BLOCK / LANES` lane blocks at a
+//! time: a block gathers its lanes' body states, solves them side by side and scatters the
+//! dynamic ones back; a scalar constraint copies its two body states and writes the dynamic
+//! ones back. Either way the writes go straight into the shared state array, with no scratch
+//! copy and no serial write-back. Inside a color no dynamic body appears twice ([`Batch::parallel`] promises it
 //! and [`check_disjoint`] checks it once per step), so a constraint reads exactly the state a
 //! sequential visit would read and writes bodies no other constraint of the color reads or
 //! writes: the result is the same bits on any number of threads and under any scheduling.
@@ -21,10 +23,13 @@ use crate::{BodyState, ContactConstraint};
 /// worker taking it, small enough that a color of a few hundred constraints still spreads.
 const BLOCK: usize = 32;
 
-/// A run of constraints (indices into the step's constraint array) visited as one unit.
+// A parallel lane batch is claimed `BLOCK / LANES` lane blocks at a time.
+const _: () = assert!(LANES <= BLOCK && BLOCK.is_multiple_of(LANES));
+
+/// A run of constraints visited as one unit.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Batch {
-    /// The constraints of the batch.
+    /// The batch's places in the solve order (indices into the step's order of contacts).
     pub range: Range<usize>,
     /// True when no two constraints of the batch share a dynamic body and it is large enough
     /// to be worth the thread pool.
@@ -51,14 +56,28 @@ pub(crate) enum Isa {
     Avx2,
 }
 
+/// Whether the processor runs AVX2 (never off x86-64).
+#[inline]
+fn avx2_present() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
 impl Isa {
-    /// The widest the processor runs.
+    /// AVX2 where the processor has it (the lanes do not use AVX-512's wider registers),
+    /// the portable path otherwise.
     pub(crate) fn detect() -> Isa {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            return Isa::Avx2;
+        if avx2_present() {
+            Isa::Avx2
+        } else {
+            Isa::Portable
         }
-        Isa::Portable
     }
 }
 
@@ -253,10 +272,11 @@ impl Shared {
         if !batch.lanes.is_empty() {
             let blocks = batch.lanes.start + items.start..batch.lanes.start + items.end;
             match isa {
-                // SAFETY: AVX2 was detected (`Isa::detect`); the rest is the caller's contract.
-                Isa::Avx2 => unsafe { self.solve_blocks_avx2(blocks, pass) },
+                // SAFETY: AVX2 is present (checked here: `Isa::Avx2` is any crate code's to
+                // build; the detection is a cached load); the rest is the caller's contract.
+                Isa::Avx2 if avx2_present() => unsafe { self.solve_blocks_avx2(blocks, pass) },
                 // SAFETY: the caller's contract.
-                Isa::Portable => unsafe { self.solve_blocks(blocks, pass) },
+                Isa::Avx2 | Isa::Portable => unsafe { self.solve_blocks(blocks, pass) },
             }
             return;
         }

@@ -38,7 +38,7 @@ pub enum SolveOrder {
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum SolveKernel {
     /// Blocks of [`crate::LANES`] constraints of a color solved side by side, one vector instruction
-    /// per arithmetic step (`lanes.rs`), on AVX2 when detected at run time (the build's baseline
+    /// per arithmetic step (`lanes/`), on AVX2 when detected at run time (the build's baseline
     /// instructions otherwise). The same bits as `Scalar`.
     #[default]
     Lanes,

@@ -20,7 +20,7 @@ pub struct PassContext {
 }
 
 /// `a` when it is greater than `b`, else `b`: the clamps of the passes, written as a compare
-/// and a select so that the scalar and the lane kernels (`lanes.rs`) agree to the bit.
+/// and a select so that the scalar and the lane kernels (`lanes/`) agree to the bit.
 /// `f32::max` leaves the sign of a zero result open (`max(-0.0, 0.0)` may be either), and
 /// the compiler's scalar and vector forms of it need not choose alike.
 #[inline(always)]

@@ -8,6 +8,7 @@ mod coloring;
 mod integration;
 mod islands;
 mod kernels;
+mod lanes;
 mod mass;
 mod misc;
 mod prepare;

@@ -1,0 +1,235 @@
+//! A block of up to [`LANES`] constraints of one color, field by field: filled from the
+//! prepared constraints, its bodies gathered from and scattered back into the state array,
+//! its impulses stored into the contacts.
+
+use tumble_geometry::{MAX_MANIFOLD_POINTS, Real};
+
+use super::LANES;
+use super::wide::{F, M, M3, Q, V3};
+use crate::{BodyState, Contact, ContactConstraint};
+
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Point {
+    pub(super) anchor_a: V3,
+    pub(super) anchor_b: V3,
+    pub(super) base_separation: F,
+    pub(super) normal_mass: F,
+    pub(super) tangent_mass: [F; 2],
+    pub(super) normal_impulse: F,
+    pub(super) tangent_impulse: [F; 2],
+    pub(super) total_normal_impulse: F,
+    pub(super) relative_velocity: F,
+}
+
+/// Up to [`LANES`] constraints of one color, field by field.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct LaneBlock {
+    /// Constraints in the block (the lanes past it are padding, never written back).
+    pub(super) len: u32,
+    /// Each lane's contact (index into the step's contacts).
+    pub(super) contact: [u32; LANES],
+    /// Most points of any lane.
+    pub(super) max_points: u32,
+    pub(super) body_a: [u32; LANES],
+    pub(super) body_b: [u32; LANES],
+    pub(super) dynamic_a: [bool; LANES],
+    pub(super) dynamic_b: [bool; LANES],
+    pub(super) normal: V3,
+    pub(super) tangent1: V3,
+    pub(super) tangent2: V3,
+    pub(super) inverse_mass_a: V3,
+    pub(super) inverse_mass_b: V3,
+    pub(super) friction: F,
+    pub(super) restitution: F,
+    pub(super) bias_rate: F,
+    pub(super) mass_scale: F,
+    pub(super) impulse_scale: F,
+    pub(super) slop: F,
+    /// `point_count` as a float (the tilt limit's factor).
+    pub(super) point_count: F,
+    /// Per point, the lanes that have it.
+    pub(super) point_mask: [M; MAX_MANIFOLD_POINTS],
+    /// Lanes with a face patch (`patch_radius > 0`).
+    pub(super) patch: M,
+    pub(super) patch_radius: F,
+    pub(super) tilt_mass: [F; 2],
+    pub(super) tilt_impulse: [F; 2],
+    pub(super) inverse_inertia_a: M3,
+    pub(super) inverse_inertia_b: M3,
+    pub(super) points: [Point; MAX_MANIFOLD_POINTS],
+}
+
+impl LaneBlock {
+    /// Starts a block of `len` constraints (1 to [`LANES`]) whose lanes [`LaneBlock::set`]
+    /// fills next. A block with padding lanes is cleared first, so that they hold zeros; a
+    /// full block keeps last step's values in the points past each lane's count, which the
+    /// point masks leave out of every result.
+    #[inline]
+    pub(crate) fn start(&mut self, len: usize) {
+        debug_assert!(len > 0 && len <= LANES);
+        if len < LANES {
+            *self = LaneBlock::default();
+        }
+        self.len = len as u32;
+        self.max_points = 0;
+    }
+
+    /// Lane `l` set to constraint `c`. Lane 0's bodies are also every padding lane's (any
+    /// index in range would do: padding lanes are computed and thrown away).
+    #[inline]
+    pub(crate) fn set(&mut self, l: usize, c: &ContactConstraint) {
+        let b = self;
+        if l == 0 {
+            b.body_a = [c.body_a; LANES];
+            b.body_b = [c.body_b; LANES];
+        }
+        b.max_points = b.max_points.max(c.point_count);
+        b.contact[l] = c.contact;
+        b.body_a[l] = c.body_a;
+        b.body_b[l] = c.body_b;
+        b.dynamic_a[l] = c.dynamic_a;
+        b.dynamic_b[l] = c.dynamic_b;
+        b.normal.set(l, &c.normal);
+        b.tangent1.set(l, &c.tangent1);
+        b.tangent2.set(l, &c.tangent2);
+        b.inverse_mass_a.set(l, &c.inverse_mass_a);
+        b.inverse_mass_b.set(l, &c.inverse_mass_b);
+        b.inverse_inertia_a.set(l, &c.inverse_inertia_a);
+        b.inverse_inertia_b.set(l, &c.inverse_inertia_b);
+        b.friction.0[l] = c.friction;
+        b.restitution.0[l] = c.restitution;
+        b.bias_rate.0[l] = c.softness.bias_rate;
+        b.mass_scale.0[l] = c.softness.mass_scale;
+        b.impulse_scale.0[l] = c.softness.impulse_scale;
+        b.slop.0[l] = c.slop;
+        b.point_count.0[l] = c.point_count as Real;
+        b.patch.0[l] = if c.patch_radius > 0.0 { !0 } else { 0 };
+        b.patch_radius.0[l] = c.patch_radius;
+        for k in 0..2 {
+            b.tilt_mass[k].0[l] = c.tilt_mass[k];
+            b.tilt_impulse[k].0[l] = c.tilt_impulse[k];
+        }
+        for (i, q) in b.points.iter_mut().enumerate() {
+            let has = i < c.point_count as usize;
+            b.point_mask[i].0[l] = if has { !0 } else { 0 };
+            if !has {
+                continue;
+            }
+            let p = &c.points[i];
+            q.anchor_a.set(l, &p.anchor_a);
+            q.anchor_b.set(l, &p.anchor_b);
+            q.base_separation.0[l] = p.base_separation;
+            q.normal_mass.0[l] = p.normal_mass;
+            q.normal_impulse.0[l] = p.normal_impulse;
+            q.total_normal_impulse.0[l] = p.total_normal_impulse;
+            q.relative_velocity.0[l] = p.relative_velocity;
+            for k in 0..2 {
+                q.tangent_mass[k].0[l] = p.tangent_mass[k];
+                q.tangent_impulse[k].0[l] = p.tangent_impulse[k];
+            }
+        }
+    }
+
+    /// True when some lane has restitution.
+    pub(crate) fn has_restitution(&self) -> bool {
+        self.restitution.0[..self.len as usize]
+            .iter()
+            .any(|&r| r > 0.0)
+    }
+
+    /// Writes each lane's impulses into its contact, as
+    /// [`ContactConstraint::store_impulses`] does.
+    pub(crate) fn store(&self, contacts: &mut [Contact]) {
+        for l in 0..self.len as usize {
+            let (t1, t2) = (self.tangent1.get(l), self.tangent2.get(l));
+            let contact = &mut contacts[self.contact[l] as usize];
+            for (i, p) in self.points.iter().enumerate() {
+                if self.point_mask[i].0[l] == 0 {
+                    continue;
+                }
+                contact.impulses[i].normal = p.normal_impulse.0[l];
+                contact.impulses[i].friction =
+                    t1 * p.tangent_impulse[0].0[l] + t2 * p.tangent_impulse[1].0[l];
+                contact.total_normal_impulse[i] = p.total_normal_impulse.0[l];
+            }
+            contact.tilt_impulse = t1 * self.tilt_impulse[0].0[l] + t2 * self.tilt_impulse[1].0[l];
+        }
+    }
+
+    /// The lanes' bodies read from the `len` states at `states`.
+    ///
+    /// # Panics
+    /// When a body index is out of range (a caller's broken constraint, as in the scalar
+    /// sweep).
+    ///
+    /// # Safety
+    /// `states` points at `len` states that no other thread writes meanwhile.
+    #[inline(always)]
+    pub(crate) unsafe fn gather(&self, states: *const BodyState, len: usize) -> LaneBodies {
+        let mut v = LaneBodies {
+            inverse_mass_a: self.inverse_mass_a,
+            inverse_mass_b: self.inverse_mass_b,
+            ..LaneBodies::default()
+        };
+        for l in 0..LANES {
+            let (ia, ib) = (self.body_a[l] as usize, self.body_b[l] as usize);
+            assert!(ia < len && ib < len, "body index out of range");
+            // SAFETY: in range (checked); the caller's contract.
+            let (a, b) = unsafe { (&*states.add(ia), &*states.add(ib)) };
+            v.a_linear.set(l, &a.linear_velocity);
+            v.a_angular.set(l, &a.angular_velocity);
+            v.b_linear.set(l, &b.linear_velocity);
+            v.b_angular.set(l, &b.angular_velocity);
+            v.delta_position
+                .set(l, &(b.delta_position - a.delta_position));
+            let (qa, qb) = (a.delta_rotation.as_ref(), b.delta_rotation.as_ref());
+            v.rotation_a.v.set(l, &qa.imag());
+            v.rotation_a.w.0[l] = qa.w;
+            v.rotation_b.v.set(l, &qb.imag());
+            v.rotation_b.w.0[l] = qb.w;
+        }
+        v
+    }
+
+    /// Writes the solved velocities of the block's dynamic bodies into `states`.
+    ///
+    /// # Safety
+    /// `states` points at `len` states; every body index of the block is below `len`
+    /// (checked by [`LaneBlock::gather`] on the same states, and no kernel changes a block's
+    /// body indices or dynamic flags: they are written by [`LaneBlock::set`] only), and no
+    /// other thread reads or writes this block's dynamic bodies meanwhile.
+    #[inline(always)]
+    pub(crate) unsafe fn scatter(&self, v: &LaneBodies, states: *mut BodyState) {
+        for l in 0..self.len as usize {
+            // SAFETY: the caller's contract.
+            unsafe {
+                if self.dynamic_a[l] {
+                    let s = &mut *states.add(self.body_a[l] as usize);
+                    s.linear_velocity = v.a_linear.get(l);
+                    s.angular_velocity = v.a_angular.get(l);
+                }
+                if self.dynamic_b[l] {
+                    let s = &mut *states.add(self.body_b[l] as usize);
+                    s.linear_velocity = v.b_linear.get(l);
+                    s.angular_velocity = v.b_angular.get(l);
+                }
+            }
+        }
+    }
+}
+
+/// The two bodies of each lane: velocities (which the passes change), inverse masses, and
+/// the step's deltas (which they read to rebuild the separation).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct LaneBodies {
+    pub(super) a_linear: V3,
+    pub(super) a_angular: V3,
+    pub(super) b_linear: V3,
+    pub(super) b_angular: V3,
+    pub(super) inverse_mass_a: V3,
+    pub(super) inverse_mass_b: V3,
+    /// `delta_position_b - delta_position_a`.
+    pub(super) delta_position: V3,
+    pub(super) rotation_a: Q,
+    pub(super) rotation_b: Q,
+}

@@ -1,0 +1,180 @@
+//! The lane kernels (`lanes/`) against the scalar kernels (`contact_solver.rs`) on random
+//! blocks of the random constraints of `kernels.rs`, bit for bit.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use tumble_geometry::Real;
+
+use super::kernels::random_case;
+use crate::{
+    BodyState, Contact, ContactConstraint, PassContext, restitution_contact, solve_contact,
+    warm_start_contact,
+};
+
+/// Every bit of `states` and of each contact's stored impulses, for comparing two kernels.
+fn bits_of(states: &[BodyState], contacts: &[Contact]) -> Vec<u32> {
+    let mut bits = Vec::new();
+    for s in states {
+        let q = s.delta_rotation.quaternion();
+        let values = s
+            .linear_velocity
+            .iter()
+            .chain(s.angular_velocity.iter())
+            .chain(s.delta_position.iter())
+            .chain([&q.i, &q.j, &q.k, &q.w]);
+        bits.extend(values.map(|v| v.to_bits()));
+    }
+    for c in contacts {
+        for (p, total) in c.impulses.iter().zip(&c.total_normal_impulse) {
+            bits.push(p.normal.to_bits());
+            bits.extend(p.friction.iter().map(|v| v.to_bits()));
+            bits.push(total.to_bits());
+        }
+        bits.extend(c.tilt_impulse.iter().map(|v| v.to_bits()));
+    }
+    bits
+}
+
+/// The lane kernels (`lanes.rs`) against the scalar kernels on random blocks of one to
+/// [`crate::LANES`] of the random constraints above (any point count, friction zero or not,
+/// restitution or none, patches and edges, fixed and kinematic sides, biased and relax
+/// passes), through warm start, two solve passes and restitution: every bit of every body
+/// state and stored impulse must agree, on AVX2 when the processor has it and on the
+/// portable path. The step-level test (`tests/tests/solver_kernels.rs`) reaches these
+/// branches through scenes; this one reaches combinations no scene lines up in one block.
+#[test]
+fn lane_kernels_give_the_scalar_kernels_bits_on_random_blocks() {
+    use crate::lanes::{LANES, LaneBlock};
+    use crate::sweep::Isa;
+
+    let mut rng = ChaCha8Rng::seed_from_u64(0x1a9e5);
+    for trial in 0..3_000 {
+        let len = rng.random_range(1..=LANES);
+        let mut constraints = Vec::new();
+        let mut states = Vec::new();
+        let mut passes = Vec::new();
+        for l in 0..len {
+            let (mut c, a, b, pass, threshold) = random_case(&mut rng).parts();
+            c.body_a = (2 * l) as u32;
+            c.body_b = (2 * l + 1) as u32;
+            c.contact = l as u32;
+            constraints.push(c);
+            states.extend([a, b]);
+            passes.push((pass, threshold));
+        }
+        // One block shares its pass settings: the first lane's.
+        let (pass, threshold) = passes[0];
+        let relax = PassContext {
+            use_bias: false,
+            ..pass
+        };
+
+        // Scalar: one constraint at a time, the dynamic sides written back.
+        let mut scalar_states = states.clone();
+        let mut scalar_constraints = constraints.clone();
+        let visit =
+            |states: &mut [BodyState],
+             cs: &mut [ContactConstraint],
+             f: &dyn Fn(&mut ContactConstraint, &mut BodyState, &mut BodyState)| {
+                for c in cs.iter_mut() {
+                    let (ia, ib) = (c.body_a as usize, c.body_b as usize);
+                    let (mut a, mut b) = (states[ia], states[ib]);
+                    f(c, &mut a, &mut b);
+                    if c.dynamic_a {
+                        states[ia] = a;
+                    }
+                    if c.dynamic_b {
+                        states[ib] = b;
+                    }
+                }
+            };
+        visit(&mut scalar_states, &mut scalar_constraints, &|c, a, b| {
+            warm_start_contact(c, a, b)
+        });
+        visit(&mut scalar_states, &mut scalar_constraints, &|c, a, b| {
+            solve_contact(c, a, b, &pass)
+        });
+        visit(&mut scalar_states, &mut scalar_constraints, &|c, a, b| {
+            solve_contact(c, a, b, &relax)
+        });
+        visit(&mut scalar_states, &mut scalar_constraints, &|c, a, b| {
+            restitution_contact(c, a, b, threshold)
+        });
+        let mut scalar_contacts = vec![Contact::default(); len];
+        for c in &scalar_constraints {
+            c.store_impulses(&mut scalar_contacts[c.contact as usize]);
+        }
+        let expected = bits_of(&scalar_states, &scalar_contacts);
+
+        for avx2 in [false, Isa::detect() == Isa::Avx2] {
+            let mut block = LaneBlock::default();
+            block.start(len);
+            for (l, c) in constraints.iter().enumerate() {
+                block.set(l, c);
+            }
+            let mut lane_states = states.clone();
+            if !avx2 {
+                lane_passes(&mut block, &mut lane_states, &pass, threshold);
+            }
+            #[cfg(target_arch = "x86_64")]
+            if avx2 {
+                // SAFETY: AVX2 was detected.
+                unsafe { lane_passes_avx2(&mut block, &mut lane_states, &pass, threshold) };
+            }
+            let mut lane_contacts = vec![Contact::default(); len];
+            block.store(&mut lane_contacts);
+            let got = bits_of(&lane_states, &lane_contacts);
+            let first = expected.iter().zip(&got).position(|(a, b)| a != b);
+            assert!(
+                first.is_none(),
+                "trial {trial}: {len} lanes differ from the scalar kernels at value {}",
+                first.unwrap_or(0)
+            );
+        }
+    }
+}
+
+/// Warm start, a biased and a relax solve pass and restitution on one lane block, each pass
+/// gathering the block's bodies from `states` and scattering the dynamic ones back, as the
+/// solve does.
+#[inline(always)]
+fn lane_passes(
+    block: &mut crate::lanes::LaneBlock,
+    states: &mut [BodyState],
+    pass: &PassContext,
+    threshold: Real,
+) {
+    use crate::lanes::{self, LaneBlock, LaneBodies};
+    let relax = PassContext {
+        use_bias: false,
+        ..*pass
+    };
+    let mut run = |block: &mut LaneBlock, f: &dyn Fn(&mut LaneBlock, &mut LaneBodies)| {
+        let n = states.len();
+        // SAFETY: one thread; `gather` checks every body index against `n`.
+        unsafe {
+            let mut v = block.gather(states.as_ptr(), n);
+            f(block, &mut v);
+            block.scatter(&v, states.as_mut_ptr());
+        }
+    };
+    run(block, &|c, v| lanes::warm_start(c, v));
+    run(block, &|c, v| lanes::solve(c, v, pass));
+    run(block, &|c, v| lanes::solve(c, v, &relax));
+    run(block, &|c, v| lanes::restitution(c, v, threshold));
+}
+
+/// [`lane_passes`] compiled for AVX2, as the solve's AVX2 path is.
+///
+/// # Safety
+/// The processor runs AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn lane_passes_avx2(
+    block: &mut crate::lanes::LaneBlock,
+    states: &mut [BodyState],
+    pass: &PassContext,
+    threshold: Real,
+) {
+    lane_passes(block, states, pass, threshold);
+}

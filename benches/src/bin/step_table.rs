@@ -75,6 +75,9 @@ enum Engine {
     /// Tumble on the CPU with the scalar solve kernel (one constraint at a time,
     /// `SolveKernel::Scalar`) instead of the lanes: the same bits, the reference's time.
     CpuScalar,
+    /// Tumble on the CPU with contact recycling off (`WorldConfig::recycle_distance = 0`):
+    /// every manifold computed afresh every step, the step before recycling.
+    CpuFresh,
     /// Tumble, every stage on the GPU.
     Gpu,
     /// Tumble, collision on the GPU and the solver on the CPU.
@@ -87,7 +90,7 @@ impl Engine {
     /// Tumble's backend, or `None` for rapier3d.
     fn backend(self) -> Option<Backend> {
         match self {
-            Engine::Cpu | Engine::CpuScalar => Some(Backend::Cpu),
+            Engine::Cpu | Engine::CpuScalar | Engine::CpuFresh => Some(Backend::Cpu),
             Engine::Gpu => Some(Backend::Gpu),
             Engine::Hybrid => Some(Backend::Hybrid),
             Engine::Rapier => None,
@@ -102,11 +105,20 @@ impl Engine {
         }
     }
 
+    /// The contact recycle distance of a Tumble row.
+    fn recycle_distance(self) -> f32 {
+        match self {
+            Engine::CpuFresh => 0.0,
+            _ => tumble_solver::DEFAULT_RECYCLE_DISTANCE,
+        }
+    }
+
     /// The name the row is labelled with, as given on the command line.
     fn name(self) -> &'static str {
         match self {
             Engine::Cpu => "cpu",
             Engine::CpuScalar => "cpu-scalar",
+            Engine::CpuFresh => "cpu-fresh",
             Engine::Gpu => "gpu",
             Engine::Hybrid => "hybrid",
             Engine::Rapier => "rapier",
@@ -141,6 +153,7 @@ fn run_tumble(
     substeps: u32,
     order: Order,
     kernel: SolveKernel,
+    recycle_distance: f32,
     steps: usize,
 ) -> Result<Run, Error> {
     let solver = SolverConfig {
@@ -157,6 +170,7 @@ fn run_tumble(
         solver,
         // The full step's cost: no body is put to sleep.
         effects: EffectOverrides::NO_SLEEP,
+        recycle_distance,
         ..WorldConfig::default()
     };
     let (mut world, handles) = World::from_scene(scene, config)?;
@@ -247,8 +261,10 @@ fn run_rapier(scene: &Scene, substeps: u32, steps: usize) -> Run {
         .collect();
     let threads = if cfg!(feature = "rapier-parallel") {
         format!(
+            // rapier3d's `parallel` feature runs on rayon's global pool, which follows
+            // `RAYON_NUM_THREADS` (the machine's threads otherwise), like Tumble's rows.
             "parallel, {} threads",
-            std::thread::available_parallelism().map_or(1, |n| n.get())
+            rayon::current_num_threads()
         )
     } else {
         "one thread".to_owned()
@@ -282,6 +298,7 @@ fn main() {
                     args.substeps,
                     args.order,
                     engine.kernel(),
+                    engine.recycle_distance(),
                     args.steps,
                 ),
                 None => Ok(run_rapier(&scene, args.substeps, args.steps)),

@@ -75,6 +75,9 @@ pub const MAX_FRICTION: Real = 10.0;
 /// Largest speculative margin, m (the default is 2 cm): a margin above 1 m makes every box
 /// within a metre a contact and multiplies the pairs without need.
 pub const MAX_MARGIN: Real = 1.0;
+/// Largest contact recycle distance, m (the default is 1 mm): a point that slid a centimetre
+/// has left the features a fresh manifold would clip, so more would keep stale contacts.
+pub const MAX_RECYCLE_DISTANCE: Real = 0.01;
 /// Largest contact stiffness, Hz. The soft step caps it at a quarter of the substep rate
 /// anyway (at most `0.25 * MAX_SUBSTEPS / MIN_DT = 1.6e5` Hz), so a larger value is never
 /// used as given.
@@ -241,6 +244,9 @@ pub const EXPECTED_DAMPING: &str = "a number in [0, 1e4] 1/s (MAX_DAMPING)";
 pub const EXPECTED_FRICTION: &str = "a number in [0, 10] (MAX_FRICTION)";
 /// The range text of the margin.
 pub const EXPECTED_MARGIN: &str = "a number in [0, 1] m (MAX_MARGIN)";
+/// The range text of the contact recycle distance.
+pub const EXPECTED_RECYCLE_DISTANCE: &str =
+    "a number in [0, 0.01] m (MAX_RECYCLE_DISTANCE; 0 turns recycling off)";
 /// The range text of the contact stiffness.
 pub const EXPECTED_CONTACT_HERTZ: &str = "a number in (0, 1e5] Hz (MAX_CONTACT_HERTZ)";
 /// The range text of the damping ratio.
@@ -456,6 +462,10 @@ mod tests {
             (EXPECTED_DAMPING, vec![format!("{MAX_DAMPING:e}")]),
             (EXPECTED_FRICTION, vec![format!("{MAX_FRICTION}")]),
             (EXPECTED_MARGIN, vec![format!("{MAX_MARGIN}")]),
+            (
+                EXPECTED_RECYCLE_DISTANCE,
+                vec![format!("{MAX_RECYCLE_DISTANCE}")],
+            ),
             (
                 EXPECTED_CONTACT_HERTZ,
                 vec![format!("{MAX_CONTACT_HERTZ:e}")],

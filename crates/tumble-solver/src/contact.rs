@@ -32,6 +32,11 @@ pub struct Contact {
     pub total_normal_impulse: [Real; MAX_MANIFOLD_POINTS],
     /// In/out: the patch's tilting (rolling) angular impulse as a world vector, N m s.
     pub tilt_impulse: Vec3,
+    /// The narrow phase reused last step's manifold of the pair (contact recycling,
+    /// [`crate::CachedManifold::recycle`]): the contact cache then keeps the anchors of the
+    /// manifold last computed instead of taking this one's.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub recycled: bool,
 }
 
 impl Contact {

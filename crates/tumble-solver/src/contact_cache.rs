@@ -41,6 +41,19 @@ pub struct CachedManifold {
     pub tilt_impulse: Vec3,
     /// Number of valid points.
     pub len: u8,
+    /// Each point's anchor on A's surface, in A's frame: where the manifold last computed for
+    /// the pair (not a recycled one) put it ([`CachedManifold::recycle`]).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub anchors_a: [Vec3; MAX_MANIFOLD_POINTS],
+    /// Each point's anchor on B's surface, in B's frame, from the same manifold.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub anchors_b: [Vec3; MAX_MANIFOLD_POINTS],
+    /// That manifold's normal in B's frame.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub normal_b: Vec3,
+    /// Bit `i`: point `i` of that manifold overlapped (depth at least 0).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub overlapped: u8,
 }
 
 /// Stored manifolds below which the cache is written on the calling thread: one costs some
@@ -66,6 +79,8 @@ pub struct ContactCache {
     table: PairTable,
     /// Distinct stored pairs.
     len: usize,
+    /// Last store's entries, kept for their memory: the next store writes into it.
+    spare: Vec<CachedManifold>,
 }
 
 impl ContactCache {
@@ -124,17 +139,30 @@ impl ContactCache {
     pub fn store(&mut self, keys: &[PairKey], contacts: &[Contact], bodies: &[Body]) {
         let n = keys.len().min(contacts.len());
         let (keys, contacts) = (&keys[..n], &contacts[..n]);
-        let cached = |c: &Contact| CachedManifold::of(c, &bodies[c.body_a as usize].pose);
+        // The new entries are built beside the old ones: a recycled contact keeps the anchors
+        // of its pair's entry, which is looked up in the old cache.
+        let mut fresh = std::mem::take(&mut self.spare);
+        let old = &*self;
+        let cached = |(key, c): (&PairKey, &Contact)| {
+            let pose_a = &bodies[c.body_a as usize].pose;
+            let pose_b = &bodies[c.body_b as usize].pose;
+            let entry = CachedManifold::of(c, pose_a, pose_b);
+            match old.get(key) {
+                Some(last) if c.recycled => entry.with_anchors_of(last),
+                _ => entry,
+            }
+        };
         if n >= PARALLEL_MIN_STORE && rayon::current_num_threads() > 1 {
-            contacts
-                .par_iter()
+            keys.par_iter()
+                .zip(contacts.par_iter())
                 .with_min_len(STORE_PER_TASK)
                 .map(cached)
-                .collect_into_vec(&mut self.manifolds);
+                .collect_into_vec(&mut fresh);
         } else {
-            self.manifolds.clear();
-            self.manifolds.extend(contacts.iter().map(cached));
+            fresh.clear();
+            fresh.extend(keys.iter().zip(contacts).map(cached));
         }
+        self.spare = std::mem::replace(&mut self.manifolds, fresh);
         self.keys.clear();
         self.keys.extend_from_slice(keys);
         self.len = self.table.rebuild(&self.keys);
@@ -162,6 +190,7 @@ impl ContactCache {
             manifolds,
             table,
             len,
+            spare: Vec::new(),
         }
     }
 
@@ -170,21 +199,34 @@ impl ContactCache {
         let kept = |k: &PairKey| k.0 != id && k.1 != id;
         let mut keep = self.keys.iter().map(kept);
         self.manifolds.retain(|_| keep.next().unwrap_or(false));
+        self.spare.clear();
         self.keys.retain(kept);
         self.len = self.table.rebuild(&self.keys);
     }
 }
 
 impl CachedManifold {
-    /// What `contact` leaves behind, its body A at `pose_a` (the pose the manifold came
-    /// from): points and normal in A's frame, feature ids, impulses.
-    pub fn of(contact: &Contact, pose_a: &Pose) -> Self {
+    /// What `contact` leaves behind, its bodies at `pose_a` and `pose_b` (the poses the
+    /// manifold came from): points and normal in A's frame, feature ids, impulses, and the
+    /// anchors [`CachedManifold::recycle`] reuses it by.
+    pub fn of(contact: &Contact, pose_a: &Pose, pose_b: &Pose) -> Self {
         let m = &contact.manifold;
         let mut ids = [0u32; MAX_MANIFOLD_POINTS];
         let mut local_points = [Vec3::zeros(); MAX_MANIFOLD_POINTS];
+        let mut anchors_a = [Vec3::zeros(); MAX_MANIFOLD_POINTS];
+        let mut anchors_b = [Vec3::zeros(); MAX_MANIFOLD_POINTS];
+        let mut overlapped = 0u8;
         for (i, p) in m.points().iter().enumerate() {
             ids[i] = p.id;
             local_points[i] = pose_a.inverse_transform_point(&p.position).coords;
+            // The position is midway between the surfaces along the normal: A's surface lies
+            // half the depth towards B, B's half the depth back.
+            let half = m.normal * (0.5 * p.depth);
+            anchors_a[i] = pose_a.inverse_transform_point(&(p.position + half)).coords;
+            anchors_b[i] = pose_b.inverse_transform_point(&(p.position - half)).coords;
+            if p.depth >= 0.0 {
+                overlapped |= 1 << i;
+            }
         }
         CachedManifold {
             kind: m.kind,
@@ -195,6 +237,23 @@ impl CachedManifold {
             impulses: contact.impulses,
             tilt_impulse: contact.tilt_impulse,
             len: m.len,
+            anchors_a,
+            anchors_b,
+            normal_b: pose_b.rotation.inverse_transform_vector(&m.normal),
+            overlapped,
+        }
+    }
+
+    /// This entry (of a recycled manifold) with the anchors, normals and signs of `last`, the
+    /// entry it was recycled from, so that they stay those of the manifold last computed.
+    pub fn with_anchors_of(self, last: &CachedManifold) -> Self {
+        CachedManifold {
+            local_normal: last.local_normal,
+            anchors_a: last.anchors_a,
+            anchors_b: last.anchors_b,
+            normal_b: last.normal_b,
+            overlapped: last.overlapped,
+            ..self
         }
     }
 

@@ -40,11 +40,14 @@
 //! let ids = [0, 1];
 //! let (config, dt, margin): (SolverConfig, Real, Real) = (SolverConfig::default(), 1.0 / 60.0, 0.02);
 //! let gravity = Vec3::new(0.0, -9.81, 0.0);
+//! // Pairs that barely moved reuse last step's manifold (0.0 computes every one afresh).
+//! let recycle = tumble_solver::DEFAULT_RECYCLE_DISTANCE;
 //! let (mut grid, mut cache) = (KeptPairs::new(), ContactCache::new());
 //! for _ in 0..60 {
 //!     let aabbs = stages::update_aabbs(&bodies, &states, margin, dt);
 //!     let pairs = stages::broad_phase(&mut grid, &aabbs, &bodies);
-//!     let mut found = stages::narrow_phase(&bodies, &states, &pairs, &ids, &cache, margin, dt);
+//!     let mut found =
+//!         stages::narrow_phase(&bodies, &states, &pairs, &ids, &cache, margin, dt, recycle);
 //!     let coloring = stages::color(&found.contacts, &bodies, config.order, &gravity);
 //!     solve(&bodies, &mut states, &mut found.contacts, &coloring, &config, dt, &gravity);
 //!     stages::finish(&mut bodies, &mut states, &mut cache, &found.keys, &found.contacts);
@@ -75,6 +78,7 @@ mod mass;
 mod material;
 mod pair_hash;
 mod pair_table;
+mod recycle;
 mod sleep;
 mod softness;
 mod solve;
@@ -116,6 +120,9 @@ pub use lanes::LANES;
 pub use mass::MassProperties;
 pub use material::{DEFAULT_FRICTION, Material, mix_friction, mix_restitution};
 pub use pair_hash::{PairBuildHasher, PairHasher};
+pub use recycle::{
+    DEFAULT_RECYCLE_DISTANCE, RECYCLE_NORMAL_COS, RECYCLE_SIZE_FRACTION, recycle_tolerance,
+};
 pub use sleep::labels::{IslandSearch, SleepLabels, SleepLink, island_search};
 pub use sleep::{
     ANGULAR_SLEEP_TOLERANCE, AWAKE, Gathered, LINEAR_SLEEP_TOLERANCE, SleepState, TIME_TO_SLEEP,

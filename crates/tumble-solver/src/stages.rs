@@ -16,7 +16,7 @@ use tumble_narrow::{BoxMotion, collide_cuboids_cached};
 use crate::concat::concat;
 use crate::{
     Body, BodyState, ColorCandidate, Coloring, Contact, ContactCache, PairKey, SolveOrder,
-    color_constraints_in_order, color_in_rounds, finalize_bodies,
+    color_constraints_in_order, color_in_rounds, finalize_bodies, recycle_tolerance,
 };
 
 /// Pairs per rayon task below which the narrow phase stays on one thread: a box-box test
@@ -97,6 +97,12 @@ pub struct NarrowPhaseOutput {
 /// stable id (`ids`), which keeps the cached feature and impulses meaningful when dense
 /// indices change; last step's feature is passed for hysteresis and last step's impulses are
 /// matched by feature id for warm starting.
+///
+/// With `recycle_distance` above 0, a pair whose bodies barely moved relative to each other
+/// since its manifold was last computed reuses it ([`crate::CachedManifold::recycle`], within
+/// [`recycle_tolerance`]) with last step's impulses as they were, and the contact is marked
+/// [`Contact::recycled`]; 0 computes every manifold afresh.
+#[allow(clippy::too_many_arguments)]
 pub fn narrow_phase(
     bodies: &[Body],
     states: &[BodyState],
@@ -105,6 +111,7 @@ pub fn narrow_phase(
     cache: &ContactCache,
     margin: Real,
     dt: Real,
+    recycle_distance: Real,
 ) -> NarrowPhaseOutput {
     let test = |&(i, j): &(u32, u32)| {
         let (a, b) = if ids[i as usize] <= ids[j as usize] {
@@ -120,8 +127,28 @@ pub fn narrow_phase(
             margin,
             dt,
         );
-        // One lookup serves the hysteresis and both warm starts.
+        // One lookup serves the recycling, the hysteresis and both warm starts.
         let old = cache.get(&key);
+        if recycle_distance > 0.0
+            && let Some(old) = old
+            && let Some(manifold) = old.recycle(
+                &ba.pose,
+                &bb.pose,
+                m,
+                recycle_tolerance(recycle_distance, &ba.shape, &bb.shape),
+            )
+        {
+            // The same points under the same ids and reference feature: each inherits its
+            // own impulse, which is what `warm_start` would match, and the normal turned by
+            // less than `warm_tilt`'s angle.
+            let contact = Contact {
+                impulses: old.impulses,
+                tilt_impulse: old.tilt_impulse,
+                recycled: true,
+                ..Contact::new(a, b, manifold)
+            };
+            return Some((contact, key));
+        }
         let manifold = collide_cuboids_cached(
             &ba.shape,
             &ba.pose,
@@ -329,7 +356,16 @@ mod tests {
         // Ids in reverse of the dense order: body A is the one with the smaller id.
         let ids = [40, 30, 20, 10];
         let mut cache = ContactCache::new();
-        let out = narrow_phase(&bodies, &states, &pairs, &ids, &cache, 0.02, 1.0 / 60.0);
+        let out = narrow_phase(
+            &bodies,
+            &states,
+            &pairs,
+            &ids,
+            &cache,
+            0.02,
+            1.0 / 60.0,
+            0.0,
+        );
         assert_eq!(out.keys, vec![(30, 40), (20, 30)]);
         assert_eq!((out.contacts[0].body_a, out.contacts[0].body_b), (1, 0));
         assert_eq!(out.contacts[0].manifold.len, 4);
@@ -343,7 +379,16 @@ mod tests {
         }
         finish(&mut bodies, &mut states, &mut cache, &out.keys, &contacts);
         assert_eq!(cache.len(), 2);
-        let again = narrow_phase(&bodies, &states, &pairs, &ids, &cache, 0.02, 1.0 / 60.0);
+        let again = narrow_phase(
+            &bodies,
+            &states,
+            &pairs,
+            &ids,
+            &cache,
+            0.02,
+            1.0 / 60.0,
+            0.0,
+        );
         assert_eq!(again.contacts.len(), 2);
         for c in &again.contacts {
             let n = c.manifold.len as usize;
@@ -365,6 +410,7 @@ mod tests {
             &ContactCache::new(),
             0.02,
             1.0,
+            0.0,
         );
         let down = Vec3::new(0.0, -9.81, 0.0);
         // Contact 0 (floor-cube, at y = 0) is below contact 1 (cube-cube, at y = 1).

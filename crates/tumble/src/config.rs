@@ -43,6 +43,20 @@ pub struct WorldConfig {
     /// Effects forced on or off; by default each runs when the scene needs it, and resting
     /// islands sleep (`effects.sleep = EffectSwitch::Off` keeps every body awake).
     pub effects: EffectOverrides,
+    /// Contact recycling, m: a pair whose bodies turned by less than a degree relative to each
+    /// other, and whose contact points slid by less than this (and 1% of the pair's smallest
+    /// half extent) since its manifold was computed, keeps that manifold with its depths
+    /// updated instead of a fresh separating axis test (`tumble_solver::CachedManifold::
+    /// recycle`). 0 computes every manifold every step. The default, 1 mm, is parry3d's
+    /// threshold. `Backend::Cpu` recycles; the GPU narrow phase (`Backend::Gpu` and
+    /// `Backend::Hybrid`) computes every manifold and ignores it.
+    #[cfg_attr(feature = "serde", serde(default = "default_recycle_distance"))]
+    pub recycle_distance: Real,
+}
+
+#[cfg(feature = "serde")]
+fn default_recycle_distance() -> Real {
+    tumble_solver::DEFAULT_RECYCLE_DISTANCE
 }
 
 impl Default for WorldConfig {
@@ -55,6 +69,7 @@ impl Default for WorldConfig {
             backend: Backend::Cpu,
             margin: DEFAULT_MARGIN,
             effects: EffectOverrides::default(),
+            recycle_distance: tumble_solver::DEFAULT_RECYCLE_DISTANCE,
         }
     }
 }
@@ -67,6 +82,13 @@ impl WorldConfig {
         require_length_at_most("gravity", &self.gravity, MAX_GRAVITY, EXPECTED_GRAVITY)?;
         require_in_range("dt", self.dt, MIN_DT, MAX_DT, EXPECTED_DT)?;
         require_in_range("margin", self.margin, 0.0, MAX_MARGIN, EXPECTED_MARGIN)?;
+        require_in_range(
+            "recycle_distance",
+            self.recycle_distance,
+            0.0,
+            MAX_RECYCLE_DISTANCE,
+            EXPECTED_RECYCLE_DISTANCE,
+        )?;
         self.solver.validate()
     }
 }

@@ -12,6 +12,7 @@ mod lanes;
 mod mass;
 mod misc;
 mod prepare;
+mod recycle;
 mod reference;
 mod scenes;
 mod serial_stages;

@@ -101,7 +101,14 @@ fn the_cache_stored_on_any_pool_holds_what_a_map_of_the_last_manifold_per_pair_h
         .collect();
     let mut reference: HashMap<PairKey, CachedManifold> = HashMap::new();
     for (k, c) in keys.iter().zip(&contacts) {
-        reference.insert(*k, CachedManifold::of(c, &bodies[c.body_a as usize].pose));
+        reference.insert(
+            *k,
+            CachedManifold::of(
+                c,
+                &bodies[c.body_a as usize].pose,
+                &bodies[c.body_b as usize].pose,
+            ),
+        );
     }
     let mut expected: Vec<_> = reference.into_iter().collect();
     expected.sort_unstable_by_key(|(k, _)| *k);

@@ -42,6 +42,7 @@ impl Collision for CpuCollision {
             &self.cache,
             margin,
             dt,
+            step.recycle_distance,
         );
         clock.lap(Stage::NarrowPhase);
         Ok(Collided {

@@ -55,6 +55,8 @@ pub(crate) struct StepBodies<'a> {
     pub margin: Real,
     /// The step, s.
     pub dt: Real,
+    /// `WorldConfig::recycle_distance`, m (0: every manifold afresh).
+    pub recycle_distance: Real,
 }
 
 /// What the collision stages found.
@@ -147,6 +149,7 @@ pub(crate) fn step(
             handles: all_handles,
             margin: config.margin,
             dt,
+            recycle_distance: config.recycle_distance,
         },
         &mut clock,
     )?;
@@ -244,6 +247,7 @@ pub(crate) fn step(
         bodies: host.bodies.len(),
         pairs,
         manifolds: host.contacts.len(),
+        recycled_manifolds: host.contacts.iter().filter(|c| c.recycled).count(),
         contact_points: solved.points,
         colors: coloring.used_colors(),
         overflow: if coloring.colors.is_empty() {

@@ -22,6 +22,16 @@ use crate::{
 /// Constraint preparation goes wide from this many manifolds (below, the pool costs more).
 const PARALLEL_PREPARE_MIN: usize = 512;
 
+/// Contacts per rayon task when the solved impulses are written back in parallel.
+const STORE_PER_TASK: usize = 1024;
+
+/// `SolveBuffers::source` of a contact no constraint solved.
+const NO_SOURCE: u32 = u32::MAX;
+
+/// `SolveBuffers::source` bit of a contact solved by a scalar constraint (the rest is its
+/// index among the scalar constraints); without it, the entry is `block * LANES + lane`.
+const SCALAR_SOURCE: u32 = 1 << 31;
+
 /// What one solve did, for statistics.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SolveStats {
@@ -46,6 +56,8 @@ pub struct SolveBuffers {
     order: Vec<u32>,
     batches: Vec<Batch>,
     stamps: Vec<u32>,
+    /// Per contact, the constraint or lane its impulses are stored from (parallel store).
+    source: Vec<u32>,
 }
 
 /// The warm start: each constraint's stored impulses applied again.
@@ -252,6 +264,7 @@ pub fn solve_with_buffers(
         order,
         batches,
         stamps,
+        source,
     } = buffers;
     let substeps = config.substeps.max(1);
     let h = dt / substeps as Real;
@@ -377,11 +390,39 @@ pub fn solve_with_buffers(
             isa,
         );
     }
-    for c in constraints.iter() {
-        c.store_impulses(&mut contacts[c.contact as usize]);
-    }
-    for b in blocks.iter() {
-        b.store(contacts);
+    if order.len() >= PARALLEL_PREPARE_MIN && rayon::current_num_threads() > 1 {
+        // Each contact's impulses come from exactly one constraint or lane, found through
+        // `source`, so every contact is written by one task, with the same operations as
+        // the serial stores below.
+        source.clear();
+        source.resize(contacts.len(), NO_SOURCE);
+        for (k, c) in constraints.iter().enumerate() {
+            source[c.contact as usize] = SCALAR_SOURCE | k as u32;
+        }
+        for (k, b) in blocks.iter().enumerate() {
+            for l in 0..b.len() {
+                source[b.contact_of(l)] = (k * LANES + l) as u32;
+            }
+        }
+        let (constraints, blocks): (&[ContactConstraint], &[LaneBlock]) = (constraints, blocks);
+        contacts
+            .par_iter_mut()
+            .zip(source.par_iter())
+            .with_min_len(STORE_PER_TASK)
+            .for_each(|(contact, &from)| match from {
+                NO_SOURCE => {}
+                f if f & SCALAR_SOURCE != 0 => {
+                    constraints[(f & !SCALAR_SOURCE) as usize].store_impulses(contact);
+                }
+                f => blocks[f as usize / LANES].store_lane(f as usize % LANES, contact),
+            });
+    } else {
+        for c in constraints.iter() {
+            c.store_impulses(&mut contacts[c.contact as usize]);
+        }
+        for b in blocks.iter() {
+            b.store(contacts);
+        }
     }
     SolveStats {
         constraints: order.len(),

@@ -166,7 +166,10 @@ pub fn narrow_phase(
     };
     // In pair order on either path. On the pool, each task's pairs fill two arrays reserved
     // at their pair count (no regrowth), which are then joined on the pool (`concat`).
-    let (contacts, keys) = if pairs.len() >= PARALLEL_MIN_PAIRS {
+    // One thread writes the arrays directly: the concatenation would copy every contact
+    // once more for nothing.
+    let (contacts, keys) = if pairs.len() >= PARALLEL_MIN_PAIRS && rayon::current_num_threads() > 1
+    {
         let tasks = 4 * rayon::current_num_threads();
         let chunk = pairs.len().div_ceil(tasks).max(PARALLEL_MIN_PAIRS);
         let parts: Vec<(Vec<Contact>, Vec<PairKey>)> = pairs

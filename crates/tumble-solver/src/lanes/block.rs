@@ -141,19 +141,37 @@ impl LaneBlock {
     /// [`ContactConstraint::store_impulses`] does.
     pub(crate) fn store(&self, contacts: &mut [Contact]) {
         for l in 0..self.len as usize {
-            let (t1, t2) = (self.tangent1.get(l), self.tangent2.get(l));
-            let contact = &mut contacts[self.contact[l] as usize];
-            for (i, p) in self.points.iter().enumerate() {
-                if self.point_mask[i].0[l] == 0 {
-                    continue;
-                }
-                contact.impulses[i].normal = p.normal_impulse.0[l];
-                contact.impulses[i].friction =
-                    t1 * p.tangent_impulse[0].0[l] + t2 * p.tangent_impulse[1].0[l];
-                contact.total_normal_impulse[i] = p.total_normal_impulse.0[l];
-            }
-            contact.tilt_impulse = t1 * self.tilt_impulse[0].0[l] + t2 * self.tilt_impulse[1].0[l];
+            self.store_lane(l, &mut contacts[self.contact[l] as usize]);
         }
+    }
+
+    /// Lane `l`'s impulses written into its contact (`contact`, the lane's
+    /// [`LaneBlock::contact_of`]).
+    #[inline]
+    pub(crate) fn store_lane(&self, l: usize, contact: &mut Contact) {
+        let (t1, t2) = (self.tangent1.get(l), self.tangent2.get(l));
+        for (i, p) in self.points.iter().enumerate() {
+            if self.point_mask[i].0[l] == 0 {
+                continue;
+            }
+            contact.impulses[i].normal = p.normal_impulse.0[l];
+            contact.impulses[i].friction =
+                t1 * p.tangent_impulse[0].0[l] + t2 * p.tangent_impulse[1].0[l];
+            contact.total_normal_impulse[i] = p.total_normal_impulse.0[l];
+        }
+        contact.tilt_impulse = t1 * self.tilt_impulse[0].0[l] + t2 * self.tilt_impulse[1].0[l];
+    }
+
+    /// The constraints in the block (lanes `0..len`).
+    #[inline]
+    pub(crate) fn len(&self) -> usize {
+        self.len as usize
+    }
+
+    /// The contact (index into the step's contacts) of lane `l`.
+    #[inline]
+    pub(crate) fn contact_of(&self, l: usize) -> usize {
+        self.contact[l] as usize
     }
 
     /// The lanes' bodies read from the `len` states at `states`.

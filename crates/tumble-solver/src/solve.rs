@@ -368,13 +368,37 @@ pub fn solve_with_buffers(
     let relaxed = solve_pass(false);
     for _ in 0..substeps {
         integrate_velocities_with(bodies, states, gravity, effects.rotation, h);
-        sweep(constraints, blocks, batches, states, &WarmStart, isa);
+        sweep(
+            constraints,
+            blocks,
+            batches,
+            states,
+            inverse_inertia,
+            &WarmStart,
+            isa,
+        );
         for _ in 0..config.iterations {
-            sweep(constraints, blocks, batches, states, &biased, isa);
+            sweep(
+                constraints,
+                blocks,
+                batches,
+                states,
+                inverse_inertia,
+                &biased,
+                isa,
+            );
         }
         integrate_positions(bodies, states, h);
         for _ in 0..config.relax_iterations {
-            sweep(constraints, blocks, batches, states, &relaxed, isa);
+            sweep(
+                constraints,
+                blocks,
+                batches,
+                states,
+                inverse_inertia,
+                &relaxed,
+                isa,
+            );
         }
     }
     let restitution = constraints.iter().any(|c| c.restitution > 0.0)
@@ -386,6 +410,7 @@ pub fn solve_with_buffers(
             blocks,
             batches,
             states,
+            inverse_inertia,
             &Restitution(threshold),
             isa,
         );

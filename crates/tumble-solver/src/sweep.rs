@@ -17,7 +17,7 @@ use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use crate::lanes::{LANES, LaneBlock, LaneBodies};
-use crate::{BodyState, ContactConstraint};
+use crate::{BodyState, ContactConstraint, Mat3};
 
 /// Constraints per block of a parallel batch: enough work (a few microseconds) to pay for a
 /// worker taking it, small enough that a color of a few hundred constraints still spreads.
@@ -107,9 +107,15 @@ pub(crate) fn sweep<P: Pass>(
     blocks: &mut [LaneBlock],
     batches: &[Batch],
     states: &mut [BodyState],
+    inverse_inertia: &[Mat3],
     pass: &P,
     isa: Isa,
 ) {
+    assert_eq!(
+        inverse_inertia.len(),
+        states.len(),
+        "one inverse inertia per body"
+    );
     assert!(
         batches
             .iter()
@@ -120,6 +126,7 @@ pub(crate) fn sweep<P: Pass>(
         constraints: constraints.as_mut_ptr(),
         blocks: blocks.as_mut_ptr(),
         states: states.as_mut_ptr(),
+        inverse_inertia: inverse_inertia.as_ptr(),
         len: states.len(),
     };
     let threads = rayon::current_num_threads();
@@ -212,6 +219,8 @@ struct Shared {
     constraints: *mut ContactConstraint,
     blocks: *mut LaneBlock,
     states: *mut BodyState,
+    /// The bodies' world inverse inertias, `len` of them (read only).
+    inverse_inertia: *const Mat3,
     len: usize,
 }
 
@@ -232,9 +241,10 @@ impl Shared {
         for i in blocks {
             // SAFETY: the caller's contract: block `i` is this thread's alone.
             let block = unsafe { &mut *self.blocks.add(i) };
-            // SAFETY: `gather` checks every body index against the states' length; the
-            // bodies it reads are written by no other thread meanwhile.
-            let mut bodies = unsafe { block.gather(self.states, self.len) };
+            // SAFETY: `gather` checks every body index against the states' length (the
+            // inverse inertias' too, asserted by `sweep`); the bodies it reads are written by
+            // no other thread meanwhile.
+            let mut bodies = unsafe { block.gather(self.states, self.inverse_inertia, self.len) };
             pass.lanes(block, &mut bodies);
             // SAFETY: indices checked by `gather`; the dynamic bodies are this block's.
             unsafe { block.scatter(&bodies, self.states) };

@@ -6,7 +6,7 @@ use tumble_geometry::{MAX_MANIFOLD_POINTS, Real};
 
 use super::LANES;
 use super::wide::{F, M, M3, Q, V3};
-use crate::{BodyState, Contact, ContactConstraint};
+use crate::{BodyState, Contact, ContactConstraint, Mat3};
 
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct Point {
@@ -54,8 +54,6 @@ pub(crate) struct LaneBlock {
     pub(super) patch_radius: F,
     pub(super) tilt_mass: [F; 2],
     pub(super) tilt_impulse: [F; 2],
-    pub(super) inverse_inertia_a: M3,
-    pub(super) inverse_inertia_b: M3,
     pub(super) points: [Point; MAX_MANIFOLD_POINTS],
 }
 
@@ -94,8 +92,6 @@ impl LaneBlock {
         b.tangent2.set(l, &c.tangent2);
         b.inverse_mass_a.set(l, &c.inverse_mass_a);
         b.inverse_mass_b.set(l, &c.inverse_mass_b);
-        b.inverse_inertia_a.set(l, &c.inverse_inertia_a);
-        b.inverse_inertia_b.set(l, &c.inverse_inertia_b);
         b.friction.0[l] = c.friction;
         b.restitution.0[l] = c.restitution;
         b.bias_rate.0[l] = c.softness.bias_rate;
@@ -181,9 +177,16 @@ impl LaneBlock {
     /// sweep).
     ///
     /// # Safety
-    /// `states` points at `len` states that no other thread writes meanwhile.
+    /// `states` points at `len` states that no other thread writes meanwhile, and
+    /// `inverse_inertia` at the `len` bodies' world inverse inertias of the step (the ones
+    /// `prepare_contact` built the constraints with).
     #[inline(always)]
-    pub(crate) unsafe fn gather(&self, states: *const BodyState, len: usize) -> LaneBodies {
+    pub(crate) unsafe fn gather(
+        &self,
+        states: *const BodyState,
+        inverse_inertia: *const Mat3,
+        len: usize,
+    ) -> LaneBodies {
         let mut v = LaneBodies {
             inverse_mass_a: self.inverse_mass_a,
             inverse_mass_b: self.inverse_mass_b,
@@ -194,6 +197,10 @@ impl LaneBlock {
             assert!(ia < len && ib < len, "body index out of range");
             // SAFETY: in range (checked); the caller's contract.
             let (a, b) = unsafe { (&*states.add(ia), &*states.add(ib)) };
+            // SAFETY: in range (checked); the caller's contract.
+            let (ja, jb) = unsafe { (&*inverse_inertia.add(ia), &*inverse_inertia.add(ib)) };
+            v.inverse_inertia_a.set(l, ja);
+            v.inverse_inertia_b.set(l, jb);
             v.a_linear.set(l, &a.linear_velocity);
             v.a_angular.set(l, &a.angular_velocity);
             v.b_linear.set(l, &b.linear_velocity);
@@ -246,6 +253,10 @@ pub(crate) struct LaneBodies {
     pub(super) b_angular: V3,
     pub(super) inverse_mass_a: V3,
     pub(super) inverse_mass_b: V3,
+    /// The bodies' world inverse inertias, gathered per body rather than stored in every
+    /// block (a tenth of a block's bytes, read by every pass).
+    pub(super) inverse_inertia_a: M3,
+    pub(super) inverse_inertia_b: M3,
     /// `delta_position_b - delta_position_a`.
     pub(super) delta_position: V3,
     pub(super) rotation_a: Q,

@@ -22,14 +22,14 @@ struct Row {
 impl Row {
     /// The row of direction `d` at point `p`.
     #[inline(always)]
-    pub(super) fn new(c: &LaneBlock, p: &Point, d: &V3) -> Row {
+    pub(super) fn new(v: &LaneBodies, p: &Point, d: &V3) -> Row {
         let arm_a = p.anchor_a.cross(d);
         let arm_b = p.anchor_b.cross(d);
         Row {
             arm_a,
             arm_b,
-            push_a: c.inverse_inertia_a.mul(&arm_a),
-            push_b: c.inverse_inertia_b.mul(&arm_b),
+            push_a: v.inverse_inertia_a.mul(&arm_a),
+            push_b: v.inverse_inertia_b.mul(&arm_b),
         }
     }
 }
@@ -74,24 +74,27 @@ pub(crate) fn warm_start(c: &mut LaneBlock, v: &mut LaneBodies) {
             p.total_normal_impulse + p.normal_impulse,
             p.total_normal_impulse,
         );
-        apply_row(v, &normal, &Row::new(c, &p, &normal), p.normal_impulse, m);
+        let row = Row::new(v, &p, &normal);
+        apply_row(v, &normal, &row, p.normal_impulse, m);
         let mf = m & friction;
         if mf.any() {
-            apply_row(v, &t1, &Row::new(c, &p, &t1), p.tangent_impulse[0], mf);
-            apply_row(v, &t2, &Row::new(c, &p, &t2), p.tangent_impulse[1], mf);
+            let row = Row::new(v, &p, &t1);
+            apply_row(v, &t1, &row, p.tangent_impulse[0], mf);
+            let row = Row::new(v, &p, &t2);
+            apply_row(v, &t2, &row, p.tangent_impulse[1], mf);
         }
     }
-    let (push_a, push_b) = tilt_push(c);
+    let (push_a, push_b) = tilt_push(c, v);
     apply_tilt(v, &push_a, &push_b, c.tilt_impulse, M::ALL);
 }
 
 /// `I_a^-1 t_k` and `I_b^-1 t_k` of the two tangents, as `prepare_contact` computes them.
 #[inline(always)]
-fn tilt_push(c: &LaneBlock) -> ([V3; 2], [V3; 2]) {
+fn tilt_push(c: &LaneBlock, v: &LaneBodies) -> ([V3; 2], [V3; 2]) {
     let t = [c.tangent1, c.tangent2];
     (
-        t.map(|t| c.inverse_inertia_a.mul(&t)),
-        t.map(|t| c.inverse_inertia_b.mul(&t)),
+        t.map(|t| v.inverse_inertia_a.mul(&t)),
+        t.map(|t| v.inverse_inertia_b.mul(&t)),
     )
 }
 
@@ -125,7 +128,7 @@ fn normal_rows(
     let (slop, soft_mass, soft_impulse) = (c.slop, c.mass_scale, c.impulse_scale);
     for i in 0..c.max_points as usize {
         let m = lanes & c.point_mask[i];
-        let row = Row::new(c, &c.points[i], &normal);
+        let row = Row::new(v, &c.points[i], &normal);
         let p = &mut c.points[i];
         let s = s[i];
         let speculative = s.gt(zero);
@@ -172,7 +175,7 @@ fn tilt(c: &mut LaneBlock, v: &mut LaneBodies, m: M) {
         clamp.select(new[1] * scale, new[1]),
     ];
     c.tilt_impulse = [m.select(new[0], old[0]), m.select(new[1], old[1])];
-    let (push_a, push_b) = tilt_push(c);
+    let (push_a, push_b) = tilt_push(c, v);
     apply_tilt(v, &push_a, &push_b, [new[0] - old[0], new[1] - old[1]], m);
 }
 
@@ -187,8 +190,8 @@ fn friction_rows(c: &mut LaneBlock, v: &mut LaneBodies, lanes: M) -> M {
     for i in 0..c.max_points as usize {
         let m = lanes & c.point_mask[i];
         let rows = [
-            Row::new(c, &c.points[i], &t1),
-            Row::new(c, &c.points[i], &t2),
+            Row::new(v, &c.points[i], &t1),
+            Row::new(v, &c.points[i], &t2),
         ];
         let p = &mut c.points[i];
         let old = p.tangent_impulse;
@@ -243,7 +246,7 @@ pub(crate) fn restitution(c: &mut LaneBlock, v: &mut LaneBodies, threshold: Real
     let (normal, restitution) = (c.normal, c.restitution);
     let threshold = F::splat(-threshold);
     for i in 0..c.max_points as usize {
-        let row = Row::new(c, &c.points[i], &normal);
+        let row = Row::new(v, &c.points[i], &normal);
         let p = &mut c.points[i];
         // Points that did not approach fast enough, or never pushed, keep their impulse.
         let skip = p.relative_velocity.gt(threshold) | p.total_normal_impulse.eq(zero);

@@ -7,7 +7,7 @@ use tumble_geometry::Real;
 
 use super::kernels::random_case;
 use crate::{
-    BodyState, Contact, ContactConstraint, PassContext, restitution_contact, solve_contact,
+    BodyState, Contact, ContactConstraint, Mat3, PassContext, restitution_contact, solve_contact,
     warm_start_contact,
 };
 
@@ -62,6 +62,12 @@ fn lane_kernels_give_the_scalar_kernels_bits_on_random_blocks() {
             states.extend([a, b]);
             passes.push((pass, threshold));
         }
+        // The lanes gather each body's inverse inertia: each lane has two bodies of its own,
+        // whose inertias are its constraint's.
+        let inertia: Vec<Mat3> = constraints
+            .iter()
+            .flat_map(|c| [c.inverse_inertia_a, c.inverse_inertia_b])
+            .collect();
         // One block shares its pass settings: the first lane's.
         let (pass, threshold) = passes[0];
         let relax = PassContext {
@@ -114,12 +120,14 @@ fn lane_kernels_give_the_scalar_kernels_bits_on_random_blocks() {
             }
             let mut lane_states = states.clone();
             if !avx2 {
-                lane_passes(&mut block, &mut lane_states, &pass, threshold);
+                lane_passes(&mut block, &mut lane_states, &inertia, &pass, threshold);
             }
             #[cfg(target_arch = "x86_64")]
             if avx2 {
                 // SAFETY: AVX2 was detected.
-                unsafe { lane_passes_avx2(&mut block, &mut lane_states, &pass, threshold) };
+                unsafe {
+                    lane_passes_avx2(&mut block, &mut lane_states, &inertia, &pass, threshold)
+                };
             }
             let mut lane_contacts = vec![Contact::default(); len];
             block.store(&mut lane_contacts);
@@ -141,6 +149,7 @@ fn lane_kernels_give_the_scalar_kernels_bits_on_random_blocks() {
 fn lane_passes(
     block: &mut crate::lanes::LaneBlock,
     states: &mut [BodyState],
+    inverse_inertia: &[Mat3],
     pass: &PassContext,
     threshold: Real,
 ) {
@@ -151,9 +160,11 @@ fn lane_passes(
     };
     let mut run = |block: &mut LaneBlock, f: &dyn Fn(&mut LaneBlock, &mut LaneBodies)| {
         let n = states.len();
-        // SAFETY: one thread; `gather` checks every body index against `n`.
+        assert_eq!(inverse_inertia.len(), n);
+        // SAFETY: one thread; `gather` checks every body index against `n`, the length of
+        // both arrays.
         unsafe {
-            let mut v = block.gather(states.as_ptr(), n);
+            let mut v = block.gather(states.as_ptr(), inverse_inertia.as_ptr(), n);
             f(block, &mut v);
             block.scatter(&v, states.as_mut_ptr());
         }
@@ -173,8 +184,9 @@ fn lane_passes(
 unsafe fn lane_passes_avx2(
     block: &mut crate::lanes::LaneBlock,
     states: &mut [BodyState],
+    inverse_inertia: &[Mat3],
     pass: &PassContext,
     threshold: Real,
 ) {
-    lane_passes(block, states, pass, threshold);
+    lane_passes(block, states, inverse_inertia, pass, threshold);
 }

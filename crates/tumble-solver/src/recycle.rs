@@ -21,7 +21,8 @@
 //! than the tolerance, a new point of a face that tilted by less than a degree).
 //!
 //! The test is parry3d's `ContactManifold::try_update_contacts`, which rapier3d runs before its
-//! cuboid-cuboid manifold (one degree and 1 mm in parry 0.2x); the tolerance here also scales
+//! cuboid-cuboid manifold (one degree and 1e-6 m^2 in its current source; earlier releases used
+//! five degrees and 1e-3 m^2); the tolerance here also scales
 //! with the smaller box, so that millimetre boxes are not given a millimetre of slack.
 
 use tumble_geometry::{ContactPoint, Cuboid, Manifold, Point3, Pose, Real};

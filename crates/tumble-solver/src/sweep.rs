@@ -90,7 +90,18 @@ pub(crate) trait Pass: Sync {
     fn lanes(&self, c: &mut LaneBlock, bodies: &mut LaneBodies);
 }
 
-/// Applies `pass` to every constraint, batch by batch: a batch with lane blocks through the
+/// What a sweep visits: the step's scalar constraints and lane blocks, the batches over them,
+/// the bodies' world inverse inertias (read only, gathered with the velocities), and the
+/// instructions the lane kernels run on.
+pub(crate) struct SweepSet<'a> {
+    pub(crate) constraints: &'a mut [ContactConstraint],
+    pub(crate) blocks: &'a mut [LaneBlock],
+    pub(crate) batches: &'a [Batch],
+    pub(crate) inverse_inertia: &'a [Mat3],
+    pub(crate) isa: Isa,
+}
+
+/// Applies `pass` to every constraint of `set`, batch by batch: a batch with lane blocks through the
 /// lane kernel, block by block, any other through the scalar kernel, constraint by constraint.
 ///
 /// Every batch marked parallel or packed into lanes must have no dynamic body twice (as
@@ -102,15 +113,15 @@ pub(crate) trait Pass: Sync {
 /// is done. A worker that starts late finds the finished stages' blocks all claimed and
 /// catches up, so the sweep never waits for a worker that the pool has not started, and the
 /// calling thread alone can finish it.
-pub(crate) fn sweep<P: Pass>(
-    constraints: &mut [ContactConstraint],
-    blocks: &mut [LaneBlock],
-    batches: &[Batch],
-    states: &mut [BodyState],
-    inverse_inertia: &[Mat3],
-    pass: &P,
-    isa: Isa,
-) {
+pub(crate) fn sweep<P: Pass>(set: &mut SweepSet<'_>, states: &mut [BodyState], pass: &P) {
+    let SweepSet {
+        constraints,
+        blocks,
+        batches,
+        inverse_inertia,
+        isa,
+    } = set;
+    let (batches, inverse_inertia, isa) = (*batches, *inverse_inertia, *isa);
     assert_eq!(
         inverse_inertia.len(),
         states.len(),

@@ -3,6 +3,7 @@
 //! formulas, and the contracts of coloring, integration, mass properties, the contact cache,
 //! islands and sleep.
 
+mod bounds;
 mod cache;
 mod coloring;
 mod integration;
@@ -16,6 +17,7 @@ mod recycle;
 mod reference;
 mod scenes;
 mod serial_stages;
+mod solve_stage;
 mod tilt;
 
 use tumble_geometry::{ContactPoint, Cuboid, FeatureKind, Manifold, Point3, Pose, Real, Vec3};

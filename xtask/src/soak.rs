@@ -241,6 +241,16 @@ fn soak_pyramid(args: &SoakArgs, backend: SoakBackend, steps: u64) -> Result<Soa
         out.energy_gain = out.energy_gain.map(|g| g.max(gain));
         let drift = (world.pose(top).map_err(err)?.translation.vector - top_start).norm();
         out.top_drift = out.top_drift.map(|d| d.max(drift));
+        // A run of hours shows where it is: each sample on one line, so a run that is
+        // stopped still tells how far it went and what it had measured.
+        eprintln!(
+            "soak: step {done}: {:.1} s, {:.2} ms/step, energy gain {:.4}%, top box {:.1} mm, RSS {} MiB",
+            start.elapsed().as_secs_f64(),
+            start.elapsed().as_secs_f64() * 1e3 / done.max(1) as f64,
+            gain * 100.0,
+            drift * 1e3,
+            mib(out.memory.rss.1),
+        );
     }
     out.ms_per_step = start.elapsed().as_secs_f64() * 1e3 / done.max(1) as f64;
     if out.energy_gain.is_some_and(|g| g > MAX_ENERGY_GAIN) {

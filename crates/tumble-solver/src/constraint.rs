@@ -174,6 +174,87 @@ pub fn patch_radius(points: &[ContactPoint], normal: &Vec3) -> Real {
     nearest * (std::f32::consts::PI / n as Real).cos()
 }
 
+/// What a constraint holds per manifold rather than per point, built the same way for a
+/// scalar constraint ([`prepare_contact`]) and for a lane of a block (`lanes::prepare`), so
+/// the two hold the same bits.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ManifoldTerms {
+    pub(crate) normal: Vec3,
+    pub(crate) tangent1: Vec3,
+    pub(crate) tangent2: Vec3,
+    pub(crate) dynamic_a: bool,
+    pub(crate) dynamic_b: bool,
+    pub(crate) inverse_mass_a: Vec3,
+    pub(crate) inverse_mass_b: Vec3,
+    /// The mixed coefficient (before an effect switch turns friction off).
+    pub(crate) friction: Real,
+    pub(crate) restitution: Real,
+    pub(crate) softness: Softness,
+    pub(crate) slop: Real,
+    pub(crate) point_count: u32,
+    pub(crate) patch_radius: Real,
+    pub(crate) tilt_mass: [Real; 2],
+    pub(crate) tilt_impulse: [Real; 2],
+}
+
+impl ManifoldTerms {
+    /// The terms of `contact` between `a` and `b`, whose world inverse inertias are `ja`, `jb`.
+    #[inline]
+    pub(crate) fn new(
+        a: &Body,
+        b: &Body,
+        ja: &Mat3,
+        jb: &Mat3,
+        contact: &Contact,
+        ctx: &PrepareContext,
+    ) -> Self {
+        let normal = contact.manifold.normal;
+        let (tangent1, tangent2) = tangent_basis(&normal);
+        let softness = match ctx.kind {
+            SolverKind::SoftStep if a.is_dynamic() && b.is_dynamic() => ctx.contact_softness,
+            SolverKind::SoftStep => ctx.static_softness,
+            SolverKind::Baumgarte => ctx.contact_softness,
+        };
+        let patch_radius = patch_radius(contact.manifold.points(), &normal);
+        // Tilt rows exist only for a patch (three or more points, a nonzero radius): an
+        // impulse carried from an earlier patch onto an edge or a point would act unclamped
+        // every substep.
+        let tilt_impulse = if patch_radius <= 0.0 {
+            [0.0; 2]
+        } else {
+            [
+                ctx.warm_start_scale * contact.tilt_impulse.dot(&tangent1),
+                ctx.warm_start_scale * contact.tilt_impulse.dot(&tangent2),
+            ]
+        };
+        let angular = ja + jb;
+        let tilt_mass = [&tangent1, &tangent2].map(|t| {
+            let k = t.dot(&(angular * t));
+            if k > 0.0 { 1.0 / k } else { 0.0 }
+        });
+        Self {
+            normal,
+            tangent1,
+            tangent2,
+            dynamic_a: a.is_dynamic(),
+            dynamic_b: b.is_dynamic(),
+            inverse_mass_a: a.inverse_mass_axes(),
+            inverse_mass_b: b.inverse_mass_axes(),
+            friction: crate::mix_friction(a.material.friction, b.material.friction),
+            restitution: crate::mix_restitution(a.material.restitution, b.material.restitution),
+            softness,
+            slop: match ctx.kind {
+                SolverKind::Baumgarte => ctx.slop,
+                SolverKind::SoftStep => 0.0,
+            },
+            point_count: u32::from(contact.manifold.len),
+            patch_radius,
+            tilt_mass,
+            tilt_impulse,
+        }
+    }
+}
+
 /// Builds the constraint of `contacts[index]`.
 ///
 /// `inverse_inertia` holds each body's world inverse inertia for this step; `states` gives the
@@ -189,37 +270,36 @@ pub fn prepare_contact(
     let contact = &contacts[index];
     let (ia, ib) = (contact.body_a as usize, contact.body_b as usize);
     let (a, b) = (&bodies[ia], &bodies[ib]);
-    let normal = contact.manifold.normal;
-    let (tangent1, tangent2) = tangent_basis(&normal);
-    let softness = match ctx.kind {
-        SolverKind::SoftStep if a.is_dynamic() && b.is_dynamic() => ctx.contact_softness,
-        SolverKind::SoftStep => ctx.static_softness,
-        SolverKind::Baumgarte => ctx.contact_softness,
-    };
+    let m = ManifoldTerms::new(
+        a,
+        b,
+        &inverse_inertia[ia],
+        &inverse_inertia[ib],
+        contact,
+        ctx,
+    );
+    let (normal, tangent1, tangent2) = (m.normal, m.tangent1, m.tangent2);
     let mut c = ContactConstraint {
         body_a: contact.body_a,
         body_b: contact.body_b,
         contact: index as u32,
-        dynamic_a: a.is_dynamic(),
-        dynamic_b: b.is_dynamic(),
+        dynamic_a: m.dynamic_a,
+        dynamic_b: m.dynamic_b,
         normal,
         tangent1,
         tangent2,
-        inverse_mass_a: a.inverse_mass_axes(),
-        inverse_mass_b: b.inverse_mass_axes(),
+        inverse_mass_a: m.inverse_mass_a,
+        inverse_mass_b: m.inverse_mass_b,
         inverse_inertia_a: inverse_inertia[ia],
         inverse_inertia_b: inverse_inertia[ib],
-        friction: crate::mix_friction(a.material.friction, b.material.friction),
-        restitution: crate::mix_restitution(a.material.restitution, b.material.restitution),
-        softness,
-        slop: match ctx.kind {
-            SolverKind::Baumgarte => ctx.slop,
-            SolverKind::SoftStep => 0.0,
-        },
-        point_count: u32::from(contact.manifold.len),
+        friction: m.friction,
+        restitution: m.restitution,
+        softness: m.softness,
+        slop: m.slop,
+        point_count: m.point_count,
         points: [ConstraintPoint::default(); MAX_MANIFOLD_POINTS],
-        patch_radius: patch_radius(contact.manifold.points(), &normal),
-        tilt_mass: [0.0; 2],
+        patch_radius: m.patch_radius,
+        tilt_mass: m.tilt_mass,
         tilt_push_a: [
             inverse_inertia[ia] * tangent1,
             inverse_inertia[ia] * tangent2,
@@ -228,21 +308,8 @@ pub fn prepare_contact(
             inverse_inertia[ib] * tangent1,
             inverse_inertia[ib] * tangent2,
         ],
-        tilt_impulse: [
-            ctx.warm_start_scale * contact.tilt_impulse.dot(&tangent1),
-            ctx.warm_start_scale * contact.tilt_impulse.dot(&tangent2),
-        ],
+        tilt_impulse: m.tilt_impulse,
     };
-    // Tilt rows exist only for a patch (three or more points, a nonzero radius): an impulse
-    // carried from an earlier patch onto an edge or a point would act unclamped every substep.
-    if c.patch_radius <= 0.0 {
-        c.tilt_impulse = [0.0; 2];
-    }
-    let angular = inverse_inertia[ia] + inverse_inertia[ib];
-    for (mass, t) in c.tilt_mass.iter_mut().zip([&tangent1, &tangent2]) {
-        let k = t.dot(&(angular * t));
-        *mass = if k > 0.0 { 1.0 / k } else { 0.0 };
-    }
     let (ca, cb) = (a.pose.translation.vector, b.pose.translation.vector);
     let (sa, sb) = (&states[ia], &states[ib]);
     // A frictionless contact has one row per point: its friction rows are never built, and

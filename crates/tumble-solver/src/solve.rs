@@ -10,7 +10,7 @@
 use rayon::prelude::*;
 use tumble_geometry::{Real, Vec3};
 
-use crate::lanes::{self, LANES, LaneBlock, LaneBodies};
+use crate::lanes::{self, LANES, LaneBlock, LaneBodies, PrepareSource};
 use crate::sweep::{Batch, Isa, Pass, SweepSet, check_disjoint, sweep};
 use crate::{
     Body, BodyState, Coloring, Contact, ContactConstraint, Effects, Mat3, OVERFLOW_COLOR,
@@ -317,19 +317,26 @@ pub fn solve_with_buffers(
         }
         c
     };
-    // Each constraint is prepared straight into its lane block, or into the scalar
-    // constraints: a lane batch's constraints never go through memory in between.
+    let isa = match kernel {
+        SolveKernel::Lanes => Isa::detect(),
+        SolveKernel::PortableLanes | SolveKernel::Scalar => Isa::Portable,
+    };
+    // Each lane block is prepared in place, its points' rows eight lanes at a time; the
+    // scalar constraints one by one. A lane batch's constraints never go through memory in
+    // between.
+    let inputs = PrepareSource {
+        bodies,
+        inverse_inertia,
+        states,
+        contacts,
+        ctx: &prepare_ctx,
+        friction: effects.friction,
+    };
     let wide = order.len() >= PARALLEL_PREPARE_MIN;
     constraints.clear();
     constraints.reserve(scalar_count);
-    // Blocks kept from the last step are overwritten by `LaneBlock::start` and `set`.
+    // Blocks kept from the last step are overwritten by `LaneBlock::prepare`.
     blocks.resize(block_count, LaneBlock::default());
-    let fill = |block: &mut LaneBlock, indices: &[u32]| {
-        block.start(indices.len());
-        for (l, i) in indices.iter().enumerate() {
-            block.set(l, &prepare(i));
-        }
-    };
     for batch in batches.iter() {
         let indices = &order[batch.range.clone()];
         if batch.lanes.is_empty() {
@@ -344,17 +351,13 @@ pub fn solve_with_buffers(
         if wide {
             out.par_iter_mut()
                 .zip(indices.par_chunks(LANES))
-                .for_each(|(b, c)| fill(b, c));
+                .for_each(|(b, c)| b.prepare(c, &inputs, isa));
         } else {
             for (b, c) in out.iter_mut().zip(indices.chunks(LANES)) {
-                fill(b, c);
+                b.prepare(c, &inputs, isa);
             }
         }
     }
-    let isa = match kernel {
-        SolveKernel::Lanes => Isa::detect(),
-        SolveKernel::PortableLanes | SolveKernel::Scalar => Isa::Portable,
-    };
     let gravity = effects.gravity.then_some(gravity);
 
     let solve_pass = |use_bias| {

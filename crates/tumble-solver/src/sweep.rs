@@ -58,7 +58,7 @@ pub(crate) enum Isa {
 
 /// Whether the processor runs AVX2 (never off x86-64).
 #[inline]
-fn avx2_present() -> bool {
+pub(crate) fn avx2_present() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
         std::arch::is_x86_feature_detected!("avx2")

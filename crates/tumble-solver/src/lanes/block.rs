@@ -2,11 +2,11 @@
 //! prepared constraints, its bodies gathered from and scattered back into the state array,
 //! its impulses stored into the contacts.
 
-use tumble_geometry::{MAX_MANIFOLD_POINTS, Real};
+use tumble_geometry::MAX_MANIFOLD_POINTS;
 
 use super::LANES;
 use super::wide::{F, M, M3, Q, V3};
-use crate::{BodyState, Contact, ContactConstraint, Mat3};
+use crate::{BodyState, Contact, Mat3};
 
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct Point {
@@ -74,8 +74,11 @@ impl LaneBlock {
 
     /// Lane `l` set to constraint `c`. Lane 0's bodies are also every padding lane's (any
     /// index in range would do: padding lanes are computed and thrown away).
-    #[inline]
-    pub(crate) fn set(&mut self, l: usize, c: &ContactConstraint) {
+    ///
+    /// The solve fills its blocks with [`LaneBlock::prepare`]; this is the reference the
+    /// tests hold it to, and how they build blocks from random constraints.
+    #[cfg(test)]
+    pub(crate) fn set(&mut self, l: usize, c: &crate::ContactConstraint) {
         let b = self;
         if l == 0 {
             b.body_a = [c.body_a; LANES];
@@ -98,7 +101,7 @@ impl LaneBlock {
         b.mass_scale.0[l] = c.softness.mass_scale;
         b.impulse_scale.0[l] = c.softness.impulse_scale;
         b.slop.0[l] = c.slop;
-        b.point_count.0[l] = c.point_count as Real;
+        b.point_count.0[l] = c.point_count as tumble_geometry::Real;
         b.patch.0[l] = if c.patch_radius > 0.0 { !0 } else { 0 };
         b.patch_radius.0[l] = c.patch_radius;
         for k in 0..2 {
@@ -124,6 +127,71 @@ impl LaneBlock {
                 q.tangent_impulse[k].0[l] = p.tangent_impulse[k];
             }
         }
+    }
+
+    /// The bits of everything the kernels read of lane `l`: its per-constraint fields, its
+    /// point masks and the points it has (the points past its count are masked out of every
+    /// result, whatever they hold), and the block's length, point bound and body indices.
+    #[cfg(test)]
+    pub(crate) fn lane_bits(&self, l: usize) -> Vec<u32> {
+        let f = |x: &F| x.0[l].to_bits();
+        let v = |x: &V3| [f(&x.x), f(&x.y), f(&x.z)];
+        let mut bits = vec![
+            self.len,
+            self.max_points,
+            self.contact[l],
+            u32::from(self.dynamic_a[l]),
+            u32::from(self.dynamic_b[l]),
+            self.patch.0[l],
+        ];
+        bits.extend(self.body_a.iter().chain(&self.body_b));
+        for x in [
+            &self.normal,
+            &self.tangent1,
+            &self.tangent2,
+            &self.inverse_mass_a,
+            &self.inverse_mass_b,
+        ] {
+            bits.extend(v(x));
+        }
+        for x in [
+            &self.friction,
+            &self.restitution,
+            &self.bias_rate,
+            &self.mass_scale,
+            &self.impulse_scale,
+            &self.slop,
+            &self.point_count,
+            &self.patch_radius,
+            &self.tilt_mass[0],
+            &self.tilt_mass[1],
+            &self.tilt_impulse[0],
+            &self.tilt_impulse[1],
+        ] {
+            bits.push(f(x));
+        }
+        for (mask, p) in self.point_mask.iter().zip(&self.points) {
+            bits.push(mask.0[l]);
+            if mask.0[l] == 0 {
+                continue;
+            }
+            bits.extend(v(&p.anchor_a));
+            bits.extend(v(&p.anchor_b));
+            for x in [
+                &p.base_separation,
+                &p.normal_mass,
+                &p.tangent_mass[0],
+                &p.tangent_mass[1],
+                &p.normal_impulse,
+                &p.tangent_impulse[0],
+                &p.tangent_impulse[1],
+                &p.total_normal_impulse,
+                &p.relative_velocity,
+            ] {
+                bits.push(f(x));
+            }
+        }
+        bits
     }
 
     /// True when some lane has restitution.

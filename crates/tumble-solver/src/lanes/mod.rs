@@ -14,15 +14,18 @@
 //! every lane reads its bodies' velocities at the start of the block, none reads a body that
 //! another lane writes, and each dynamic body is written back by one lane only.
 //!
-//! `wide.rs` holds the lane arithmetic, `block.rs` the block and its bodies (filled from the
-//! prepared constraints, gathered, scattered, stored), `kernels.rs` the passes.
+//! `wide.rs` holds the lane arithmetic, `block.rs` the block and its bodies (gathered,
+//! scattered, stored), `prepare.rs` the block's constraints prepared lane by lane, `kernels.rs`
+//! the passes.
 
 mod block;
 mod kernels;
+mod prepare;
 mod wide;
 
 pub(crate) use block::{LaneBlock, LaneBodies};
 pub(crate) use kernels::{restitution, solve, warm_start};
+pub(crate) use prepare::PrepareSource;
 
 /// Constraints per block: 8 lanes of `f32` fill one 256-bit AVX register (x86-64 processors
 /// with AVX2 run the kernels so, detected at run time); elsewhere each step takes two 128-bit

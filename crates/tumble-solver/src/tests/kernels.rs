@@ -90,7 +90,20 @@ fn reference_pass(
     )
 }
 
-pub(super) fn random_case(rng: &mut ChaCha8Rng) -> Case {
+/// The inputs of `prepare_contact` for one random pair of boxes: the two bodies (indices 0
+/// and 1), their states at the start of the step, their contact and the step's values.
+pub(super) struct PrepareInputs {
+    pub(super) bodies: [Body; 2],
+    pub(super) states: [BodyState; 2],
+    pub(super) contact: Contact,
+    pub(super) ctx: PrepareContext,
+    count: u32,
+    inv_h: Real,
+}
+
+/// Random [`PrepareInputs`]: any body kinds, locks, materials and point counts, face patches
+/// at rest and anything else, soft step or Baumgarte.
+pub(super) fn random_prepare_inputs(rng: &mut ChaCha8Rng) -> PrepareInputs {
     let kinds = match rng.random_range(0..10) {
         0..=4 => (BodyKind::Dynamic, BodyKind::Dynamic),
         5 | 6 => (BodyKind::Fixed, BodyKind::Dynamic),
@@ -138,7 +151,7 @@ pub(super) fn random_case(rng: &mut ChaCha8Rng) -> Case {
             BodyState::moving(vec_in(rng, speed), vec_in(rng, speed))
         }
     };
-    let mut states = [moving(rng, &bodies[0]), moving(rng, &bodies[1])];
+    let states = [moving(rng, &bodies[0]), moving(rng, &bodies[1])];
 
     let inv_h: Real = rng.random_range(60.0..480.0);
     let h = 1.0 / inv_h;
@@ -168,6 +181,25 @@ pub(super) fn random_case(rng: &mut ChaCha8Rng) -> Case {
         slop: rng.random_range(0.0..0.01),
         warm_start_scale: 1.0,
     };
+    PrepareInputs {
+        bodies,
+        states,
+        contact,
+        ctx,
+        count,
+        inv_h,
+    }
+}
+
+pub(super) fn random_case(rng: &mut ChaCha8Rng) -> Case {
+    let PrepareInputs {
+        bodies,
+        mut states,
+        contact,
+        ctx,
+        count,
+        inv_h,
+    } = random_prepare_inputs(rng);
     let inertia: Vec<Mat3> = bodies.iter().map(Body::inverse_inertia_world).collect();
     let mut c = prepare_contact(&bodies, &inertia, &states, &[contact], 0, &ctx);
     // Impulses applied earlier in the step; some points have not pushed at all.

@@ -190,3 +190,83 @@ unsafe fn lane_passes_avx2(
 ) {
     lane_passes(block, states, inverse_inertia, pass, threshold);
 }
+
+/// `LaneBlock::prepare` (each point's rows for eight lanes at once) against the reference
+/// fill, `start` and `set` of each constraint `prepare_contact` builds, on random blocks of
+/// one to eight random contacts: every value the kernels read of every lane must have the same
+/// bits, on AVX2 when the processor has it and on the portable path, with and without warm
+/// starting and the friction effect. The block is reused from trial to trial, so a full block
+/// starts with the last trial's values in it, as a kept block does from step to step.
+#[test]
+fn lane_prepare_gives_the_scalar_prepare_bits() {
+    use super::kernels::{PrepareInputs, random_prepare_inputs};
+    use crate::lanes::{LANES, LaneBlock, PrepareSource};
+    use crate::sweep::Isa;
+    use crate::{Body, PrepareContext, prepare_contact};
+
+    let mut rng = ChaCha8Rng::seed_from_u64(0x9e9a4e);
+    let mut kept = [LaneBlock::default(), LaneBlock::default()];
+    for trial in 0..3_000 {
+        let len = rng.random_range(1..=LANES);
+        let (mut bodies, mut states, mut contacts) = (Vec::new(), Vec::new(), Vec::new());
+        let mut ctx: Option<PrepareContext> = None;
+        for l in 0..len {
+            let PrepareInputs {
+                bodies: pair,
+                states: pair_states,
+                mut contact,
+                ctx: c,
+                ..
+            } = random_prepare_inputs(&mut rng);
+            // One block's lanes share the step's values: the first lane's.
+            ctx.get_or_insert(c);
+            contact.body_a = (2 * l) as u32;
+            contact.body_b = (2 * l + 1) as u32;
+            bodies.extend(pair);
+            states.extend(pair_states);
+            contacts.push(contact);
+        }
+        let mut ctx = ctx.expect("at least one lane");
+        ctx.warm_start_scale = if rng.random_bool(0.8) { 1.0 } else { 0.0 };
+        let friction = rng.random_bool(0.8);
+        let inertia: Vec<Mat3> = bodies.iter().map(Body::inverse_inertia_world).collect();
+        // The lanes in a shuffled contact order, as a color's order is.
+        let mut indices: Vec<u32> = (0..len as u32).collect();
+        for i in (1..len).rev() {
+            indices.swap(i, rng.random_range(0..=i));
+        }
+
+        let mut expected = LaneBlock::default();
+        expected.start(len);
+        for (l, &i) in indices.iter().enumerate() {
+            let mut c = prepare_contact(&bodies, &inertia, &states, &contacts, i as usize, &ctx);
+            if !friction {
+                // What the solve stage does to a scalar constraint with friction off.
+                c.friction = 0.0;
+                for p in &mut c.points {
+                    p.tangent_impulse = [0.0; 2];
+                }
+            }
+            expected.set(l, &c);
+        }
+        let source = PrepareSource {
+            bodies: &bodies,
+            inverse_inertia: &inertia,
+            states: &states,
+            contacts: &contacts,
+            ctx: &ctx,
+            friction,
+        };
+        for (block, isa) in kept.iter_mut().zip([Isa::Portable, Isa::detect()]) {
+            block.prepare(&indices, &source, isa);
+            for l in 0..len {
+                let (want, got) = (expected.lane_bits(l), block.lane_bits(l));
+                let first = want.iter().zip(&got).position(|(a, b)| a != b);
+                assert!(
+                    first.is_none() && want.len() == got.len(),
+                    "trial {trial}, {isa:?}: lane {l} of {len} differs from the reference fill at value {first:?}"
+                );
+            }
+        }
+    }
+}

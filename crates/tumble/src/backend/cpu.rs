@@ -77,7 +77,13 @@ pub(crate) struct CpuBackend {
 impl StepBackend for CpuBackend {
     fn step(&mut self, host: &mut Host, args: StepArgs<'_>) -> Result<(), Error> {
         let before = std::mem::take(&mut self.collision.pairs);
-        let stepped = pipeline::step(host, args, &mut self.collision);
+        // The whole step on a worker of the pool: every stage's parallel loop then starts
+        // from inside the pool, where the calling worker takes part, instead of handing each
+        // loop to the pool from outside and sleeping until it is done (a wake-up and a sleep
+        // of this thread per loop, dozens a step). The result does not depend on where it
+        // runs.
+        let collision = &mut self.collision;
+        let stepped = rayon::scope(|_| pipeline::step(host, args, collision));
         if stepped.is_err() {
             self.collision.pairs = before;
         }

@@ -139,33 +139,45 @@ impl ContactCache {
     pub fn store(&mut self, keys: &[PairKey], contacts: &[Contact], bodies: &[Body]) {
         let n = keys.len().min(contacts.len());
         let (keys, contacts) = (&keys[..n], &contacts[..n]);
+        // The same pairs in the same order as last time, each once (every key went into the
+        // table): slot `i` held `keys[i]`, so contact `i`'s old entry is slot `i`, and the
+        // table built from these keys is the one already here. A resting pile's pairs are.
+        let same = self.len == self.keys.len() && self.keys[..] == keys[..];
         // The new entries are built beside the old ones: a recycled contact keeps the anchors
         // of its pair's entry, which is looked up in the old cache.
         let mut fresh = std::mem::take(&mut self.spare);
         let old = &*self;
-        let cached = |(key, c): (&PairKey, &Contact)| {
+        let cached = |(i, (key, c)): (usize, (&PairKey, &Contact))| {
             let pose_a = &bodies[c.body_a as usize].pose;
-            let pose_b = &bodies[c.body_b as usize].pose;
-            let entry = CachedManifold::of(c, pose_a, pose_b);
-            match old.get(key) {
-                Some(last) if c.recycled => entry.with_anchors_of(last),
-                _ => entry,
+            if c.recycled {
+                let last = if same {
+                    Some(&old.manifolds[i])
+                } else {
+                    old.get(key)
+                };
+                if let Some(last) = last {
+                    return CachedManifold::recycled_of(c, pose_a, last);
+                }
             }
+            CachedManifold::of(c, pose_a, &bodies[c.body_b as usize].pose)
         };
         if n >= PARALLEL_MIN_STORE && rayon::current_num_threads() > 1 {
             keys.par_iter()
                 .zip(contacts.par_iter())
+                .enumerate()
                 .with_min_len(STORE_PER_TASK)
                 .map(cached)
                 .collect_into_vec(&mut fresh);
         } else {
             fresh.clear();
-            fresh.extend(keys.iter().zip(contacts).map(cached));
+            fresh.extend(keys.iter().zip(contacts).enumerate().map(cached));
         }
         self.spare = std::mem::replace(&mut self.manifolds, fresh);
-        self.keys.clear();
-        self.keys.extend_from_slice(keys);
-        self.len = self.table.rebuild(&self.keys);
+        if !same {
+            self.keys.clear();
+            self.keys.extend_from_slice(keys);
+            self.len = self.table.rebuild(&self.keys);
+        }
     }
 
     /// Every cached pair with what it left behind, sorted by pair key (a copy of the cache
@@ -241,6 +253,30 @@ impl CachedManifold {
             anchors_b,
             normal_b: pose_b.rotation.inverse_transform_vector(&m.normal),
             overlapped,
+        }
+    }
+
+    /// What a recycled `contact` leaves behind: [`CachedManifold::of`] with the anchors,
+    /// normals and overlap signs of `last`, the entry it was recycled from, so that they stay
+    /// those of the manifold last computed (`of(..).with_anchors_of(last)`, without computing
+    /// the anchors it would replace).
+    pub fn recycled_of(contact: &Contact, pose_a: &Pose, last: &CachedManifold) -> Self {
+        let m = &contact.manifold;
+        let mut ids = [0u32; MAX_MANIFOLD_POINTS];
+        let mut local_points = [Vec3::zeros(); MAX_MANIFOLD_POINTS];
+        for (i, p) in m.points().iter().enumerate() {
+            ids[i] = p.id;
+            local_points[i] = pose_a.inverse_transform_point(&p.position).coords;
+        }
+        CachedManifold {
+            kind: m.kind,
+            feature: m.feature,
+            ids,
+            local_points,
+            impulses: contact.impulses,
+            tilt_impulse: contact.tilt_impulse,
+            len: m.len,
+            ..*last
         }
     }
 

@@ -286,6 +286,10 @@ pub fn out_of_bound_updates_are_rejected(backend: Backend, solver: SolverConfig)
         let result = call(&mut world);
         if field.is_empty() {
             // Accepted with this many substeps: the next case starts from its result.
+            assert!(
+                result.is_ok(),
+                "case {i} is within bounds at this substep count and was refused: {result:?}"
+            );
             continue;
         }
         expect_field(result, field);

@@ -395,3 +395,15 @@ fn hybrid_out_of_bound_updates_are_rejected() {
         bad_input::out_of_bound_updates_are_rejected(Backend::Hybrid, SolverConfig::default());
     }
 }
+
+/// With 8 substeps the 300 rad/s spin (what the 100 N s impulse at the cube's edge gives) is
+/// within the bound that 6 substeps refuse it by (pi/4 rad per substep: 8 * 60 * pi/4 = 377
+/// rad/s), so that call must go through, and every other case is still refused by name.
+#[test]
+fn out_of_bound_updates_at_eight_substeps_accept_the_faster_spin() {
+    let solver = SolverConfig {
+        substeps: 8,
+        ..SolverConfig::default()
+    };
+    bad_input::out_of_bound_updates_are_rejected(Backend::Cpu, solver);
+}

@@ -360,7 +360,7 @@ fn table(rows: &[Soaked]) -> String {
     t
 }
 
-/// Caps glibc's malloc at two arenas unless `MALLOC_ARENA_MAX` already sets a number, so that
+/// Caps glibc's malloc at two arenas unless the `MALLOC_ARENA_MAX` variable is present (glibc then reads it itself), so that
 /// the resident memory sampled measures the engine's allocations rather than how many of the
 /// allocator's per-thread arenas the pool's workers have touched so far. Measured on a 16-core
 /// host (docs/reliability.md, "Soak"): with glibc's default (up to eight arenas per core) the
@@ -379,8 +379,8 @@ fn cap_malloc_arenas() -> &'static str {
         }
         /// `M_ARENA_MAX` of glibc's `malloc.h`.
         const M_ARENA_MAX: i32 = -8;
-        // SAFETY: mallopt only sets an allocator parameter; called before the soak starts
-        // any world, so before the thread pool exists.
+        // SAFETY: the declaration matches glibc's `int mallopt(int param, int value)`, and
+        // mallopt takes the allocator's own lock, so it is sound from any thread.
         if unsafe { mallopt(M_ARENA_MAX, 2) } == 1 {
             return "glibc capped at 2 arenas";
         }

@@ -77,10 +77,9 @@ fn the_top_down_order_is_the_stable_sort_by_height_on_any_pool() {
     }
 }
 
-#[test]
-fn the_cache_stored_on_any_pool_holds_what_a_map_of_the_last_manifold_per_pair_holds() {
-    let mut rng = ChaCha8Rng::seed_from_u64(9);
-    let bodies: Vec<Body> = (0..64)
+/// 64 unit cubes in a row, each turned differently, so that no two bodies share a pose.
+fn turned_cubes() -> Vec<Body> {
+    (0..64)
         .map(|i| {
             let pose = Pose::from_parts(
                 Vec3::new(i as Real, 0.5, -1.0).into(),
@@ -88,7 +87,13 @@ fn the_cache_stored_on_any_pool_holds_what_a_map_of_the_last_manifold_per_pair_h
             );
             unit_cube(1.0, pose, material(0.5, 0.0))
         })
-        .collect();
+        .collect()
+}
+
+#[test]
+fn the_cache_stored_on_any_pool_holds_what_a_map_of_the_last_manifold_per_pair_holds() {
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let bodies = turned_cubes();
     // 6,000 manifolds (past the parallel threshold) over pair keys drawn from a small set,
     // so some pairs are stored twice: the later manifold must win.
     let contacts = contacts(&mut rng, 6000, 64);
@@ -143,4 +148,58 @@ fn the_cache_stored_on_any_pool_holds_what_a_map_of_the_last_manifold_per_pair_h
     cache.store(&[], &[], &bodies);
     assert!(cache.is_empty());
     assert_eq!(cache.entries(), vec![]);
+}
+
+#[test]
+fn storing_last_steps_pairs_again_gives_the_entries_a_rebuilt_table_gives() {
+    // A resting pile stores the same pairs in the same order every step, and the store then
+    // keeps its table and finds a recycled contact's old entry at its own index. The same
+    // store into a cache whose table was built from the same pairs in another order takes the
+    // general path (a lookup per pair); both must hold the same entries, bit for bit, on one
+    // thread and past the parallel threshold on four.
+    let mut rng = ChaCha8Rng::seed_from_u64(23);
+    let bodies = turned_cubes();
+    let n = 6000;
+    // Distinct keys in a shuffled order (the general path's table is rebuilt sorted).
+    let mut keys: Vec<PairKey> = (0..n as u64)
+        .map(|i| (i | 1 << 32, (i + 7) | 1 << 32))
+        .collect();
+    for i in (1..keys.len()).rev() {
+        keys.swap(i, rng.random_range(0..=i));
+    }
+    let first = contacts(&mut rng, n, 64);
+    // This step's contacts: the same bodies, new manifolds, two in three recycled (a recycled
+    // entry keeps its old anchors, so it depends on which old entry the store found).
+    let mut second = contacts(&mut rng, n, 64);
+    for (i, (c, old)) in second.iter_mut().zip(&first).enumerate() {
+        (c.body_a, c.body_b) = (old.body_a, old.body_b);
+        c.recycled = i % 3 != 0;
+    }
+    let mut old = ContactCache::new();
+    old.store(&keys, &first, &bodies);
+    for threads in [1, 4] {
+        let pool = pool(threads);
+        let mut kept = ContactCache::new();
+        pool.install(|| kept.store(&keys, &first, &bodies));
+        let mut rebuilt = ContactCache::from_entries(kept.entries());
+        pool.install(|| kept.store(&keys, &second, &bodies));
+        pool.install(|| rebuilt.store(&keys, &second, &bodies));
+        let entries = kept.entries();
+        assert_eq!(entries.len(), n, "{threads} threads");
+        assert_eq!(entries, rebuilt.entries(), "{threads} threads");
+        // And each entry is what the contact and its pair's first entry make of it.
+        for (key, c) in keys.iter().zip(&second) {
+            let pose_a = &bodies[c.body_a as usize].pose;
+            let expected = if c.recycled {
+                CachedManifold::recycled_of(c, pose_a, old.get(key).unwrap())
+            } else {
+                CachedManifold::of(c, pose_a, &bodies[c.body_b as usize].pose)
+            };
+            assert_eq!(
+                kept.get(key),
+                Some(&expected),
+                "{threads} threads, pair {key:?}"
+            );
+        }
+    }
 }

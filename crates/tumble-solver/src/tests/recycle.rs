@@ -41,6 +41,18 @@ fn entry(a: &Cuboid, pose_a: &Pose, b: &Cuboid, pose_b: &Pose) -> (Manifold, Cac
     )
 }
 
+/// [`resting`] at a random yaw (up to 0.6 rad) and offset (up to 0.3 m along each
+/// horizontal axis).
+fn resting_anywhere(rng: &mut ChaCha8Rng) -> (Cuboid, Pose, Cuboid, Pose) {
+    let yaw = rng.random_range(-0.6..0.6);
+    let offset = Vec3::new(
+        rng.random_range(-0.3..0.3),
+        0.0,
+        rng.random_range(-0.3..0.3),
+    );
+    resting(yaw, offset)
+}
+
 fn random_unit(rng: &mut ChaCha8Rng) -> Vec3 {
     loop {
         let v = Vec3::new(
@@ -64,13 +76,7 @@ fn a_recycled_manifold_stays_within_its_tolerance_of_a_fresh_one() {
     // Both boxes are at least 0.5 m: the full distance.
     let tolerance = DEFAULT_RECYCLE_DISTANCE;
     for _ in 0..4000 {
-        let yaw = rng.random_range(-0.6..0.6);
-        let offset = Vec3::new(
-            rng.random_range(-0.3..0.3),
-            0.0,
-            rng.random_range(-0.3..0.3),
-        );
-        let (a, pose_a, b, pose_b) = resting(yaw, offset);
+        let (a, pose_a, b, pose_b) = resting_anywhere(&mut rng);
         let (first, cached) = entry(&a, &pose_a, &b, &pose_b);
         // Motions of either body of up to 1.5 mm and 0.1 degrees (which moves the cube's
         // corners by up to 1.2 mm more): some stay within the 1 mm tolerance and are reused,
@@ -230,13 +236,7 @@ fn a_recycled_entry_is_the_full_entry_with_the_old_anchors() {
     let mut rng = ChaCha8Rng::seed_from_u64(43);
     let mut checked = 0;
     for _ in 0..2000 {
-        let yaw = rng.random_range(-0.6..0.6);
-        let offset = Vec3::new(
-            rng.random_range(-0.3..0.3),
-            0.0,
-            rng.random_range(-0.3..0.3),
-        );
-        let (a, pose_a, b, pose_b) = resting(yaw, offset);
+        let (a, pose_a, b, pose_b) = resting_anywhere(&mut rng);
         let (_, last) = entry(&a, &pose_a, &b, &pose_b);
         let shift = random_unit(&mut rng) * rng.random_range(0.0..0.0008);
         let pose_b2 = moved(&pose_b, shift, random_unit(&mut rng), 0.0);

@@ -360,9 +360,10 @@ fn table(rows: &[Soaked]) -> String {
     t
 }
 
-/// Caps glibc's malloc at two arenas unless the `MALLOC_ARENA_MAX` variable is present (glibc then reads it itself), so that
-/// the resident memory sampled measures the engine's allocations rather than how many of the
-/// allocator's per-thread arenas the pool's workers have touched so far. Measured on a 16-core
+/// Caps glibc's malloc at two arenas unless the `MALLOC_ARENA_MAX` variable is present (glibc
+/// then reads it itself), so that the resident memory sampled measures the engine's
+/// allocations rather than how many of the allocator's per-thread arenas the pool's workers
+/// have touched so far. Measured on a 16-core
 /// host (docs/reliability.md, "Soak"): with glibc's default (up to eight arenas per core) the
 /// CPU pyramid's RSS rose in steps of about 8 MiB from 86.9 to 135.5 MiB in 3,000 steps as
 /// workers moved between arenas; with two arenas it stayed at 82.4 to 82.7 MiB. A leak grows

@@ -363,11 +363,11 @@ fn table(rows: &[Soaked]) -> String {
 /// Caps glibc's malloc at two arenas unless the `MALLOC_ARENA_MAX` variable is present (glibc
 /// then reads it itself), so that the resident memory sampled measures the engine's
 /// allocations rather than how many of the allocator's per-thread arenas the pool's workers
-/// have touched so far. Measured on a 16-core
-/// host (docs/reliability.md, "Soak"): with glibc's default (up to eight arenas per core) the
-/// CPU pyramid's RSS rose in steps of about 8 MiB from 86.9 to 135.5 MiB in 3,000 steps as
-/// workers moved between arenas; with two arenas it stayed at 82.4 to 82.7 MiB. A leak grows
-/// either way. Elsewhere (another C library or OS) this does nothing.
+/// have touched so far. Measured on a 16-core host (docs/reliability.md, "Soak"): with glibc's
+/// default (up to eight arenas per core) the CPU pyramid's RSS rose in steps of about 8 MiB
+/// from 86.9 to 135.5 MiB in 3,000 steps as workers moved between arenas; with two arenas it
+/// stayed at 82.4 to 82.7 MiB. A leak grows either way. Elsewhere (another C library or OS)
+/// this does nothing.
 fn cap_malloc_arenas() -> &'static str {
     if std::env::var_os("MALLOC_ARENA_MAX").is_some() {
         return "as MALLOC_ARENA_MAX sets";

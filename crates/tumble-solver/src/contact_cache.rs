@@ -58,7 +58,7 @@ pub struct CachedManifold {
 
 /// Stored manifolds below which the cache is written on the calling thread: one costs some
 /// tens of nanoseconds, a rayon task a few microseconds.
-const PARALLEL_MIN_STORE: usize = 2048;
+pub(crate) const PARALLEL_MIN_STORE: usize = 2048;
 
 /// Manifolds per rayon task when the cache is written in parallel.
 const STORE_PER_TASK: usize = 512;

@@ -15,7 +15,7 @@ pub const MAX_ROTATION_PER_SUBSTEP: Real = 0.25 * std::f32::consts::PI;
 pub const MAX_LINEAR_SPEED: Real = 400.0;
 
 /// Body loops go wide from this many bodies (below, a body costs less than handing it out).
-const PARALLEL_MIN_BODIES: usize = 2048;
+pub(crate) const PARALLEL_MIN_BODIES: usize = 2048;
 
 /// Bodies per rayon task of a wide body loop.
 const BODIES_PER_TASK: usize = 512;

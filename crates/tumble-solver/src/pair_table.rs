@@ -19,7 +19,7 @@ use crate::pair_hash::PairBuildHasher;
 
 /// Keys below which the table is filled on the calling thread: an insert costs tens of
 /// nanoseconds, a rayon task a few microseconds.
-const PARALLEL_MIN_KEYS: usize = 4096;
+pub(crate) const PARALLEL_MIN_KEYS: usize = 4096;
 
 /// Keys per rayon task when filling in parallel.
 const KEYS_PER_TASK: usize = 1024;

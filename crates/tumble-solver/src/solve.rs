@@ -20,7 +20,7 @@ use crate::{
 };
 
 /// Constraint preparation goes wide from this many manifolds (below, the pool costs more).
-const PARALLEL_PREPARE_MIN: usize = 512;
+pub(crate) const PARALLEL_PREPARE_MIN: usize = 512;
 
 /// Contacts per rayon task when the solved impulses are written back in parallel.
 const STORE_PER_TASK: usize = 1024;
@@ -332,7 +332,9 @@ pub fn solve_with_buffers(
         ctx: &prepare_ctx,
         friction: effects.friction,
     };
-    let wide = order.len() >= PARALLEL_PREPARE_MIN;
+    // On a pool of one thread a parallel loop only hands the work to that thread (and from
+    // outside the pool, sleeps until it is done).
+    let wide = order.len() >= PARALLEL_PREPARE_MIN && rayon::current_num_threads() > 1;
     constraints.clear();
     constraints.reserve(scalar_count);
     // Blocks kept from the last step are overwritten by `LaneBlock::prepare`.

@@ -23,6 +23,27 @@ use crate::{
 /// costs about a microsecond, a task a few.
 const PARALLEL_MIN_PAIRS: usize = 256;
 
+/// Whether a step of `bodies` bodies whose broad phase finds `pairs` candidate pairs runs
+/// every stage on the calling thread whatever the pool: each stage's parallel path starts
+/// above these sizes (a body loop at 2,048 bodies; the narrow phase at 256 pairs; the
+/// solver's sweep at a color of more than 32 constraints, and a color holds at most one
+/// constraint per pair; the rest at 512 or more), so such a step gains nothing from starting
+/// on a worker of the pool, which costs a wake-up of that worker and a sleep of the caller.
+/// The result does not depend on where a step runs.
+pub const fn runs_on_one_thread(bodies: usize, pairs: usize) -> bool {
+    bodies < crate::integrate::PARALLEL_MIN_BODIES && pairs <= crate::sweep::BLOCK
+}
+
+// Every other parallel path starts above the pairs (or the contacts and keys, one per pair
+// at most) that `runs_on_one_thread` allows.
+const _: () = assert!(
+    crate::sweep::BLOCK < PARALLEL_MIN_PAIRS
+        && crate::sweep::BLOCK < PARALLEL_MIN_SORT
+        && crate::sweep::BLOCK < crate::solve::PARALLEL_PREPARE_MIN
+        && crate::sweep::BLOCK < crate::contact_cache::PARALLEL_MIN_STORE
+        && crate::sweep::BLOCK < crate::pair_table::PARALLEL_MIN_KEYS
+);
+
 /// Stage 1: the AABB of every body for the step ([`tumble_broad::motion_aabb`]: grown by
 /// `margin`, stretched by `v dt`, grown by `|w| r dt`).
 pub fn update_aabbs(bodies: &[Body], states: &[BodyState], margin: Real, dt: Real) -> Vec<Aabb> {

@@ -21,7 +21,7 @@ use crate::{BodyState, ContactConstraint, Mat3};
 
 /// Constraints per block of a parallel batch: enough work (a few microseconds) to pay for a
 /// worker taking it, small enough that a color of a few hundred constraints still spreads.
-const BLOCK: usize = 32;
+pub(crate) const BLOCK: usize = 32;
 
 // A parallel lane batch is claimed `BLOCK / LANES` lane blocks at a time.
 const _: () = assert!(LANES <= BLOCK && BLOCK.is_multiple_of(LANES));

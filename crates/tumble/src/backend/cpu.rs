@@ -72,6 +72,8 @@ impl Collision for CpuCollision {
 #[derive(Debug, Default)]
 pub(crate) struct CpuBackend {
     collision: CpuCollision,
+    /// The last step's candidate pair count; `None` before the first step.
+    last_pairs: Option<usize>,
 }
 
 impl StepBackend for CpuBackend {
@@ -80,12 +82,25 @@ impl StepBackend for CpuBackend {
         // The whole step on a worker of the pool: every stage's parallel loop then starts
         // from inside the pool, where the calling worker takes part, instead of handing each
         // loop to the pool from outside and sleeping until it is done (a wake-up and a sleep
-        // of this thread per loop, dozens a step). The result does not depend on where it
-        // runs.
+        // of this thread per loop, dozens a step). A step that no stage would spread (on a
+        // pool of one thread, or with as few bodies and pairs as `runs_on_one_thread` allows,
+        // judged by the last step's pairs) runs on the calling thread instead: there the
+        // hand-off would be all the pool adds, a wake-up and a sleep per step, much of a small
+        // scene's step (docs/benchmarks.md, "CPU step: small scenes on the calling thread").
+        // The result does not depend on where the step runs.
         let collision = &mut self.collision;
-        let stepped = rayon::scope(|_| pipeline::step(host, args, collision));
+        let small = self
+            .last_pairs
+            .is_some_and(|pairs| stages::runs_on_one_thread(host.bodies.len(), pairs));
+        let stepped = if small || rayon::current_num_threads() == 1 {
+            pipeline::step(host, args, collision)
+        } else {
+            rayon::scope(|_| pipeline::step(host, args, collision))
+        };
         if stepped.is_err() {
             self.collision.pairs = before;
+        } else {
+            self.last_pairs = Some(self.collision.pairs.len());
         }
         stepped
     }

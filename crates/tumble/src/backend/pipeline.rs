@@ -30,6 +30,13 @@ const BODIES_PER_TASK: usize = 512;
 /// calling thread.
 const PARALLEL_MIN_CONTACTS: usize = 8192;
 
+// The CPU backend runs a step on the calling thread when the last one was below
+// `runs_on_one_thread`'s sizes; these loops must not go wide below them either.
+const _: () = assert!(
+    !tumble_solver::stages::runs_on_one_thread(PARALLEL_MIN_BODIES, 0)
+        && !tumble_solver::stages::runs_on_one_thread(0, PARALLEL_MIN_CONTACTS)
+);
+
 /// Manifolds per rayon task when they are computed in parallel.
 const CONTACTS_PER_TASK: usize = 2048;
 

@@ -67,7 +67,7 @@ const MAX_TOP_DRIFT: f32 = 0.05;
 /// the highest of its first half (from the first sample on, after the warm-up). Peaks rather
 /// than the first and last sample: the allocator hands memory back and takes it again, so one
 /// sample may sit anywhere in a band (on the 2-core build machine the CPU pyramid's resident
-/// memory moved between 75.9 and 96.6 MiB from sample to sample with no trend), while a leak
+/// memory moved between 70.1 and 96.6 MiB from sample to sample with no trend), while a leak
 /// raises every later peak.
 const MAX_MEMORY_GROWTH: f64 = 1.10;
 /// Bodies the pool holds once full: each step adds one and, from then on, removes the oldest.

@@ -13,7 +13,7 @@ use tumble_geometry::{Cuboid, Pose, Real, Vec3};
 use tumble_gpu::GpuContext;
 use tumble_gpu::layout::GpuPose;
 use tumble_gpu::solver::constants::GRAPH_COLOR_COUNT;
-use tumble_gpu::solver::{FusedMemory, SolvePath, WarmStartSweep};
+use tumble_gpu::solver::{FusedMemory, SolvePath, SubstepDispatch, WarmStartSweep};
 use tumble_gpu::step::{ColorDispatch, GpuWorld, GpuWorldConfig, PathPolicy, ReadRequest};
 use tumble_solver::{Body, BodyKind, BodyState, Material};
 use tumble_tests::gpu_solver_util::{floor, pose_bits};
@@ -276,6 +276,85 @@ fn per_body_warm_start_gives_the_bits_of_the_colored_warm_start() {
         &plate(WarmStartSweep::ByColor),
         "plate on 36 cubes: per-body vs colored warm start",
     );
+}
+
+#[test]
+fn one_substep_dispatch_gives_the_bits_of_the_per_color_dispatches() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    // `solve_step` runs every phase of the substeps (integrate velocities, the per-body warm
+    // start, the overflow set, each color of each solve and relax sweep, integrate positions,
+    // restitution) in one dispatch, as chunks handed out by a ticket counter, a chunk waiting
+    // until the phases before it are done. A chunk run before its phase's predecessors were
+    // done, a body or constraint visited twice or skipped, a phase out of order or a read of
+    // another workgroup's stale write would change a bit against the per-color dispatches.
+    // One workgroup takes every chunk in turn; on a GPU three, and as many as the step picks
+    // (`SOLVE_STEP_GROUPS`, most of them without a chunk in this small scene), compete for
+    // them. A CPU adapter always runs one workgroup
+    // (`SOLVE_STEP_CPU_GROUPS` says why), so there the comparison checks the phases' order and
+    // content, and a GPU run checks the hand-over between workgroups too. Three scenes: the landing pile (colors churn), the plate on 36 cubes (an overflow
+    // set every step), and the pile with bouncy dropped boxes (the restitution sweep).
+    if !ctx.has_coherent {
+        eprintln!("skipped: the adapter has no @coherent storage, so no one-dispatch substeps");
+        return;
+    }
+    let config = |substep_dispatch| GpuWorldConfig {
+        warm_start_sweep: WarmStartSweep::PerBody,
+        substep_dispatch,
+        ..on_path(SolvePath::Wide)
+    };
+    let per_color = config(SubstepDispatch::PerColor);
+    let one = |groups| config(SubstepDispatch::OneDispatch { groups });
+    let reference = run_with(&ctx, per_color, 80).0;
+    for groups in [Some(1), Some(3), None] {
+        let poses = run_with(&ctx, one(groups), 80).0;
+        assert_bitwise_equal(&poses, &reference, &format!("pile: {groups:?} workgroups"));
+    }
+
+    let plate = |config: GpuWorldConfig| {
+        let (bodies, states) = plate_on_cubes();
+        let mut world = GpuWorld::new(&ctx, config).unwrap();
+        world.set_bodies(&bodies, &states).unwrap();
+        for _ in 0..40 {
+            world.step().unwrap();
+        }
+        let poses = world.read_now(ReadRequest::MOTION).unwrap().poses;
+        // The plate still lies on the cubes (as in the warm-start test above): its overflow
+        // constraints were solved.
+        let y = poses.last().unwrap().position[1];
+        assert!((y - 0.6).abs() < 0.02, "plate centre at y = {y}");
+        poses
+    };
+    assert_bitwise_equal(&plate(one(Some(3))), &plate(per_color), "plate on 36 cubes");
+
+    let bouncy = |config: GpuWorldConfig| {
+        let (mut bodies, states) = scene();
+        for body in &mut bodies[11..] {
+            body.material.restitution = 0.6;
+        }
+        let mut world = GpuWorld::new(&ctx, config).unwrap();
+        world.set_bodies(&bodies, &states).unwrap();
+        let mut highest_rebound: Real = 0.0;
+        let mut poses = Vec::new();
+        for _ in 0..120 {
+            world.step().unwrap();
+            let snapshot = world.read_now(ReadRequest::MOTION).unwrap();
+            // Some dropped box moves up after landing: the restitution sweep ran.
+            let up = (11..bodies.len())
+                .map(|i| snapshot.velocities[i].linear[1])
+                .fold(0.0, Real::max);
+            highest_rebound = highest_rebound.max(up);
+            poses = snapshot.poses;
+        }
+        // A box that lands at 4 m/s or more with restitution 0.6 leaves at well over 1 m/s.
+        assert!(
+            highest_rebound > 1.0,
+            "no box bounced: {highest_rebound} m/s up at most"
+        );
+        poses
+    };
+    assert_bitwise_equal(&bouncy(one(None)), &bouncy(per_color), "bouncy pile");
 }
 
 #[test]

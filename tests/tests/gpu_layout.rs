@@ -93,8 +93,8 @@ fn every_kernel_parses_validates_specializes_and_translates() {
 fn workgroup_size_comes_from_the_host_constant() {
     // The shaders never spell the workgroup size: after specialization it must equal the
     // Rust constant (single-thread planning kernels excepted; the per-color passes have their
-    // own, for which color_plan sizes their dispatches, and solve_worlds its own, one
-    // workgroup per world).
+    // own, for which color_plan sizes their dispatches, solve_worlds its own, one
+    // workgroup per world, and solve_step its own, one color chunk per workgroup).
     for k in all_kernels() {
         let spec = k.spec;
         let (module, _) = spec.check_specialized(&k.overrides).unwrap();
@@ -103,6 +103,8 @@ fn workgroup_size_comes_from_the_host_constant() {
             tumble_gpu::solver::constants::COLOR_PASS_WORKGROUP_SIZE
         } else if matches!(spec.name, "solve_worlds" | "solve_worlds_shared") {
             tumble_gpu::solver::fused::WORLDS_WORKGROUP_SIZE
+        } else if spec.name == "solve_step" {
+            tumble_gpu::solver::solve_step::SOLVE_STEP_WORKGROUP_SIZE
         } else {
             tumble_gpu::WORKGROUP_SIZE
         };

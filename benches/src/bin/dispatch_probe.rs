@@ -3,7 +3,7 @@
 //! pyramids of several sizes and several sweep counts.
 //!
 //! ```sh
-//! cargo run --release -p tumble-benches --bin dispatch_probe -- 4,12,24,50 1,4 wide,fused all,in-use per-body,by-color
+//! cargo run --release -p tumble-benches --bin dispatch_probe -- 4,12,24,50 1,4 wide,fused all,in-use per-body,by-color per-color,one
 //! ```
 //!
 //! `--help` lists the arguments and their values; an unknown value is an error. The first
@@ -12,7 +12,10 @@
 //! fourth how many colors the wide path dispatches one by one (`all` 24, `in-use` as many as
 //! a recent step used; the default), the fifth how the warm start visits the colors
 //! (`per-body`, one dispatch and one for the overflow set, the default; `by-color`, one per
-//! color as the other passes). Each scene settles for 30 steps, then 10 are profiled.
+//! color as the other passes), the sixth how the wide path dispatches its substeps
+//! (`per-color`, a dispatch per phase; `one`, every substep in one `solve_step` dispatch with
+//! the workgroups it picks; `one:N`, with N workgroups; the default `auto`, as the world
+//! picks for the device). Each scene settles for 30 steps, then 10 are profiled.
 //! The solve pass records `4 * (2 + (K + 1) * (2 + iterations))` dispatches for K colors
 //! dispatched one by one with the colored warm start (each pass closes with one dispatch for
 //! the colors beyond K and the overflow set), and `4 * (4 + (K + 1) * (1 + iterations))` with
@@ -28,7 +31,7 @@ use std::collections::BTreeMap;
 use clap::{Parser, ValueEnum};
 
 use tumble_benches::gpu_pool::contact_counts;
-use tumble_gpu::solver::{SolvePath, WarmStartSweep};
+use tumble_gpu::solver::{SolvePath, SubstepDispatch, WarmStartSweep};
 use tumble_gpu::step::{ColorDispatch, GpuWorldConfig, PathPolicy, ReadRequest};
 use tumble_gpu::{GpuContext, GpuOptions};
 use tumble_solver::SolverConfig;
@@ -105,10 +108,36 @@ struct Args {
         default_value = "per-body"
     )]
     warm_starts: Vec<WarmStartArg>,
+    /// How the wide path dispatches its substeps: `auto`, `per-color`, `one` or `one:N`.
+    #[arg(
+        action = clap::ArgAction::Set,
+        num_args = 1,
+        value_delimiter = ',',
+        default_value = "auto",
+        value_parser = parse_substeps
+    )]
+    substeps: Vec<SubstepDispatch>,
     /// Open the device without immediate data, so the wide path binds a uniform per color
     /// (`solve_color`) even where the adapter has it.
     #[arg(long)]
     no_immediates: bool,
+}
+
+/// A [`SubstepDispatch`] from `auto`, `per-color`, `one` or `one:N` (N workgroups, at least 1).
+fn parse_substeps(text: &str) -> Result<SubstepDispatch, String> {
+    match text {
+        "auto" => Ok(SubstepDispatch::Auto),
+        "per-color" => Ok(SubstepDispatch::PerColor),
+        "one" => Ok(SubstepDispatch::OneDispatch { groups: None }),
+        _ => match text.strip_prefix("one:").map(str::parse::<u32>) {
+            Some(Ok(groups)) if groups >= 1 => Ok(SubstepDispatch::OneDispatch {
+                groups: Some(groups),
+            }),
+            _ => Err(format!(
+                "substep dispatch {text:?}: expected auto, per-color, one or one:N with N >= 1"
+            )),
+        },
+    }
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -165,11 +194,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for &i in &iterations {
             for &p in &paths {
                 for &m in &dispatch_modes {
-                    settings.extend(warm_starts.iter().map(|&w| (i, p, m, w)));
+                    for &w in &warm_starts {
+                        settings.extend(args.substeps.iter().map(|&d| (i, p, m, w, d)));
+                    }
                 }
             }
         }
-        for (iters, path, color_dispatch, warm_start_sweep) in settings {
+        for (iters, path, color_dispatch, warm_start_sweep, substep_dispatch) in settings {
             let mut world = gpu_world_of(
                 &ctx,
                 &scene,
@@ -178,6 +209,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     path: PathPolicy::Always(path),
                     color_dispatch,
                     warm_start_sweep,
+                    substep_dispatch,
                     solver: SolverConfig {
                         substeps: SUBSTEPS,
                         iterations: iters,
@@ -208,14 +240,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .sum();
             let colors = world.solver().color_dispatches();
             let per_body = warm_start_sweep.per_body(ctx.info.device_type);
+            let one_dispatch = world.solver().substep_groups(bodies as u32);
             let dispatches = match (path, per_body) {
+                (SolvePath::Wide, _) if one_dispatch.is_some() => 1,
                 (SolvePath::Wide, false) => SUBSTEPS * (2 + (colors + 1) * (2 + iters)),
                 (SolvePath::Wide, true) => SUBSTEPS * (4 + (colors + 1) * (1 + iters)),
                 (SolvePath::Fused | SolvePath::Worlds, _) => 1,
             };
             println!(
-                "| {h} | {} | {manifolds} | {iters} | {path:?} | {warm_start_sweep:?} | {colors} | {dispatches} | {:.3} | {:.1} | {:.3} | {:.3} | {solver:.3} | {:.3} | {total:.3} | {bits:016x} |",
+                "| {h} | {} | {manifolds} | {iters} | {path:?}{} | {warm_start_sweep:?} | {colors} | {dispatches} | {:.3} | {:.1} | {:.3} | {:.3} | {solver:.3} | {:.3} | {total:.3} | {bits:016x} |",
                 bodies,
+                one_dispatch.map_or(String::new(), |g| format!(" (one dispatch, {g} groups)")),
                 ms("solve") + ms("solve_fused"),
                 (ms("solve") + ms("solve_fused")) * 1e3 / f64::from(dispatches),
                 ms("prepare"),

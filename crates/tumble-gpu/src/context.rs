@@ -88,6 +88,10 @@ pub struct GpuContext {
     /// dispatch's color with immediate data instead of a bind group per color (the same
     /// bits, less host time recording a step; docs/gpu-solver.md).
     pub has_immediates: bool,
+    /// True when the device has `@coherent` storage buffers
+    /// ([`wgpu::Features::MEMORY_DECORATION_COHERENT`]): the wide solver path can then run a
+    /// step's substeps in one dispatch (`solve_step`, docs/gpu-solver.md).
+    pub has_coherent: bool,
     /// The pipelines built on this device.
     pub(crate) pipelines: crate::kernel::PipelineCache,
     /// Device loss and uncaptured errors, as the device's callbacks reported them.
@@ -200,7 +204,13 @@ impl GpuContext {
         // one `ColorPass` (limits with `max_immediate_size: 0` open a device without it).
         let has_immediates = adapter.features().contains(wgpu::Features::IMMEDIATES)
             && limits.max_immediate_size >= REQUIRED_IMMEDIATE_BYTES;
+        let has_coherent = adapter
+            .features()
+            .contains(wgpu::Features::MEMORY_DECORATION_COHERENT);
         let mut required_features = wgpu::Features::empty();
+        if has_coherent {
+            required_features |= wgpu::Features::MEMORY_DECORATION_COHERENT;
+        }
         if has_timestamps {
             required_features |= wgpu::Features::TIMESTAMP_QUERY;
         }
@@ -247,6 +257,7 @@ impl GpuContext {
             info,
             has_timestamps,
             has_immediates,
+            has_coherent,
             pipelines: Default::default(),
             health,
             read_timeout: Arc::new(AtomicU64::new(DEFAULT_READ_TIMEOUT.as_nanos() as u64)),

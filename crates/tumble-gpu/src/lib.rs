@@ -62,12 +62,15 @@ pub use naga;
 /// Re-export of the GPU API.
 pub use wgpu;
 
-/// The capabilities wgpu's own validator uses for our pipelines: naga's defaults and
-/// immediate data, the one shader-affecting feature a device may enable (timestamps are a
-/// pass-level feature). Only `solve_color_immediate` uses it, and it is built only on
-/// devices that have it ([`GpuContext::has_immediates`]).
+/// The capabilities wgpu's own validator uses for our pipelines: naga's defaults, immediate
+/// data and `@coherent` storage, the shader-affecting features a device may enable
+/// (timestamps are a pass-level feature). Only `solve_color_immediate` uses immediate data and
+/// only `solve_step` `@coherent`, and each is built only on devices that have it
+/// ([`GpuContext::has_immediates`], [`GpuContext::has_coherent`]).
 pub fn validation_capabilities() -> naga::valid::Capabilities {
-    naga::valid::Capabilities::default() | naga::valid::Capabilities::IMMEDIATES
+    naga::valid::Capabilities::default()
+        | naga::valid::Capabilities::IMMEDIATES
+        | naga::valid::Capabilities::MEMORY_DECORATION_COHERENT
 }
 
 /// The README's examples, compiled and run as doctests.

@@ -23,6 +23,7 @@ pub static KERNELS: LazyLock<Vec<&'static KernelSpec>> = LazyLock::new(|| {
         &kernels::contact_events::CONTACT_ENDS,
         &solver::solve_color::SOLVE_COLOR,
         &solver::solve_color::SOLVE_COLOR_IMMEDIATE,
+        &solver::solve_step::SOLVE_STEP,
         &kernels::cast_rays::CAST_RAYS,
         &kernels::check_motion::CHECK_MOTION,
     ];
@@ -46,8 +47,8 @@ pub struct RegisteredKernel {
 }
 
 /// Every kernel with the override values the checks build it with: the effect switches it
-/// declares, all on, `solve_color` as its biased pass, and `solve_worlds` with its own
-/// workgroup size. A shader that fails to parse gets
+/// declares, all on, `solve_color` as its biased pass, `solve_worlds` with its own
+/// workgroup size, and `solve_step` with its wait for CPU adapters. A shader that fails to parse gets
 /// no values, and the check then reports the parse error.
 pub fn all_kernels() -> Vec<RegisteredKernel> {
     let mut extra = effect_overrides(&Effects::ALL).to_vec();
@@ -62,6 +63,10 @@ pub fn all_kernels() -> Vec<RegisteredKernel> {
             if std::ptr::eq(spec, &solver::fused::SOLVE_WORLDS_SHARED) {
                 overrides.retain(|(n, _)| *n != "FUSED_SHARED_BODIES");
                 overrides.extend_from_slice(&solver::fused::WORLDS_SHARED_OVERRIDES);
+            }
+            if std::ptr::eq(spec, &solver::solve_step::SOLVE_STEP) {
+                // The wait that lavapipe needs (the GPU form is an atomic load).
+                overrides.push(("SOLVE_STEP_PER_THREAD_SYNC", 1.0));
             }
             RegisteredKernel { spec, overrides }
         })

@@ -31,6 +31,8 @@ override PERSIST_NORMAL_COS: f32;
 // Threads per workgroup of the per-color passes (solve_color), whose dispatch sizes
 // color_plan writes.
 override COLOR_PASS_WORKGROUP_SIZE: u32;
+// Threads per workgroup of solve_step.
+override SOLVE_STEP_WORKGROUP_SIZE: u32;
 // The coloring tally (color_withdraw, color_finish, color_count, color_plan): entry
 // TALLY_UNDECIDED counts the constraints left after the first round, entries from
 // TALLY_COUNTS on the constraints of each color, overflow last.

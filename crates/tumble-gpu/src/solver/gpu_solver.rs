@@ -21,8 +21,9 @@ use super::constraint_store::{constraints_by_manifold, store_stride};
 use super::effects::{Effects, effect_overrides};
 use super::layout::{ColorSlot, GpuConstraint, GpuSolverBody, GpuTilt, SolverParams};
 use super::path::{FusedMemory, SolvePath, WarmStartSweep};
-use super::pipelines::{SolverPipelines, pass_kernels};
+use super::pipelines::{SolverPipelines, pass_kernels, solve_step_kernel};
 use super::solve_color::PassKind;
+use super::solve_step::SubstepDispatch;
 
 mod bind_groups;
 mod sweep;
@@ -46,6 +47,8 @@ const COLOR_ARGS: &str = "color_args";
 const SORT_KEYS: [&str; 2] = ["color_sort_keys_0", "color_sort_keys_1"];
 const SORT_VALUES: [&str; 2] = ["color_sort_values_0", "color_sort_values_1"];
 const SORT_TILES: &str = "color_sort_tiles";
+/// `solve_step`'s ticket and done counters, cleared before each of its dispatches.
+const STEP_PROGRESS: &str = "step_progress";
 /// The solver's buffers left out of checkpoints. Those that every step rewrites before
 /// reading: the constraint store (prepare_contacts writes every slot a step visits), the
 /// coloring's marks and undecided lists (the marks cleared at the start of each step), the
@@ -53,8 +56,9 @@ const SORT_TILES: &str = "color_sort_tiles";
 /// slot. And the colors and tilts kept per parity: a step writes only its own parity and
 /// binds last step's read-only (`previous_colors`, `previous_tilts`), as the collision
 /// stage's parity buffers (`crate::collision::buffers::PARITY_BUFFERS`).
-const PER_STEP: [&str; 9] = [
+const PER_STEP: [&str; 10] = [
     CONSTRAINTS,
+    STEP_PROGRESS,
     COLOR_MARKS,
     COLOR_SCRATCH,
     SORT_KEYS[0],
@@ -103,6 +107,8 @@ struct BindGroups {
     solve_fused_shared: [wgpu::BindGroup; 2],
     solve_worlds: [wgpu::BindGroup; 2],
     solve_worlds_shared: [wgpu::BindGroup; 2],
+    /// `solve_step`'s, where the device has it.
+    solve_step: Option<wgpu::BindGroup>,
 }
 
 /// The GPU solver stage: owns its pipelines (shared per device and effects), its buffers
@@ -114,6 +120,10 @@ pub struct GpuSolver {
     pipelines: SolverPipelines,
     /// `solve_color`, one per [`PassKind`] in [`PassKind::ALL`] order.
     passes: Vec<Kernel>,
+    /// `solve_step`, on devices with `@coherent` storage.
+    solve_step: Option<Kernel>,
+    /// How the wide path dispatches its substeps ([`SubstepDispatch`]).
+    substep_dispatch: SubstepDispatch,
     /// Graph colors each pass dispatches one by one; the tail takes the rest
     /// ([`Self::set_color_dispatches`]).
     color_dispatches: u32,
@@ -149,6 +159,7 @@ impl GpuSolver {
         };
         let pipelines = SolverPipelines::new(ctx, &effects)?;
         let passes = pass_kernels(ctx, &effects)?;
+        let solve_step = solve_step_kernel(ctx, &effects)?;
         let params = ctx.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("solver params"),
             size: std::mem::size_of::<SolverParams>() as u64,
@@ -180,6 +191,8 @@ impl GpuSolver {
             effects,
             pipelines,
             passes,
+            solve_step,
+            substep_dispatch: SubstepDispatch::default(),
             color_dispatches: GRAPH_COLOR_COUNT,
             worlds: 1,
             world_bodies: None,
@@ -227,6 +240,32 @@ impl GpuSolver {
     /// ([`WarmStartSweep`]; the same bits either way).
     pub fn set_warm_start_sweep(&mut self, sweep: WarmStartSweep) {
         self.warm_start = sweep;
+    }
+
+    /// How the wide path dispatches its substeps from the next step on ([`SubstepDispatch`];
+    /// the same bits either way).
+    pub fn set_substep_dispatch(&mut self, dispatch: SubstepDispatch) {
+        self.substep_dispatch = dispatch;
+    }
+
+    /// How the wide path dispatches its substeps ([`Self::set_substep_dispatch`]).
+    pub fn substep_dispatch(&self) -> SubstepDispatch {
+        self.substep_dispatch
+    }
+
+    /// The workgroups of the wide path's one substep dispatch for a step of `bodies` bodies, or
+    /// `None` when it dispatches per color ([`SubstepDispatch::one_dispatch_groups`]). The
+    /// one dispatch warms per body, so a step whose warm start goes by color
+    /// ([`Self::set_warm_start_sweep`]) dispatches per color.
+    pub fn substep_groups(&self, bodies: u32) -> Option<u32> {
+        if !self.warm_start.per_body(self.ctx.info.device_type) {
+            return None;
+        }
+        self.substep_dispatch.one_dispatch_groups(
+            bodies,
+            self.ctx.info.device_type,
+            self.solve_step.is_some(),
+        )
     }
 
     /// How the wide path's warm start visits the graph colors ([`Self::set_warm_start_sweep`]).
@@ -294,6 +333,7 @@ impl GpuSolver {
         if effect_overrides(&effects) != effect_overrides(&self.effects) {
             self.pipelines = SolverPipelines::new(&self.ctx, &effects)?;
             self.passes = pass_kernels(&self.ctx, &effects)?;
+            self.solve_step = solve_step_kernel(&self.ctx, &effects)?;
             self.bind.clear();
         }
         self.effects = effects;
@@ -337,6 +377,7 @@ impl GpuSolver {
             (SORT_VALUES[0], bytes_of::<u32>(cap)),
             (SORT_VALUES[1], bytes_of::<u32>(cap)),
             (SORT_TILES, bytes_of::<u32>(sort_tiles)),
+            (STEP_PROGRESS, bytes_of::<u32>(2)),
         ];
         self.pool.ensure_all(&sizes, STORAGE_USAGE)?;
         Ok(())
@@ -495,33 +536,43 @@ impl GpuSolver {
                         self.color_dispatches,
                     );
                 };
-                for substep in 0..params.substeps {
-                    // The GPU runs what is recorded so far while the host records the next
-                    // substep's ~80 dispatches (about 0.4 ms of host time each substep).
-                    submit_so_far(&self.ctx, encoder);
+                if let (Some(groups_x), Some(kernel), Some(group)) =
+                    (self.substep_groups(n), &self.solve_step, &groups.solve_step)
+                {
+                    // Every substep in one dispatch: the phases of the per-color dispatches
+                    // below, in the same order.
+                    encoder.clear_buffer(self.pool.get(STEP_PROGRESS), 0, None);
                     let mut pass = timer.begin_pass(encoder, "solve");
-                    k.integrate_velocities
-                        .dispatch(&mut pass, &groups.integrate_velocities, n);
-                    if self.warm_start.per_body(self.ctx.info.device_type) {
-                        k.warm_start_bodies
-                            .dispatch(&mut pass, &groups.warm_start_bodies, n);
-                        // The overflow set after every color, in one thread, as in the
-                        // colored sweep.
-                        let warm = PassKind::WarmStart.index();
-                        groups.passes[warm].overflow(&mut pass, &self.passes[warm]);
-                    } else {
-                        sweep(&mut pass, PassKind::WarmStart);
-                    }
-                    for _ in 0..params.iterations {
-                        sweep(&mut pass, PassKind::Solve);
-                    }
-                    k.integrate_positions
-                        .dispatch(&mut pass, &groups.integrate_positions, n);
-                    for _ in 0..params.relax_iterations {
-                        sweep(&mut pass, PassKind::Relax);
-                    }
-                    if substep + 1 == params.substeps && params.restitution != 0 {
-                        sweep(&mut pass, PassKind::Restitution);
+                    kernel.dispatch_workgroups(&mut pass, group, groups_x, 1);
+                } else {
+                    for substep in 0..params.substeps {
+                        // The GPU runs what is recorded so far while the host records the next
+                        // substep's ~80 dispatches (about 0.4 ms of host time each substep).
+                        submit_so_far(&self.ctx, encoder);
+                        let mut pass = timer.begin_pass(encoder, "solve");
+                        k.integrate_velocities
+                            .dispatch(&mut pass, &groups.integrate_velocities, n);
+                        if self.warm_start.per_body(self.ctx.info.device_type) {
+                            k.warm_start_bodies
+                                .dispatch(&mut pass, &groups.warm_start_bodies, n);
+                            // The overflow set after every color, in one thread, as in the
+                            // colored sweep.
+                            let warm = PassKind::WarmStart.index();
+                            groups.passes[warm].overflow(&mut pass, &self.passes[warm]);
+                        } else {
+                            sweep(&mut pass, PassKind::WarmStart);
+                        }
+                        for _ in 0..params.iterations {
+                            sweep(&mut pass, PassKind::Solve);
+                        }
+                        k.integrate_positions
+                            .dispatch(&mut pass, &groups.integrate_positions, n);
+                        for _ in 0..params.relax_iterations {
+                            sweep(&mut pass, PassKind::Relax);
+                        }
+                        if substep + 1 == params.substeps && params.restitution != 0 {
+                            sweep(&mut pass, PassKind::Restitution);
+                        }
                     }
                 }
                 {

@@ -21,9 +21,11 @@ pub mod path;
 pub mod pipelines;
 pub mod prepare;
 pub mod solve_color;
+pub mod solve_step;
 pub mod store;
 
 pub use effects::{Effects, effect_overrides};
 pub use gpu_solver::{GpuSolver, SolverInputs};
 pub use params::StepParams;
 pub use path::{FusedMemory, SolvePath, WarmStartSweep};
+pub use solve_step::SubstepDispatch;

@@ -18,6 +18,7 @@ use super::fused::{
 use super::integrate::{FINALIZE_BODIES, INTEGRATE_POSITIONS, INTEGRATE_VELOCITIES};
 use super::prepare::{PREPARE_BODIES, PREPARE_CONTACTS, WARM_START_BODIES};
 use super::solve_color::{PassKind, solve_color_spec};
+use super::solve_step::SOLVE_STEP;
 use super::store::STORE_IMPULSES;
 
 pipelines! {
@@ -106,4 +107,23 @@ pub fn pass_kernels(ctx: &GpuContext, effects: &Effects) -> Result<Vec<Kernel>, 
             )
         })
         .collect()
+}
+
+/// `solve_step` for `effects` on a device with `@coherent` storage, `None` elsewhere (the wide
+/// path then dispatches its substeps per color).
+pub fn solve_step_kernel(ctx: &GpuContext, effects: &Effects) -> Result<Option<Kernel>, GpuError> {
+    if !ctx.has_coherent {
+        return Ok(None);
+    }
+    let per_thread = ctx.info.device_type == wgpu::DeviceType::Cpu;
+    with_effects(
+        ctx,
+        effects,
+        &SOLVE_STEP,
+        &[(
+            "SOLVE_STEP_PER_THREAD_SYNC",
+            f64::from(u8::from(per_thread)),
+        )],
+    )
+    .map(Some)
 }

@@ -6,7 +6,7 @@ use tumble_solver::SolverConfig;
 use crate::GpuError;
 use crate::collision::CollisionConfig;
 use crate::error::invalid;
-use crate::solver::{FusedMemory, SolvePath, WarmStartSweep};
+use crate::solver::{FusedMemory, SolvePath, SubstepDispatch, WarmStartSweep};
 
 /// How each step chooses between the wide and the fused solver paths.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -63,6 +63,9 @@ pub struct GpuWorldConfig {
     /// How the wide path's warm start visits the graph colors ([`WarmStartSweep`]; the same
     /// bits either way).
     pub warm_start_sweep: WarmStartSweep,
+    /// How the wide path dispatches its substeps: per color and pass, or all in one dispatch
+    /// ([`SubstepDispatch`]; the same bits either way).
+    pub substep_dispatch: SubstepDispatch,
 }
 
 impl Default for GpuWorldConfig {
@@ -83,6 +86,7 @@ impl Default for GpuWorldConfig {
             fused_memory: FusedMemory::Auto,
             color_dispatch: ColorDispatch::InUse,
             warm_start_sweep: WarmStartSweep::Auto,
+            substep_dispatch: SubstepDispatch::Auto,
         }
     }
 }

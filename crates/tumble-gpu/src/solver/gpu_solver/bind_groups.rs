@@ -73,6 +73,10 @@ impl GpuSolver {
             solve_fused_shared: both(&k.solve_fused_shared),
             solve_worlds: both(&k.solve_worlds),
             solve_worlds_shared: both(&k.solve_worlds_shared),
+            solve_step: self
+                .solve_step
+                .as_ref()
+                .map(|kernel| kernel.bind_named(ctx, buffer(0))),
         }
     }
 }

@@ -260,7 +260,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     for &mode in &dispatch_modes {
-        host_times(&ctx, &heights, mode)?;
+        for &substeps in &args.substeps {
+            host_times(&ctx, &heights, mode, substeps)?;
+        }
     }
     Ok(())
 }
@@ -290,7 +292,8 @@ fn pose_bits(world: &mut tumble_gpu::step::GpuWorld) -> Result<u64, Box<dyn std:
     Ok(hash)
 }
 
-/// Where a step's wall time goes on the host, timestamps off, default path choice: recording
+/// Where a step's wall time goes on the host, timestamps off, default path choice (and the
+/// substeps dispatched as `substep_dispatch` says): recording
 /// and submitting (`step`), then waiting for the poses (`wait_snapshot`, which includes the GPU
 /// time), medians over 30 steps after 30 settling ones. The host CPU column is the time the
 /// calling thread spent on a CPU inside `step` (Linux: `/proc/thread-self/schedstat`), which
@@ -301,12 +304,13 @@ fn host_times(
     ctx: &GpuContext,
     heights: &[u32],
     color_dispatch: ColorDispatch,
+    substep_dispatch: SubstepDispatch,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    println!("\ncolor dispatch {color_dispatch:?}:");
+    println!("\ncolor dispatch {color_dispatch:?}, substeps {substep_dispatch:?}:");
     println!(
-        "\n| height | path | record and submit ms | host CPU in step ms | wait for poses ms | step ms |"
+        "\n| height | path | record and submit ms | host CPU in step ms | wait for poses ms | step ms | step p90 ms |"
     );
-    println!("|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|");
     for &h in heights {
         let scene = tumble_scenes::pyramid(h as usize);
         let mut world = gpu_world_of(
@@ -318,6 +322,7 @@ fn host_times(
                     ..Default::default()
                 },
                 color_dispatch,
+                substep_dispatch,
                 ..Default::default()
             },
         )?;
@@ -328,6 +333,7 @@ fn host_times(
         let mut record = Vec::new();
         let mut cpu = Vec::new();
         let mut wait = Vec::new();
+        let mut steps = Vec::new();
         for k in 0..60 {
             let cpu_start = thread_cpu_seconds();
             let start = std::time::Instant::now();
@@ -344,6 +350,7 @@ fn host_times(
             if k >= 30 {
                 record.push(submitted);
                 wait.push(done - submitted);
+                steps.push(done);
             }
         }
         let median = |v: &mut Vec<f64>| {
@@ -356,10 +363,12 @@ fn host_times(
         } else {
             format!("{:.3}", median(&mut cpu))
         };
+        steps.sort_by(f64::total_cmp);
         println!(
-            "| {h} | {:?} | {r:.3} | {c} | {w:.3} | {:.3} |",
+            "| {h} | {:?} | {r:.3} | {c} | {w:.3} | {:.3} | {:.3} |",
             world.last_path().unwrap_or(SolvePath::Wide),
-            r + w
+            r + w,
+            steps[steps.len() * 9 / 10] * 1e3,
         );
     }
     Ok(())

@@ -30,13 +30,14 @@ pub const SOLVE_STEP_WORKGROUP_SIZE: u32 = 32;
 /// why).
 pub const SOLVE_STEP_GROUPS: u32 = 264;
 
-/// Bodies up to which [`SubstepDispatch::Auto`] takes one dispatch on a GPU. A phase's chunk
-/// is a few workgroups' worth of threads, each visiting its constraints one after another, so
-/// a color of many thousand constraints runs on fewer threads than its own dispatch gives it:
-/// on the H100 above the pyramid of 50 (42,926 bodies, about 15,000 constraints a color)
-/// took 12.4 / 6.8 / 4.0 / 3.1 ms at 132 / 264 / 528 / 1,056 workgroups against 2.42 ms per
-/// color, and the pyramid of 100 20.9 ms at best against 11.8. The pyramid of 24 (4,901
-/// bodies) gains 8%; nothing was measured between it and the pyramid of 50.
+/// Bodies up to which [`SubstepDispatch::Auto`] takes one dispatch on a GPU. A phase's chunks
+/// are spread over [`SOLVE_STEP_GROUPS`] workgroups, each thread visiting its constraints one
+/// after another, so a color of many thousand constraints runs on fewer threads than its own
+/// dispatch gives it. Measured on the H100 above with 264 workgroups (solve pass per step,
+/// per-color dispatches first): pyramids of 8 (205 bodies) 1.275 / 1.204-1.221 ms, 16 (1,497)
+/// 1.392-1.395 / 1.299-1.304, 24 (4,901) 1.508-1.510 / 1.384-1.386, 32 (11,441) 1.811 /
+/// 1.924, 40 (22,141) 2.064 / 3.499; the pyramid of 50 2.42 against 3.1 ms even with 1,056
+/// workgroups. The bound lies between the last size that gains and the first that loses.
 pub const SOLVE_STEP_MAX_BODIES: u32 = 8_192;
 
 /// Workgroups of a [`SOLVE_STEP`] dispatch on a CPU adapter: one. On lavapipe (Mesa 23,

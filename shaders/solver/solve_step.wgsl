@@ -37,7 +37,8 @@
 // The coloring's marks (warm_start_body.wgsl).
 @group(0) @binding(7) var<storage, read> color_marks: array<u32>;
 // [0]: the next ticket; [1]: chunks done (counted per thread on CPU adapters: see
-// SOLVE_STEP_PER_THREAD_SYNC). Both zero before the dispatch.
+// SOLVE_STEP_PER_THREAD_SYNC); [2]: set when a wait gave up (SOLVE_STEP_WAIT_LIMIT). All zero
+// before the dispatch.
 @group(0) @binding(8) var<storage, read_write> step_progress: array<atomic<u32>>;
 
 // Phase kinds.
@@ -175,14 +176,30 @@ fn done_per_chunk() -> u32 {
     return 1u;
 }
 
+// Polls after which a wait gives up (a guard against a bug hanging the GPU): it then sets
+// step_progress[2], which the host reads with the step's stats and reports as an error.
+override SOLVE_STEP_WAIT_LIMIT: u32;
+
 // Waits until `chunks` chunks are done.
 fn wait_for(chunks: u32, local: u32) {
     let needed = chunks * done_per_chunk();
-    if SOLVE_STEP_PER_THREAD_SYNC {
-        while atomicOr(&step_progress[1], 0u) < needed {
-        }
-    } else if local == 0u {
-        while atomicLoad(&step_progress[1]) < needed {
+    if SOLVE_STEP_PER_THREAD_SYNC || local == 0u {
+        var polls = 0u;
+        loop {
+            var seen: u32;
+            if SOLVE_STEP_PER_THREAD_SYNC {
+                seen = atomicOr(&step_progress[1], 0u);
+            } else {
+                seen = atomicLoad(&step_progress[1]);
+            }
+            if seen >= needed {
+                break;
+            }
+            polls++;
+            if polls >= SOLVE_STEP_WAIT_LIMIT {
+                atomicStore(&step_progress[2], 1u);
+                break;
+            }
         }
     }
     storageBarrier();

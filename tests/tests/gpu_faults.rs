@@ -278,3 +278,62 @@ fn a_read_behind_work_longer_than_the_read_timeout_errs_in_time_and_succeeds_aft
         .map(|w| u32::from_le_bytes(w.try_into().unwrap()));
     assert!(words.eq(std::iter::repeat_n(expected, LONG_WORKGROUPS as usize)));
 }
+
+#[test]
+fn a_substep_wait_that_gave_up_is_read_with_the_steps_stats() {
+    // The one substep dispatch (`solve_step`) sets a fault word when one of its waits gives
+    // up, which means that step's results may be wrong; the world must hear of it. No real
+    // step can be made to give up (its waits are for chunks running workgroups took), so
+    // this drives the stats readback directly: a step whose copied fault word is nonzero
+    // reads as given up, one whose word is zero or not copied does not, and each step's
+    // stats come back two steps later, in order.
+    use tumble_gpu::step::stats_ring::{STATS_LAG, StatsRing, StatsSources};
+    use wgpu::util::DeviceExt;
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let buffer = |words: &[u32]| {
+        let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+        ctx.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("test words"),
+                contents: &bytes,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            })
+    };
+    // A work list of eight words (the count first), then a fault word at byte 8 of its own
+    // buffer, as solve_step's step_progress holds it.
+    let work = buffer(&[7, 0, 0, 0, 0, 0, 0, 0]);
+    let faulted = buffer(&[0, 0, 1]);
+    let clean = buffer(&[5, 5, 0]);
+    let mut ring = StatsRing::new(&ctx);
+    let mut step = |fault: Option<&wgpu::Buffer>| {
+        let taken = ring.take_lagged().unwrap();
+        let mut encoder = ctx.encoder("stats test");
+        let sources = StatsSources {
+            substep_fault: fault.map(|b| (b, 8)),
+            ..Default::default()
+        };
+        ring.record(&mut encoder, &work, sources, 0);
+        let index = ctx.submit(encoder).unwrap();
+        ring.submitted(index);
+        taken.map(|s| (s.work.count, s.substep_wait_gave_up))
+    };
+    assert_eq!(
+        STATS_LAG, 2,
+        "the sequence below assumes stats two steps late"
+    );
+    assert_eq!(step(Some(&faulted)), None);
+    assert_eq!(step(Some(&clean)), None);
+    assert_eq!(
+        step(None),
+        Some((7, true)),
+        "a set fault word reads as given up"
+    );
+    assert_eq!(step(None), Some((7, false)), "a zero fault word does not");
+    assert_eq!(
+        step(None),
+        Some((7, false)),
+        "no fault word copied does not"
+    );
+}

@@ -92,13 +92,14 @@ pub const PASS_RESTITUTION: u32 = 3;
 /// [`crate::constants::shader_constants`] come on top).
 pub fn solver_constants() -> Vec<(&'static str, f64)> {
     use super::fused::FUSED_SHARED_BODIES;
-    use super::solve_step::SOLVE_STEP_WORKGROUP_SIZE;
+    use super::solve_step::{SOLVE_STEP_WAIT_LIMIT, SOLVE_STEP_WORKGROUP_SIZE};
     use tumble_solver::{MAX_LINEAR_SPEED, MAX_ROTATION_PER_SUBSTEP};
     crate::constants::override_values![
         GRAPH_COLOR_COUNT,
         FUSED_SHARED_BODIES,
         COLOR_PASS_WORKGROUP_SIZE,
         SOLVE_STEP_WORKGROUP_SIZE,
+        SOLVE_STEP_WAIT_LIMIT,
         OVERFLOW_COLOR,
         TALLY_UNDECIDED,
         TALLY_COUNTS,

@@ -47,7 +47,8 @@ const COLOR_ARGS: &str = "color_args";
 const SORT_KEYS: [&str; 2] = ["color_sort_keys_0", "color_sort_keys_1"];
 const SORT_VALUES: [&str; 2] = ["color_sort_values_0", "color_sort_values_1"];
 const SORT_TILES: &str = "color_sort_tiles";
-/// `solve_step`'s ticket and done counters, cleared before each of its dispatches.
+/// `solve_step`'s ticket and done counters and its fault word, cleared before each of its
+/// dispatches.
 const STEP_PROGRESS: &str = "step_progress";
 /// The solver's buffers left out of checkpoints. Those that every step rewrites before
 /// reading: the constraint store (prepare_contacts writes every slot a step visits), the
@@ -124,6 +125,8 @@ pub struct GpuSolver {
     solve_step: Option<Kernel>,
     /// How the wide path dispatches its substeps ([`SubstepDispatch`]).
     substep_dispatch: SubstepDispatch,
+    /// Whether the last recorded step ran its substeps in one dispatch.
+    last_one_dispatch: bool,
     /// Graph colors each pass dispatches one by one; the tail takes the rest
     /// ([`Self::set_color_dispatches`]).
     color_dispatches: u32,
@@ -193,6 +196,7 @@ impl GpuSolver {
             passes,
             solve_step,
             substep_dispatch: SubstepDispatch::default(),
+            last_one_dispatch: false,
             color_dispatches: GRAPH_COLOR_COUNT,
             worlds: 1,
             world_bodies: None,
@@ -266,6 +270,18 @@ impl GpuSolver {
             self.ctx.info.device_type,
             self.solve_step.is_some(),
         )
+    }
+
+    /// The fault word of the last recorded step's one substep dispatch (a `u32` at the byte
+    /// offset, set when one of its waits gave up and the step's results may be wrong), when
+    /// that step ran its substeps in one dispatch.
+    pub fn substep_fault(&self) -> Option<(&wgpu::Buffer, u64)> {
+        self.last_one_dispatch.then(|| {
+            (
+                self.pool.get(STEP_PROGRESS),
+                2 * std::mem::size_of::<u32>() as u64,
+            )
+        })
     }
 
     /// How the wide path's warm start visits the graph colors ([`Self::set_warm_start_sweep`]).
@@ -377,7 +393,7 @@ impl GpuSolver {
             (SORT_VALUES[0], bytes_of::<u32>(cap)),
             (SORT_VALUES[1], bytes_of::<u32>(cap)),
             (SORT_TILES, bytes_of::<u32>(sort_tiles)),
-            (STEP_PROGRESS, bytes_of::<u32>(2)),
+            (STEP_PROGRESS, bytes_of::<u32>(3)),
         ];
         self.pool.ensure_all(&sizes, STORAGE_USAGE)?;
         Ok(())
@@ -490,6 +506,7 @@ impl GpuSolver {
         let (_, groups) = self.bind.first().expect("bound above");
         let k = &self.pipelines;
         let p = self.parity;
+        let mut one_dispatch = false;
         match path {
             SolvePath::Fused => {
                 let mut pass = timer.begin_pass(encoder, "solve_fused");
@@ -544,6 +561,7 @@ impl GpuSolver {
                     encoder.clear_buffer(self.pool.get(STEP_PROGRESS), 0, None);
                     let mut pass = timer.begin_pass(encoder, "solve");
                     kernel.dispatch_workgroups(&mut pass, group, groups_x, 1);
+                    one_dispatch = true;
                 } else {
                     for substep in 0..params.substeps {
                         // The GPU runs what is recorded so far while the host records the next
@@ -584,6 +602,7 @@ impl GpuSolver {
                 }
             }
         }
+        self.last_one_dispatch = one_dispatch;
         self.parity = 1 - self.parity;
         Ok(())
     }

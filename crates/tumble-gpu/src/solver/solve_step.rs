@@ -18,6 +18,12 @@ pub static SOLVE_STEP: KernelSpec = KernelSpec::new(file("solver/solve_step.wgsl
 /// dependent loads, and small chunks spread a color over more of the GPU.
 pub const SOLVE_STEP_WORKGROUP_SIZE: u32 = 32;
 
+/// Polls after which one wait of [`SOLVE_STEP`] gives up (a guard against a bug hanging the
+/// GPU, at well over a second of polling): the kernel then sets its fault word, which the
+/// world reads with the step's stats and reports as an error
+/// ([`crate::step::stats_ring::StepStats::substep_wait_gave_up`]).
+pub const SOLVE_STEP_WAIT_LIMIT: u32 = 1 << 24;
+
 /// Workgroups of a [`SOLVE_STEP`] dispatch on a GPU: two per SM of an H100 or H200 (132
 /// SMs). A chunk of a large phase spreads over them (`items_per_thread` in the kernel), so
 /// each workgroup takes about one ticket per phase. Measured on an H100 (Vulkan, driver

@@ -21,7 +21,7 @@ use crate::solver::constants::GRAPH_COLOR_COUNT;
 use crate::solver::convert::{gpu_body, gpu_manifold, gpu_shape, gpu_tilt, gpu_velocity};
 use crate::solver::layout::{GpuBody, GpuImpulse, GpuTilt};
 use crate::solver::path::{WORLDS_MAX_BODIES, WORLDS_MAX_TOTAL_BODIES};
-use crate::solver::{Effects, GpuSolver, SolvePath, SolverInputs, StepParams};
+use crate::solver::{Effects, GpuSolver, SolvePath, SolverInputs, StepParams, SubstepDispatch};
 use crate::{GpuContext, GpuError, MAX_MANIFOLD_POINTS, StageTimer};
 
 use super::config::{ColorDispatch, GpuWorldConfig, PathPolicy};
@@ -29,7 +29,7 @@ use super::events::EventStage;
 use super::idle::IdleSteps;
 use super::read_plan::{PendingRead, decode};
 use super::snapshot::{ContactSnapshot, ReadRequest, Snapshot};
-use super::stats_ring::{StatsRing, StatsSources};
+use super::stats_ring::{STATS_LAG, StatsRing, StatsSources};
 use crate::kernels::contact_events::ContactEventList;
 
 pub use draw::DrawBuffers;
@@ -289,6 +289,19 @@ impl GpuWorld {
             let wanted = work.requested.saturating_add(work.requested / 4);
             self.collision.reserve_pairs(wanted)?;
         }
+        if stats.substep_wait_gave_up {
+            // Never expected (every wait of solve_step is for chunks that running workgroups
+            // took), but a wait that gave up means that step's results may be wrong: say so,
+            // and dispatch per color from now on.
+            self.config.substep_dispatch = SubstepDispatch::PerColor;
+            self.solver.set_substep_dispatch(SubstepDispatch::PerColor);
+            return Err(GpuError::Device(format!(
+                "a wait of the one-dispatch substeps (solve_step) gave up after {} polls in the \
+                 step {STATS_LAG} steps back: that step's results may be wrong; the world now \
+                 dispatches its substeps per color",
+                crate::solver::solve_step::SOLVE_STEP_WAIT_LIMIT
+            )));
+        }
         Ok(())
     }
 
@@ -443,6 +456,9 @@ impl GpuWorld {
         let sources = StatsSources {
             active: self.sleep.active_count(),
             color_counts: (solved && path == SolvePath::Wide).then(|| self.solver.color_counts()),
+            substep_fault: (solved && path == SolvePath::Wide)
+                .then(|| self.solver.substep_fault())
+                .flatten(),
         };
         self.stats
             .record(&mut encoder, &work, sources, self.idle.changes());

@@ -28,6 +28,9 @@ pub struct StepStats {
     /// The graph colors up to the last one the step used (its overflow set aside), when the
     /// step took the wide path.
     pub colors: Option<u32>,
+    /// A wait of the step's one substep dispatch (`solve_step`) gave up (its fault word was
+    /// set): the step's results may be wrong.
+    pub substep_wait_gave_up: bool,
 }
 
 /// What a step's stats copy, besides its work list.
@@ -38,6 +41,9 @@ pub struct StatsSources<'a> {
     /// The wide path's per-color counts (`COLOR_SLOTS` `u32`s at the byte offset), when the
     /// step took it.
     pub color_counts: Option<(&'a wgpu::Buffer, u64)>,
+    /// The one substep dispatch's fault word (a `u32` at the byte offset, nonzero when one of
+    /// its waits gave up), when the step took it.
+    pub substep_fault: Option<(&'a wgpu::Buffer, u64)>,
 }
 
 /// Bytes of the work list copy; the active count follows it, then the per-color counts.
@@ -46,13 +52,17 @@ const WORK_BYTES: u64 = std::mem::size_of::<WorkList>() as u64;
 const COLORS_AT: u64 = WORK_BYTES + 4;
 /// Bytes of the per-color counts.
 const COLOR_BYTES: u64 = COLOR_SLOTS as u64 * 4;
+/// Offset of the substep dispatch's fault word in a slot.
+const FAULT_AT: u64 = COLORS_AT + COLOR_BYTES;
+/// Bytes of a slot.
+const SLOT_BYTES: u64 = FAULT_AT + 4;
 
 #[derive(Debug)]
 struct Slot {
     buffer: wgpu::Buffer,
-    /// Whether the active count and the color counts were copied, and the change count, of
-    /// the pending step.
-    recorded: (bool, bool, u64),
+    /// Whether the active count, the color counts and the fault word were copied, and the
+    /// change count, of the pending step.
+    recorded: (bool, bool, bool, u64),
     pending: Option<(wgpu::SubmissionIndex, MapResult)>,
     /// Stats given by [`StatsRing::preset`] (a loaded world's), taken instead of a read.
     preset: Option<StepStats>,
@@ -75,11 +85,11 @@ impl StatsRing {
             .map(|_| Slot {
                 buffer: ctx.device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("step stats staging"),
-                    size: COLORS_AT + COLOR_BYTES,
+                    size: SLOT_BYTES,
                     usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
                     mapped_at_creation: false,
                 }),
-                recorded: (false, false, 0),
+                recorded: (false, false, false, 0),
                 pending: None,
                 preset: None,
             })
@@ -165,7 +175,7 @@ impl StatsRing {
 
     /// The stats in `slot`'s mapped staging buffer.
     fn decode(slot: &Slot) -> Result<StepStats, GpuError> {
-        let (work, active, counts) = {
+        let (work, active, counts, fault) = {
             let view = slot
                 .buffer
                 .get_mapped_range(..)
@@ -174,15 +184,17 @@ impl StatsRing {
             let active: u32 =
                 bytemuck::pod_read_unaligned(&view[WORK_BYTES as usize..COLORS_AT as usize]);
             let counts: [u32; COLOR_SLOTS as usize] =
-                bytemuck::pod_read_unaligned(&view[COLORS_AT as usize..]);
-            (work, active, counts)
+                bytemuck::pod_read_unaligned(&view[COLORS_AT as usize..FAULT_AT as usize]);
+            let fault: u32 = bytemuck::pod_read_unaligned(&view[FAULT_AT as usize..]);
+            (work, active, counts, fault)
         };
-        let (active_copied, colors_copied, changes) = slot.recorded;
+        let (active_copied, colors_copied, fault_copied, changes) = slot.recorded;
         Ok(StepStats {
             work,
             active: active_copied.then_some(active),
             changes,
             colors: colors_copied.then(|| colors_used(&counts)),
+            substep_wait_gave_up: fault_copied && fault != 0,
         })
     }
 
@@ -203,9 +215,13 @@ impl StatsRing {
         if let Some((counts, offset)) = sources.color_counts {
             encoder.copy_buffer_to_buffer(counts, offset, &slot.buffer, COLORS_AT, COLOR_BYTES);
         }
+        if let Some((fault, offset)) = sources.substep_fault {
+            encoder.copy_buffer_to_buffer(fault, offset, &slot.buffer, FAULT_AT, 4);
+        }
         slot.recorded = (
             sources.active.is_some(),
             sources.color_counts.is_some(),
+            sources.substep_fault.is_some(),
             changes,
         );
     }

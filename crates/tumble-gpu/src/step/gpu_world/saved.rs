@@ -73,6 +73,9 @@ impl SavedStats {
             active: self.active,
             changes: self.changes,
             colors: self.colors,
+            // Not saved: a step whose wait gave up is reported when its stats are taken, and a
+            // world saved before that shows its poses, not the fault.
+            substep_wait_gave_up: false,
         }
     }
 }

@@ -9,9 +9,11 @@
 // chunks handed out by a ticket counter: a workgroup takes the next ticket, waits until every
 // chunk of the phases before its chunk's phase is done (a second counter), runs its chunk and
 // counts it done. The phases follow each other exactly as the dispatches did, so the result is
-// the per-color path's, bit for bit: each constraint and body is visited by the same function
-// with the same inputs, the constraints of one color share no dynamic body, and the overflow
-// set runs in one thread, in order.
+// the per-color path's: each constraint and body is visited by the same function with the same
+// inputs, the constraints of one color share no dynamic body, and the overflow set runs in one
+// thread, in order. (solve_color picks its pass with the PASS override where this kernel
+// passes it at run time, so the two are different programs that a driver could round
+// differently; lavapipe and NVIDIA's driver give the same bits, tests/tests/gpu_determinism.rs.)
 //
 // Why tickets and not a barrier across a fixed grid: a workgroup only ever waits for chunks
 // whose tickets were taken before its own, by workgroups that were running when they took
@@ -96,9 +98,10 @@ fn phase_at(q: u32) -> Phase {
 }
 
 // Items (bodies, or constraints of one color) per thread in one chunk of a phase of `count`
-// items: one, or as many as spread the phase over about `groups` chunks, so that a large phase
-// takes about one ticket and one count per workgroup rather than one per 32 items (each ticket
-// and count is an atomic on one of two counters that every workgroup uses).
+// items: one, or as many as spread the phase over `groups` to `2 * groups` chunks (rounded
+// down), so that a large phase takes one or two tickets and counts per workgroup rather than
+// one per 32 items (each ticket and count is an atomic on one of two counters that every
+// workgroup uses).
 fn items_per_thread(count: u32, groups: u32) -> u32 {
     return max(1u, count / (SOLVE_STEP_WORKGROUP_SIZE * groups));
 }
@@ -180,7 +183,9 @@ fn done_per_chunk() -> u32 {
 // step_progress[2], which the host reads with the step's stats and reports as an error.
 override SOLVE_STEP_WAIT_LIMIT: u32;
 
-// Waits until `chunks` chunks are done.
+// Waits until `chunks` chunks are done. Once a wait has given up, the step's results are
+// wrong anyway and no later wait polls at all (else every wait of every workgroup would poll
+// to the limit again, and the guard would not bound the hang).
 fn wait_for(chunks: u32, local: u32) {
     let needed = chunks * done_per_chunk();
     if SOLVE_STEP_PER_THREAD_SYNC || local == 0u {
@@ -198,6 +203,10 @@ fn wait_for(chunks: u32, local: u32) {
             polls++;
             if polls >= SOLVE_STEP_WAIT_LIMIT {
                 atomicStore(&step_progress[2], 1u);
+                break;
+            }
+            // Every 1,024 polls: has another wait given up?
+            if (polls & 1023u) == 0u && atomicOr(&step_progress[2], 0u) != 0u {
                 break;
             }
         }

@@ -306,6 +306,22 @@ fn one_substep_dispatch_gives_the_bits_of_the_per_color_dispatches() {
     };
     let per_color = config(SubstepDispatch::PerColor);
     let one = |groups| config(SubstepDispatch::OneDispatch { groups });
+    // The one-dispatch setting does run solve_step (a silent fallback to the per-color
+    // dispatches would make every comparison below vacuous), the per-color one does not.
+    let ran_one_dispatch = |config| {
+        let (bodies, states) = scene();
+        let mut world = GpuWorld::new(&ctx, config).unwrap();
+        world.set_bodies(&bodies, &states).unwrap();
+        for _ in 0..3 {
+            world.step().unwrap();
+        }
+        world.solver().substep_fault().is_some()
+    };
+    assert!(ran_one_dispatch(one(None)), "solve_step did not run");
+    assert!(
+        !ran_one_dispatch(per_color),
+        "solve_step ran on the per-color setting"
+    );
     let reference = run_with(&ctx, per_color, 80).0;
     for groups in [Some(1), Some(3), None] {
         let poses = run_with(&ctx, one(groups), 80).0;

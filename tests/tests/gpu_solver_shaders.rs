@@ -42,6 +42,8 @@ fn every_solver_kernel_parses_validates_specializes_and_translates() {
     for spec in specs {
         let mut extra: Vec<(&'static str, f64)> = effect_overrides(&Effects::ALL).to_vec();
         extra.push(("PASS", 1.0));
+        // solve_step's wait, in the form CPU adapters build (a GPU's differs in one branch).
+        extra.push(("SOLVE_STEP_PER_THREAD_SYNC", 1.0));
         let values = solver_overrides(spec, &extra);
         // Specialization resolves every override to a value (none is left to the driver).
         let (module, info) = fully_specialized(spec, &values);

@@ -109,10 +109,16 @@ pub fn pass_kernels(ctx: &GpuContext, effects: &Effects) -> Result<Vec<Kernel>, 
         .collect()
 }
 
-/// `solve_step` for `effects` on a device with `@coherent` storage, `None` elsewhere (the wide
-/// path then dispatches its substeps per color).
-pub fn solve_step_kernel(ctx: &GpuContext, effects: &Effects) -> Result<Option<Kernel>, GpuError> {
-    if !ctx.has_coherent {
+/// `solve_step` for `effects` on a device with `@coherent` storage when `wanted`, `None`
+/// otherwise (the wide path then dispatches its substeps per color). Built only where a step
+/// may use it: a CPU adapter defaults to the per-color dispatches and would compile it for
+/// nothing.
+pub fn solve_step_kernel(
+    ctx: &GpuContext,
+    effects: &Effects,
+    wanted: bool,
+) -> Result<Option<Kernel>, GpuError> {
+    if !(wanted && ctx.has_coherent) {
         return Ok(None);
     }
     let per_thread = ctx.info.device_type == wgpu::DeviceType::Cpu;

@@ -26,7 +26,7 @@ pub const SOLVE_STEP_WAIT_LIMIT: u32 = 1 << 24;
 
 /// Workgroups of a [`SOLVE_STEP`] dispatch on a GPU: two per SM of an H100 or H200 (132
 /// SMs). A chunk of a large phase spreads over them (`items_per_thread` in the kernel), so
-/// each workgroup takes about one ticket per phase. Measured on an H100 (Vulkan, driver
+/// each workgroup takes one or two tickets of a large phase. Measured on an H100 (Vulkan, driver
 /// 580.159.04, `dispatch_probe 12,24,50,100 1 wide in-use per-body per-color,one:66,...`,
 /// 4 substeps, 1 iteration and 1 relax; the solve pass per step, the per-color dispatches in
 /// brackets): pyramid of 12 1.261 / 1.240 / 1.253 / 1.253 / 1.307 ms at 66 / 132 / 264 / 528
@@ -83,13 +83,24 @@ pub enum SubstepDispatch {
     /// Every substep in one [`SOLVE_STEP`] dispatch of `groups` workgroups (`None`: as
     /// [`solve_step_groups`] picks); on a device without `@coherent` storage, per color.
     OneDispatch {
-        /// Workgroups launched on a GPU (at least 1); a CPU adapter always launches
+        /// Workgroups launched on a GPU, 1 to `MAX_WORKGROUPS_PER_DIMENSION` (65,535; another
+        /// value is an error where the dispatch is set); a CPU adapter always launches
         /// [`SOLVE_STEP_CPU_GROUPS`].
         groups: Option<u32>,
     },
 }
 
 impl SubstepDispatch {
+    /// Whether a step on `device_type` may run its substeps in one dispatch (the kernel is
+    /// built only then).
+    pub fn may_use_one_dispatch(self, device_type: wgpu::DeviceType) -> bool {
+        match self {
+            SubstepDispatch::Auto => device_type != wgpu::DeviceType::Cpu,
+            SubstepDispatch::PerColor => false,
+            SubstepDispatch::OneDispatch { .. } => true,
+        }
+    }
+
     /// The workgroups of one [`SOLVE_STEP`] dispatch for `bodies` bodies, or `None` for the
     /// per-color dispatches, on a device of `device_type` that has (`coherent`) or lacks
     /// `@coherent` storage.
@@ -110,10 +121,29 @@ impl SubstepDispatch {
             }
             SubstepDispatch::Auto | SubstepDispatch::PerColor => None,
             SubstepDispatch::OneDispatch { groups } => Some(match groups {
-                Some(groups) if device_type != wgpu::DeviceType::Cpu => groups.max(1),
+                Some(groups) if device_type != wgpu::DeviceType::Cpu => groups,
                 _ => solve_step_groups(device_type),
             }),
         }
+    }
+
+    /// Errs on a forced workgroup count outside 1 to `MAX_WORKGROUPS_PER_DIMENSION`, naming
+    /// `field` and the value.
+    pub fn validate(self, field: &str) -> Result<(), crate::GpuError> {
+        if let SubstepDispatch::OneDispatch {
+            groups: Some(groups),
+        } = self
+            && !(1..=crate::constants::MAX_WORKGROUPS_PER_DIMENSION).contains(&groups)
+        {
+            return Err(crate::GpuError::InvalidInput {
+                field: format!("{field}.groups"),
+                value: format!(
+                    "{groups} (expected 1 to {})",
+                    crate::constants::MAX_WORKGROUPS_PER_DIMENSION
+                ),
+            });
+        }
+        Ok(())
     }
 }
 
@@ -144,9 +174,7 @@ mod tests {
             SubstepDispatch::PerColor.one_dispatch_groups(4_901, gpu, true),
             None
         );
-        // Forced: any size, at least one workgroup, one on a CPU adapter.
-        let forced = SubstepDispatch::OneDispatch { groups: Some(0) };
-        assert_eq!(forced.one_dispatch_groups(10, gpu, true), Some(1));
+        // Forced: any size, the count given on a GPU, one on a CPU adapter.
         let three = SubstepDispatch::OneDispatch { groups: Some(3) };
         assert_eq!(three.one_dispatch_groups(1_000_000, gpu, true), Some(3));
         assert_eq!(
@@ -163,5 +191,26 @@ mod tests {
             Some(SOLVE_STEP_CPU_GROUPS)
         );
         assert_eq!(picked.one_dispatch_groups(10, cpu, false), None);
+    }
+
+    #[test]
+    fn a_forced_workgroup_count_outside_the_dispatch_limit_is_an_error_naming_it() {
+        for bad in [0, 65_536] {
+            let dispatch = SubstepDispatch::OneDispatch { groups: Some(bad) };
+            let message = dispatch
+                .validate("substep_dispatch")
+                .unwrap_err()
+                .to_string();
+            assert!(
+                message.contains("substep_dispatch.groups") && message.contains(&bad.to_string()),
+                "{message}"
+            );
+        }
+        for good in [None, Some(1), Some(65_535)] {
+            SubstepDispatch::OneDispatch { groups: good }
+                .validate("substep_dispatch")
+                .unwrap();
+        }
+        SubstepDispatch::Auto.validate("substep_dispatch").unwrap();
     }
 }

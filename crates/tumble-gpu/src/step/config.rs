@@ -111,6 +111,7 @@ impl GpuWorldConfig {
         if self.pairs_per_body == 0 {
             return Err(invalid("pairs_per_body", self.pairs_per_body));
         }
+        self.substep_dispatch.validate("substep_dispatch")?;
         self.solver.validate().map_err(|e| GpuError::InvalidInput {
             field: e.field.to_string(),
             value: format!("{} (expected {})", e.value, e.expected),
@@ -152,6 +153,29 @@ mod tests {
                 assert!(value.contains("25"), "{value}");
             }
             other => panic!("expected an InvalidInput error, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_one_dispatch_workgroup_count_beyond_the_dispatch_limit_is_refused_by_name() {
+        use crate::solver::SubstepDispatch;
+        let with = |groups| GpuWorldConfig {
+            substep_dispatch: SubstepDispatch::OneDispatch { groups },
+            ..Default::default()
+        };
+        for groups in [None, Some(1), Some(65_535)] {
+            assert!(with(groups).validate().is_ok(), "{groups:?}");
+        }
+        // Zero workgroups run nothing, and 65,536 is past wgpu's limit per dimension: refused,
+        // not clamped.
+        for groups in [0, 65_536] {
+            match with(Some(groups)).validate() {
+                Err(GpuError::InvalidInput { field, value }) => {
+                    assert_eq!(field, "substep_dispatch.groups");
+                    assert!(value.starts_with(&groups.to_string()), "{value}");
+                }
+                other => panic!("expected an InvalidInput error, got {other:?}"),
+            }
         }
     }
 }

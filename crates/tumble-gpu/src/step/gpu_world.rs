@@ -113,7 +113,7 @@ impl GpuWorld {
         let mut solver = GpuSolver::new(ctx, Effects::of_bodies(&[], &config.gravity))?;
         solver.set_fused_memory(config.fused_memory);
         solver.set_warm_start_sweep(config.warm_start_sweep);
-        solver.set_substep_dispatch(config.substep_dispatch);
+        solver.set_substep_dispatch(config.substep_dispatch)?;
         Ok(Self {
             ctx: ctx.clone(),
             config,
@@ -294,7 +294,8 @@ impl GpuWorld {
             // took), but a wait that gave up means that step's results may be wrong: say so,
             // and dispatch per color from now on.
             self.config.substep_dispatch = SubstepDispatch::PerColor;
-            self.solver.set_substep_dispatch(SubstepDispatch::PerColor);
+            self.solver
+                .set_substep_dispatch(SubstepDispatch::PerColor)?;
             return Err(GpuError::Device(format!(
                 "a wait of the one-dispatch substeps (solve_step) gave up after {} polls in the \
                  step {STATS_LAG} steps back: that step's results may be wrong; the world now \

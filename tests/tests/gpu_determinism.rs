@@ -96,9 +96,8 @@ fn run(ctx: &GpuContext, path: PathPolicy) -> Vec<GpuPose> {
 /// [`run`] for `steps` steps (at least 80: by then every dropped box has fallen 4 m or more)
 /// with `config`; also gives the colors the wide path dispatched one by one in the last step.
 fn run_with(ctx: &GpuContext, config: GpuWorldConfig, steps: usize) -> (Vec<GpuPose>, u32) {
-    let (bodies, states) = scene();
-    let mut world = GpuWorld::new(ctx, config).unwrap();
-    world.set_bodies(&bodies, &states).unwrap();
+    let bodies = scene().0;
+    let mut world = world_with(ctx, config, scene());
     for _ in 0..steps {
         world.step().unwrap();
     }
@@ -121,6 +120,34 @@ fn run_with(ctx: &GpuContext, config: GpuWorldConfig, steps: usize) -> (Vec<GpuP
         );
     }
     (snapshot.poses, dispatched)
+}
+
+/// A GPU world with `config` over `scene`'s bodies.
+fn world_with(
+    ctx: &GpuContext,
+    config: GpuWorldConfig,
+    scene: (Vec<Body>, Vec<BodyState>),
+) -> GpuWorld {
+    let (bodies, states) = scene;
+    let mut world = GpuWorld::new(ctx, config).unwrap();
+    world.set_bodies(&bodies, &states).unwrap();
+    world
+}
+
+/// [`plate_on_cubes`] after 40 steps with `config`: the poses, once the plate is checked
+/// still lying on the cubes.
+fn plate_after_40_steps(ctx: &GpuContext, config: GpuWorldConfig) -> Vec<GpuPose> {
+    let mut world = world_with(ctx, config, plate_on_cubes());
+    for _ in 0..40 {
+        world.step().unwrap();
+    }
+    let poses = world.read_now(ReadRequest::MOTION).unwrap().poses;
+    // The plate (last body) still lies on the cubes: its centre within 2 cm of the 0.6 m it
+    // settles at (cube tops at 0.5 m plus its half thickness); a plate that sank through or
+    // jumped off would mean the overflow set was not solved.
+    let y = poses.last().unwrap().position[1];
+    assert!((y - 0.6).abs() < 0.02, "plate centre at y = {y}");
+    poses
 }
 
 /// Bitwise equality of two pose lists, reporting the first difference.
@@ -256,21 +283,7 @@ fn per_body_warm_start_gives_the_bits_of_the_colored_warm_start() {
     let by_color = run_with(&ctx, wide(WarmStartSweep::ByColor), 80).0;
     assert_bitwise_equal(&per_body, &by_color, "pile: per-body vs colored warm start");
 
-    let plate = |sweep| {
-        let (bodies, states) = plate_on_cubes();
-        let mut world = GpuWorld::new(&ctx, wide(sweep)).unwrap();
-        world.set_bodies(&bodies, &states).unwrap();
-        for _ in 0..40 {
-            world.step().unwrap();
-        }
-        let poses = world.read_now(ReadRequest::MOTION).unwrap().poses;
-        // The plate (last body) still lies on the cubes: its centre within 2 cm of the
-        // 0.6 m it settles at (cube tops at 0.5 m plus its half thickness); a plate that
-        // sank through or jumped off would mean the overflow set was not solved.
-        let y = poses.last().unwrap().position[1];
-        assert!((y - 0.6).abs() < 0.02, "plate centre at y = {y}");
-        poses
-    };
+    let plate = |sweep| plate_after_40_steps(&ctx, wide(sweep));
     assert_bitwise_equal(
         &plate(WarmStartSweep::PerBody),
         &plate(WarmStartSweep::ByColor),
@@ -293,8 +306,9 @@ fn one_substep_dispatch_gives_the_bits_of_the_per_color_dispatches() {
     // (`SOLVE_STEP_GROUPS`, most of them without a chunk in this small scene), compete for
     // them. A CPU adapter always runs one workgroup
     // (`SOLVE_STEP_CPU_GROUPS` says why), so there the comparison checks the phases' order and
-    // content, and a GPU run checks the hand-over between workgroups too. Three scenes: the landing pile (colors churn), the plate on 36 cubes (an overflow
-    // set every step), and the pile with bouncy dropped boxes (the restitution sweep).
+    // content, and a GPU run checks the hand-over between workgroups too. Three scenes: the
+    // landing pile (colors churn), the plate on 36 cubes (an overflow set every step), and
+    // the pile with bouncy dropped boxes (the restitution sweep).
     if !ctx.has_coherent {
         eprintln!("skipped: the adapter has no @coherent storage, so no one-dispatch substeps");
         return;
@@ -309,9 +323,7 @@ fn one_substep_dispatch_gives_the_bits_of_the_per_color_dispatches() {
     // The one-dispatch setting does run solve_step (a silent fallback to the per-color
     // dispatches would make every comparison below vacuous), the per-color one does not.
     let ran_one_dispatch = |config| {
-        let (bodies, states) = scene();
-        let mut world = GpuWorld::new(&ctx, config).unwrap();
-        world.set_bodies(&bodies, &states).unwrap();
+        let mut world = world_with(&ctx, config, scene());
         for _ in 0..3 {
             world.step().unwrap();
         }
@@ -328,36 +340,26 @@ fn one_substep_dispatch_gives_the_bits_of_the_per_color_dispatches() {
         assert_bitwise_equal(&poses, &reference, &format!("pile: {groups:?} workgroups"));
     }
 
-    let plate = |config: GpuWorldConfig| {
-        let (bodies, states) = plate_on_cubes();
-        let mut world = GpuWorld::new(&ctx, config).unwrap();
-        world.set_bodies(&bodies, &states).unwrap();
-        for _ in 0..40 {
-            world.step().unwrap();
-        }
-        let poses = world.read_now(ReadRequest::MOTION).unwrap().poses;
-        // The plate still lies on the cubes (as in the warm-start test above): its overflow
-        // constraints were solved.
-        let y = poses.last().unwrap().position[1];
-        assert!((y - 0.6).abs() < 0.02, "plate centre at y = {y}");
-        poses
-    };
-    assert_bitwise_equal(&plate(one(Some(3))), &plate(per_color), "plate on 36 cubes");
+    assert_bitwise_equal(
+        &plate_after_40_steps(&ctx, one(Some(3))),
+        &plate_after_40_steps(&ctx, per_color),
+        "plate on 36 cubes",
+    );
 
     let bouncy = |config: GpuWorldConfig| {
         let (mut bodies, states) = scene();
         for body in &mut bodies[11..] {
             body.material.restitution = 0.6;
         }
-        let mut world = GpuWorld::new(&ctx, config).unwrap();
-        world.set_bodies(&bodies, &states).unwrap();
+        let count = bodies.len();
+        let mut world = world_with(&ctx, config, (bodies, states));
         let mut highest_rebound: Real = 0.0;
         let mut poses = Vec::new();
         for _ in 0..120 {
             world.step().unwrap();
             let snapshot = world.read_now(ReadRequest::MOTION).unwrap();
             // Some dropped box moves up after landing: the restitution sweep ran.
-            let up = (11..bodies.len())
+            let up = (11..count)
                 .map(|i| snapshot.velocities[i].linear[1])
                 .fold(0.0, Real::max);
             highest_rebound = highest_rebound.max(up);

@@ -19,10 +19,13 @@ use tumble_gpu::kernels::{
     gather_sweep_boxes::gather_sweep_boxes_cpu,
     plan_dispatch::plan_dispatch_cpu,
     radix_sort::{RadixBuffers, RadixSort, radix_sort_cpu, result_copy},
-    rank_sort::{RANK_SORT, RANK_SORT_CAPACITY, rank_sort_cpu},
+    rank_sort::{
+        RANK_SORT, RANK_SORT_CAPACITY, SORT_WORLD_BODIES, rank_sort_cpu, sort_world_bodies_cpu,
+        sort_world_pairs_cpu, world_body_starts,
+    },
     update_aabbs::pose_from_gpu,
     velocity_from_gpu,
-    write_sort_keys::write_sort_keys_cpu,
+    write_sort_keys::{sweep_key, write_sort_keys_cpu},
 };
 use tumble_gpu::layout::{GpuContact, GpuPose, GpuShape, GpuVelocity, WorkList};
 use tumble_gpu::{GpuContext, GpuError, ReadbackRequest, StageTimer};
@@ -283,6 +286,113 @@ fn rank_sort_is_the_radix_sorts_order_for_bodies_and_pairs() {
     );
 }
 
+/// Runs `sort_world_bodies` alone on `keys`/`values` (sorted in place), world `w` being
+/// `starts[w]..starts[w + 1]`.
+fn gpu_world_sort(
+    ctx: &GpuContext,
+    keys: &[u32],
+    values: &[u32],
+    starts: &[u32],
+) -> (Vec<u32>, Vec<u32>) {
+    let n = keys.len() as u32;
+    // The kernel's table: the world count, then the starts.
+    let mut with_count = vec![starts.len() as u32 - 1];
+    with_count.extend_from_slice(starts);
+    let table = ctx.storage_buffer("world_body_starts", &with_count);
+    let k = ctx.storage_buffer("keys", keys);
+    let v = ctx.storage_buffer("values", values);
+    let kernel = tumble_gpu::kernel::Kernel::new(ctx, &SORT_WORLD_BODIES).unwrap();
+    let group = kernel.bind_named(ctx, |name| match name {
+        "world_body_starts" => &table,
+        "keys" => &k,
+        "values" => &v,
+        _ => panic!("sort_world_bodies has no binding {name}"),
+    });
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    {
+        let mut timer = StageTimer::disabled(ctx);
+        let mut pass = timer.begin_pass(&mut encoder, "world sort");
+        kernel.dispatch_workgroups(&mut pass, &group, starts.len() as u32 - 1, 1);
+    }
+    ctx.queue.submit([encoder.finish()]);
+    (
+        ctx.read_buffer(&k, 0, u64::from(n)).unwrap(),
+        ctx.read_buffer(&v, 0, u64::from(n)).unwrap(),
+    )
+}
+
+#[test]
+fn world_body_starts_lists_each_worlds_run_and_refuses_worlds_out_of_order() {
+    // World w is starts[w]..starts[w + 1]; a world with no bodies is an empty run, and a world
+    // index that goes back down means a world's bodies are not one run, which the sort by
+    // world cannot handle (the step then sorts the whole list).
+    assert_eq!(
+        world_body_starts([0, 0, 1, 1, 1, 3]),
+        Some(vec![0, 2, 5, 5, 6])
+    );
+    assert_eq!(world_body_starts([1, 1]), Some(vec![0, 0, 2]));
+    assert_eq!(world_body_starts([]), Some(vec![0, 0]));
+    assert_eq!(world_body_starts([0, 1, 0]), None);
+}
+
+#[test]
+fn sort_by_world_is_the_radix_sorts_order_of_the_whole_list() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    // A step of several worlds sorts each world's bodies in its own workgroup. The sweep and
+    // the narrow phase read the result as the order of the whole list, so it must be the radix
+    // sort's stable order of every key, bit for bit. Worlds of 0 to RANK_SORT_CAPACITY bodies
+    // (empty ones, one body, the largest the kernel takes), bounds from a range of 5 values
+    // (ties everywhere: a slot error shows as bodies out of input order) or of any float, keys
+    // led by the world as the broad phase writes them.
+    let sizes = [
+        3usize,
+        0,
+        1,
+        21,
+        RANK_SORT_CAPACITY as usize,
+        0,
+        300,
+        2,
+        21,
+        64,
+    ];
+    let worlds: Vec<u32> = sizes
+        .iter()
+        .enumerate()
+        .flat_map(|(w, &n)| std::iter::repeat_n(w as u32, n))
+        .collect();
+    let world_bits = u32::BITS - (sizes.len() as u32 - 1).leading_zeros();
+    let starts = world_body_starts(worlds.iter().copied()).unwrap();
+    for spread in [5.0f32, 1e6] {
+        let keys: Vec<u32> = worlds
+            .iter()
+            .map(|&w| {
+                let x = if spread < 10.0 {
+                    rng.random_range(0..5) as f32
+                } else {
+                    rng.random_range(-spread..spread)
+                };
+                sweep_key(w, x, world_bits)
+            })
+            .collect();
+        let values: Vec<u32> = (0..keys.len() as u32).collect();
+        let whole = radix_sort_cpu(&keys, &values, 32);
+        assert_eq!(
+            sort_world_bodies_cpu(&keys, &values, &starts),
+            whole,
+            "CPU twin, spread {spread}"
+        );
+        assert_eq!(
+            gpu_world_sort(&ctx, &keys, &values, &starts),
+            whole,
+            "GPU, spread {spread}"
+        );
+    }
+}
+
 #[test]
 fn wide_digit_radix_sort_is_the_same_stable_sort() {
     let Some(ctx) = GpuContext::for_tests() else {
@@ -327,6 +437,82 @@ fn pairs_equal_cpu(n: usize, seed: u64) {
     assert!(cpu.len() > n, "only {} pairs", cpu.len());
     assert_eq!(snap.pairs.len(), cpu.len());
     assert!(snap.pairs == cpu, "GPU pair list differs from the CPU's");
+}
+
+#[test]
+fn a_step_of_small_worlds_sorts_bodies_and_pairs_by_world_into_the_cpus_pair_order() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    // 60 worlds in the same region of space, each a random pile of 2 to 45 boxes: small
+    // enough that the step sorts its bodies and its pairs one workgroup per world. The pairs
+    // must be exactly the CPU's sweep of each world alone, offset by the world's first body,
+    // world after world: a pair across worlds, a pair lost or repeated by the count, scan or
+    // scatter, or a world's run out of (a, b) order would differ. World 0 puts its 45 boxes
+    // (the most the pair sort by world takes) almost on one spot, so its pairs come near the
+    // 990 that a world of 45 boxes can form, the rank sort's near-full case.
+    let mut rng = ChaCha8Rng::seed_from_u64(21);
+    let mut scene = Scene {
+        poses: vec![],
+        velocities: vec![],
+        shapes: vec![],
+    };
+    let mut firsts = vec![];
+    for w in 0..60u32 {
+        let n = if w == 0 { 45 } else { rng.random_range(2..=45) };
+        let mut world = random_scene(n, 100 + u64::from(w));
+        if w == 0 {
+            for pose in &mut world.poses {
+                for c in &mut pose.position[..3] {
+                    *c *= 0.05;
+                }
+            }
+        }
+        firsts.push(scene.shapes.len());
+        for shape in &mut world.shapes {
+            shape.flags |= w << tumble_gpu::layout::BODY_WORLD_SHIFT;
+        }
+        scene.poses.extend(world.poses);
+        scene.velocities.extend(world.velocities);
+        scene.shapes.extend(world.shapes);
+    }
+    firsts.push(scene.shapes.len());
+    let mut gpu = collision(&ctx, &scene, CollisionConfig::default());
+    assert_eq!(gpu.sorts_by_world(), (true, true), "not sorted by world");
+    let (snap, aabbs) = step_pairs_and_aabbs(&mut gpu);
+    let statics = static_flags(&scene);
+    let mut want = vec![];
+    for w in firsts.windows(2) {
+        let (first, end) = (w[0], w[1]);
+        let alone =
+            tumble_broad::sweep_and_prune_filtered(&aabbs[first..end], &statics[first..end])
+                .unwrap();
+        if first == 0 {
+            assert!(alone.len() > 900, "world 0 has only {} pairs", alone.len());
+        }
+        want.extend(
+            alone
+                .into_iter()
+                .map(|(a, b)| (a + first as u32, b + first as u32)),
+        );
+    }
+    assert_eq!(snap.pairs.len(), want.len());
+    assert!(
+        snap.pairs == want,
+        "the GPU's pair list differs from the worlds' CPU pairs"
+    );
+    // The CPU twin of the pair sort by world puts the same pairs, shuffled, back in order.
+    let mut shuffled = want.clone();
+    for i in (1..shuffled.len()).rev() {
+        shuffled.swap(i, rng.random_range(0..=i));
+    }
+    let (a, b): (Vec<u32>, Vec<u32>) = shuffled.into_iter().unzip();
+    let world_of = |body: u32| firsts.iter().filter(|&&f| f as u32 <= body).count() as u32 - 1;
+    let (a, b) = sort_world_pairs_cpu(&a, &b, world_of);
+    assert!(
+        a.into_iter().zip(b).eq(want),
+        "the CPU twin's order differs"
+    );
 }
 
 #[test]

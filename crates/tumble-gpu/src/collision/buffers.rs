@@ -99,6 +99,15 @@ pub const UPDATE_PARAMS: &str = "update_aabbs params";
 pub const SWEEP_PARAMS: &str = "sweep params";
 /// `NarrowParams`.
 pub const NARROW_PARAMS: &str = "narrow params";
+/// The world count, each world's first body and then the body count
+/// (`kernels::rank_sort::world_body_starts` after the count), for `sort_world_bodies` and
+/// `scan_world_pairs`; held only while a step of several worlds sorts its bodies by world.
+pub const WORLD_BODY_STARTS: &str = "world_body_starts";
+/// Pairs per world (`count_world_pairs`, `scatter_world_pairs`), cleared before each step's
+/// pair sort by world; held only while the step sorts its pairs by world.
+pub const WORLD_PAIR_COUNTS: &str = "world_pair_counts";
+/// Each world's first pair slot, then the pair count (`scan_world_pairs`).
+pub const WORLD_PAIR_STARTS: &str = "world_pair_starts";
 
 /// The buffers kept in two parities, this step's and the last step's, left out of the step
 /// check's checkpoints ([`BufferPool::with_per_step`]). A step writes only its own parity:
@@ -133,8 +142,9 @@ pub const PARITY_BUFFERS: [&str; 16] = [
 /// `gather_sweep_boxes` read them), the sweep boxes (`gather_sweep_boxes` writes every body's,
 /// `sweep_pairs` and `long_pairs` read them) and `previous_index` (`match_pairs` writes it for
 /// every pair of the step, `collide_cuboids` reads it for the same pairs). Those four are one
-/// to eight words per body that the step check need not copy.
-pub const PER_STEP_BUFFERS: [&str; 22] = [
+/// to eight words per body that the step check need not copy. And the pair sort by world's
+/// counts and starts (cleared, then written, by each step's sort).
+pub const PER_STEP_BUFFERS: [&str; 24] = [
     PARITY_BUFFERS[0],
     PARITY_BUFFERS[1],
     PARITY_BUFFERS[2],
@@ -157,6 +167,8 @@ pub const PER_STEP_BUFFERS: [&str; 22] = [
     SORT_BODIES[1],
     SWEEP_BOXES,
     PREVIOUS_INDEX,
+    WORLD_PAIR_COUNTS,
+    WORLD_PAIR_STARTS,
 ];
 
 /// Makes every body-sized buffer hold `bodies`; true when any was reallocated.

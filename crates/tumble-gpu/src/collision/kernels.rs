@@ -17,7 +17,10 @@ use crate::kernels::plan_dispatch::PLAN_DISPATCH;
 use crate::kernels::radix_sort::{
     RadixBindGroups, RadixBuffers, RadixSort, index_bits, plan_passes, result_copy,
 };
-use crate::kernels::rank_sort::RANK_SORT;
+use crate::kernels::rank_sort::{
+    COUNT_WORLD_PAIRS, RANK_SORT, SCAN_WORLD_PAIRS, SCATTER_WORLD_PAIRS, SORT_WORLD_BODIES,
+    SORT_WORLD_PAIRS,
+};
 use crate::kernels::remap_pairs::REMAP_PAIRS;
 use crate::kernels::sweep_pairs::{LONG_PAIRS, SWEEP_PAIRS};
 use crate::kernels::update_aabbs::UPDATE_AABBS;
@@ -31,6 +34,13 @@ pipelines! {
         write_sort_keys: WRITE_SORT_KEYS,
         /// The body and pair sorts of short lists.
         rank_sort: RANK_SORT,
+        /// The body sort of a step of several small worlds, one workgroup per world.
+        sort_world_bodies: SORT_WORLD_BODIES,
+        /// The pair sort of a step of several small worlds: count, scan, scatter, sort.
+        count_world_pairs: COUNT_WORLD_PAIRS,
+        scan_world_pairs: SCAN_WORLD_PAIRS,
+        scatter_world_pairs: SCATTER_WORLD_PAIRS,
+        sort_world_pairs: SORT_WORLD_PAIRS,
         gather_sweep_boxes: GATHER_SWEEP_BOXES,
         sweep_pairs: SWEEP_PAIRS,
         long_pairs: LONG_PAIRS,
@@ -70,6 +80,21 @@ pub struct ParityGroups {
     pub carry: wgpu::BindGroup,
     /// The compaction's, once its buffers exist ([`TOUCHING_BUFFERS`]).
     pub touching: Option<TouchingGroups>,
+    /// The pair sort by world, where the pool holds its buffers.
+    pub world_pairs: Option<WorldPairGroups>,
+}
+
+/// The pair sort by world's bind groups, of one parity.
+#[derive(Debug)]
+pub struct WorldPairGroups {
+    /// `count_world_pairs`.
+    pub count: wgpu::BindGroup,
+    /// `scan_world_pairs`.
+    pub scan: wgpu::BindGroup,
+    /// `scatter_world_pairs`, from the result copy into the other copy.
+    pub scatter: wgpu::BindGroup,
+    /// `sort_world_pairs`, from the other copy back into the result copy.
+    pub sort: wgpu::BindGroup,
 }
 
 /// Bind groups of the touching compaction, for one parity.
@@ -101,6 +126,9 @@ pub struct CollisionGroups {
     /// The body sort of at most `RANK_SORT_CAPACITY` bodies (in place, in the radix sort's
     /// result copy).
     pub small_body_sort: wgpu::BindGroup,
+    /// The body sort by world (`sort_world_bodies`, in place in the radix sort's result copy),
+    /// where the pool holds the world table.
+    pub world_body_sort: Option<wgpu::BindGroup>,
     /// `gather_sweep_boxes`.
     pub gather_sweep_boxes: wgpu::BindGroup,
     /// Per parity.
@@ -151,6 +179,8 @@ pub fn build_groups(
             "previous_work" => b(PAIR_WORK[q]),
             "pair_a" | "keys" => b(PAIR_A[p][PAIR_RESULT_COPY]),
             "pair_b" | "values" => b(PAIR_B[p][PAIR_RESULT_COPY]),
+            "scratch_a" => b(PAIR_A[p][1 - PAIR_RESULT_COPY]),
+            "scratch_b" => b(PAIR_B[p][1 - PAIR_RESULT_COPY]),
             "previous_a" => b(PAIR_A[q][PAIR_RESULT_COPY]),
             "previous_b" => b(PAIR_B[q][PAIR_RESULT_COPY]),
             "manifolds" => b(MANIFOLDS[p]),
@@ -185,6 +215,12 @@ pub fn build_groups(
             name => pair(p)(name),
         }),
         carry: kernels.carry_impulses.bind_named(ctx, pair(p)),
+        world_pairs: pool.contains(WORLD_PAIR_COUNTS).then(|| WorldPairGroups {
+            count: kernels.count_world_pairs.bind_named(ctx, pair(p)),
+            scan: kernels.scan_world_pairs.bind_named(ctx, pair(p)),
+            scatter: kernels.scatter_world_pairs.bind_named(ctx, pair(p)),
+            sort: kernels.sort_world_pairs.bind_named(ctx, pair(p)),
+        }),
         touching: pool.contains(TOUCHING).then(|| TouchingGroups {
             count_touching: kernels.count_touching.bind_named(ctx, pair(p)),
             scan_touching: kernels.scan_touching.bind_named(ctx, pair(p)),
@@ -204,6 +240,9 @@ pub fn build_groups(
         // In place in copy 0, where the radix sort's even number of passes leaves its result
         // (asserted above).
         small_body_sort: kernels.rank_sort.bind_named(ctx, body),
+        world_body_sort: pool
+            .contains(WORLD_BODY_STARTS)
+            .then(|| kernels.sort_world_bodies.bind_named(ctx, body)),
         gather_sweep_boxes: kernels.gather_sweep_boxes.bind_named(ctx, body),
         parity,
     }

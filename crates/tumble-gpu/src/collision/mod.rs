@@ -29,10 +29,11 @@ use buffers::*;
 use kernels::{CollisionGroups, CollisionKernels, build_groups};
 pub use snapshot::{CollisionSnapshot, ReadbackRequest};
 
-use crate::buffer_pool::BufferPool;
+use crate::buffer_pool::{BufferPool, STORAGE_USAGE};
+use crate::constants::MAX_WORKGROUPS_PER_DIMENSION;
 use crate::kernel::Kernel;
 use crate::kernels::radix_sort::RadixSort;
-use crate::kernels::rank_sort::RANK_SORT_CAPACITY;
+use crate::kernels::rank_sort::{RANK_SORT_CAPACITY, WORLD_PAIR_SORT_MAX_BODIES};
 use crate::layout::{
     BODY_WORLD_SHIFT, GpuAabb, GpuCollisionGroups, GpuContact, GpuLocalManifold, GpuManifold,
     GpuPose, GpuShape, GpuSweepBox, GpuTouching, GpuVelocity, NarrowParams, ScatterParams,
@@ -163,6 +164,12 @@ pub struct GpuCollision {
     long_extent: f32,
     /// Bits of the largest world index, which lead the sweep's sort keys (0 for one world).
     world_bits: u32,
+    /// Workgroups of the body sort by world (`sort_world_bodies`, one per world), or 0 where
+    /// the step sorts its bodies as one list ([`Self::set_bodies`] decides).
+    world_sort_groups: u32,
+    /// Whether the step sorts its pairs by world too (`sort_world_pairs`, one workgroup per
+    /// world; every world small enough that its pairs fit one rank sort).
+    world_pair_sort: bool,
     groups: Option<CollisionGroups>,
     steps: u64,
     readback: Readback,
@@ -194,6 +201,8 @@ impl GpuCollision {
             pair_capacity: 0,
             long_extent: f32::INFINITY,
             world_bits: 0,
+            world_sort_groups: 0,
+            world_pair_sort: false,
             groups: None,
             steps: 0,
             readback: Readback::new(ctx),
@@ -285,6 +294,7 @@ impl GpuCollision {
         if kept && let Some(remap) = remap {
             self.remap_pairs(remap)?;
         }
+        self.world_sort_groups = self.plan_world_sort(shapes)?;
         self.write_motion(poses, velocities);
         let queue = &self.ctx.queue;
         queue.write_buffer(self.pool.get(SHAPES), 0, bytemuck::cast_slice(shapes));
@@ -387,6 +397,49 @@ impl GpuCollision {
         Ok(!reset)
     }
 
+    /// The body and pair sorts' plan for bodies of `shapes`: with several worlds, none of more
+    /// than [`RANK_SORT_CAPACITY`] bodies, and at most one workgroup row of them, the world
+    /// table is written (its buffer grown as needed) and the body sort takes one workgroup per
+    /// world (`sort_world_bodies`); the workgroup count is returned. Where no world has more
+    /// than [`WORLD_PAIR_SORT_MAX_BODIES`] bodies, the pairs are sorted by world too
+    /// (`count_world_pairs` and the three after it). Otherwise 0: the whole list is sorted at
+    /// once (`rank_sort` up to its capacity, the radix sort above it). The order is the same
+    /// every way.
+    fn plan_world_sort(&mut self, shapes: &[GpuShape]) -> Result<u32, GpuError> {
+        let starts = crate::kernels::rank_sort::world_body_starts(
+            shapes.iter().map(|s| s.flags >> BODY_WORLD_SHIFT),
+        );
+        self.world_pair_sort = false;
+        let Some(starts) = starts else {
+            return Ok(0);
+        };
+        let worlds = starts.len() as u32 - 1;
+        let largest = starts.windows(2).map(|w| w[1] - w[0]).max().unwrap_or(0);
+        if worlds < 2 || largest > RANK_SORT_CAPACITY || worlds > MAX_WORKGROUPS_PER_DIMENSION {
+            return Ok(0);
+        }
+        let mut table = Vec::with_capacity(starts.len() + 1);
+        table.push(worlds);
+        table.extend_from_slice(&starts);
+        let u32s = |n: usize| (n * std::mem::size_of::<u32>()) as u64;
+        self.pool
+            .ensure(WORLD_BODY_STARTS, u32s(table.len()), STORAGE_USAGE)?;
+        self.ctx.queue.write_buffer(
+            self.pool.get(WORLD_BODY_STARTS),
+            0,
+            bytemuck::cast_slice(&table),
+        );
+        if largest <= WORLD_PAIR_SORT_MAX_BODIES {
+            let counts = [
+                (WORLD_PAIR_COUNTS, u32s(worlds as usize)),
+                (WORLD_PAIR_STARTS, u32s(worlds as usize + 1)),
+            ];
+            self.pool.ensure_all(&counts, STORAGE_USAGE)?;
+            self.world_pair_sort = true;
+        }
+        Ok(worlds)
+    }
+
     /// Drops last step's pairs, so the next step carries no impulses and no hysteresis (for
     /// when body indices were reassigned).
     pub fn forget_history(&mut self) {
@@ -474,8 +527,16 @@ impl GpuCollision {
             k.choose_axis
                 .dispatch_workgroups(&mut pass, &g.choose_axis, 1, 1);
             k.write_sort_keys.dispatch(&mut pass, &g.write_sort_keys, n);
-            // The same stable order either way; one dispatch instead of 24 for short lists.
-            if n <= RANK_SORT_CAPACITY {
+            // The same stable order every way; one dispatch instead of 24 for short lists and
+            // for steps of several small worlds.
+            if let (true, Some(group)) = (self.world_sort_groups > 0, &g.world_body_sort) {
+                k.sort_world_bodies.dispatch_workgroups(
+                    &mut pass,
+                    group,
+                    self.world_sort_groups,
+                    1,
+                );
+            } else if n <= RANK_SORT_CAPACITY {
                 k.rank_sort
                     .dispatch_workgroups(&mut pass, &g.small_body_sort, 1, 1);
             } else {
@@ -492,11 +553,31 @@ impl GpuCollision {
             k.plan_dispatch
                 .dispatch_workgroups(&mut pass, &g.parity[p].plan, 1, 1);
         }
+        let world_pairs = self
+            .world_pair_sort
+            .then_some(g.parity[p].world_pairs.as_ref())
+            .flatten();
+        if world_pairs.is_some() {
+            encoder.clear_buffer(self.pool.get(WORLD_PAIR_COUNTS), 0, None);
+        }
         {
             let mut pass = timer.begin_pass(encoder, BROAD_PHASE_SORT_PAIRS);
             // A list no longer than its buffers' capacity: when that is at most the rank
             // sort's, every step's pairs fit it (the count is clamped to the capacity).
-            if self.pair_capacity() <= RANK_SORT_CAPACITY {
+            if let Some(w) = world_pairs {
+                k.count_world_pairs
+                    .dispatch_work(&mut pass, &w.count, pair_work);
+                k.scan_world_pairs
+                    .dispatch_workgroups(&mut pass, &w.scan, 1, 1);
+                k.scatter_world_pairs
+                    .dispatch_work(&mut pass, &w.scatter, pair_work);
+                k.sort_world_pairs.dispatch_workgroups(
+                    &mut pass,
+                    &w.sort,
+                    self.world_sort_groups,
+                    1,
+                );
+            } else if self.pair_capacity() <= RANK_SORT_CAPACITY {
                 k.rank_sort
                     .dispatch_workgroups(&mut pass, &g.parity[p].small_pair_sort, 1, 1);
             } else {
@@ -544,6 +625,13 @@ impl GpuCollision {
             ]
         };
         [set(p), set(1 - p)]
+    }
+
+    /// Whether the steps sort their bodies and their pairs by world, one workgroup per world
+    /// (`sort_world_bodies`, `sort_world_pairs`), rather than as one list; the order is the
+    /// same either way ([`Self::set_bodies`] decides from the world sizes).
+    pub fn sorts_by_world(&self) -> (bool, bool) {
+        (self.world_sort_groups > 0, self.world_pair_sort)
     }
 
     /// Times last step's pairs were dropped so far (see [`Self::forget_history`]).

@@ -444,7 +444,7 @@ fn a_step_of_small_worlds_sorts_bodies_and_pairs_by_world_into_the_cpus_pair_ord
     let Some(ctx) = GpuContext::for_tests() else {
         return;
     };
-    // 60 worlds in the same region of space, each a random pile of 2 to 45 boxes: small
+    // 600 worlds in the same region of space, each a random pile of 2 to 45 boxes: small
     // enough that the step sorts its bodies and its pairs one workgroup per world. The pairs
     // must be exactly the CPU's sweep of each world alone, offset by the world's first body,
     // world after world: a pair across worlds, a pair lost or repeated by the count, scan or
@@ -458,8 +458,14 @@ fn a_step_of_small_worlds_sorts_bodies_and_pairs_by_world_into_the_cpus_pair_ord
         shapes: vec![],
     };
     let mut firsts = vec![];
-    for w in 0..60u32 {
-        let n = if w == 0 { 45 } else { rng.random_range(2..=45) };
+    for w in 0..600u32 {
+        // More worlds than the scan's workgroup has threads (each thread then scans a run of
+        // three worlds); every 20th world up to the largest size the sort by world takes.
+        let n = match w {
+            0 => 45,
+            w if w % 20 == 0 => rng.random_range(2..=45),
+            _ => rng.random_range(2..=8),
+        };
         let mut world = random_scene(n, 100 + u64::from(w));
         if w == 0 {
             for pose in &mut world.poses {

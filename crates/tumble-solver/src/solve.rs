@@ -99,6 +99,10 @@ impl Pass for Restitution {
     }
 }
 
+/// Most constraints at the end of a sequential lane batch that the scalar kernel visits instead
+/// of a last lane block (of at least five padding lanes).
+const SCALAR_TAIL: usize = 3;
+
 /// The visiting order: the constraint permutation (`order`) and its batches.
 fn plan(
     contacts: &[Contact],
@@ -147,8 +151,10 @@ fn plan(
 /// Makes sure every color's batch shares no dynamic body between its constraints, which the
 /// in-place parallel sweep and the lanes rely on; a batch that does (a coloring that is not
 /// one) is visited sequentially by the scalar kernel, which gives the reference result. With
-/// a lane kernel, gives each checked batch its lane blocks' range; every other batch gets its
-/// range of scalar constraints. Returns the number of lane blocks and of scalar constraints.
+/// a lane kernel, gives each checked batch its lane blocks' range (and a sequential one with
+/// at most [`SCALAR_TAIL`] constraints past its last full block, those as scalar constraints
+/// after the blocks); every other batch gets its range of scalar constraints. Returns the
+/// number of lane blocks and of scalar constraints.
 fn check_batches(
     bodies: &[Body],
     contacts: &[Contact],
@@ -172,10 +178,18 @@ fn check_batches(
         batch.parallel &= disjoint;
         let n = batch.range.len();
         if disjoint && kernel != SolveKernel::Scalar {
-            let count = n.div_ceil(LANES);
+            // A sequential color's last few constraints go to the scalar kernel (the same
+            // bits: tests/tests/solver_kernels.rs) rather than a block of mostly padding
+            // lanes, which costs as much as a full one.
+            let tail = match n % LANES {
+                t if !batch.parallel && n > LANES && t <= SCALAR_TAIL => t,
+                _ => 0,
+            };
+            let count = (n - tail).div_ceil(LANES);
             batch.lanes = blocks..blocks + count;
-            batch.scalar = 0..0;
+            batch.scalar = scalar..scalar + tail;
             blocks += count;
+            scalar += tail;
         } else {
             batch.lanes = 0..0;
             batch.scalar = scalar..scalar + n;
@@ -341,14 +355,17 @@ pub fn solve_with_buffers(
     blocks.resize(block_count, LaneBlock::default());
     for batch in batches.iter() {
         let indices = &order[batch.range.clone()];
+        // The batch's scalar constraints: all of it, or a lane batch's tail.
+        let (indices, tail) = indices.split_at(indices.len() - batch.scalar.len());
         if batch.lanes.is_empty() {
             if wide {
-                constraints.par_extend(indices.par_iter().map(prepare));
+                constraints.par_extend(tail.par_iter().map(prepare));
             } else {
-                constraints.extend(indices.iter().map(prepare));
+                constraints.extend(tail.iter().map(prepare));
             }
             continue;
         }
+        constraints.extend(tail.iter().map(prepare));
         let out = &mut blocks[batch.lanes.clone()];
         if wide {
             out.par_iter_mut()

@@ -42,7 +42,9 @@ pub struct Batch {
     /// empty when the batch runs the scalar kernels one constraint at a time.
     pub lanes: Range<usize>,
     /// The batch's constraints as scalar constraints (indices into the step's scalar
-    /// constraints); empty for a lane batch.
+    /// constraints): all of them when `lanes` is empty; for a sequential lane batch, the few
+    /// past its last full block (the end of `range`), visited after the blocks; empty for a
+    /// parallel lane batch.
     pub scalar: Range<usize>,
 }
 
@@ -206,7 +208,8 @@ pub(crate) fn sweep<P: Pass>(set: &mut SweepSet<'_>, states: &mut [BodyState], p
     });
 }
 
-/// The units a batch is visited in: its lane blocks, or its constraints.
+/// The units a batch is visited in: its lane blocks (a sequential lane batch's scalar tail
+/// comes with the last unit), or its constraints.
 fn batch_items(batch: &Batch) -> usize {
     if batch.lanes.is_empty() {
         batch.scalar.len()
@@ -283,13 +286,16 @@ impl Shared {
         unsafe { self.solve_blocks(blocks, pass) }
     }
 
-    /// Solves items `items` of `batch` (lane blocks, or constraints) in order, in place.
+    /// Solves items `items` of `batch` (lane blocks, then a sequential lane batch's scalar
+    /// tail, which is visited as one unit with all its blocks; or constraints) in order, in
+    /// place.
     ///
     /// # Safety
     /// The batch's ranges lie inside the arrays; no other thread touches these items, writes
     /// any body they read, or reads or writes a dynamic body of theirs meanwhile; a lane
     /// batch's constraints share no dynamic body.
     unsafe fn solve_batch<P: Pass>(self, batch: &Batch, items: Range<usize>, pass: &P, isa: Isa) {
+        let mut items = items;
         if !batch.lanes.is_empty() {
             let blocks = batch.lanes.start + items.start..batch.lanes.start + items.end;
             match isa {
@@ -299,7 +305,13 @@ impl Shared {
                 // SAFETY: the caller's contract.
                 Isa::Avx2 | Isa::Portable => unsafe { self.solve_blocks(blocks, pass) },
             }
-            return;
+            // A sequential lane batch's scalar tail follows its blocks (a sequential batch is
+            // visited as one unit; a parallel lane batch has no tail).
+            if batch.scalar.is_empty() {
+                return;
+            }
+            debug_assert!(!batch.parallel, "a parallel lane batch has no scalar tail");
+            items = 0..batch.scalar.len();
         }
         for i in items {
             // SAFETY: the caller's contract: constraint `i` is this thread's alone.

@@ -1,10 +1,11 @@
 // requires: solver/common/worlds_solve.wgsl solver/common/body_slot.wgsl
 // solve_worlds: the fused path for a batch of worlds (GpuWorld::set_bodies_in_worlds): one
-// workgroup per world runs that world's whole color-and-solve stage (fused_solve.wgsl) over its
-// constraints and bodies, in one dispatch for all the worlds, with the bodies in their storage
-// buffers. A world's constraints touch only its own bodies, so the workgroups share nothing;
-// each runs the functions solve_fused runs for the world alone, in the same order, and gets
-// its bits. The per-color offsets live in workgroup memory, one set per world
+// workgroup per group of consecutive worlds runs their whole color-and-solve stage
+// (fused_solve.wgsl) over the group's constraints and bodies, in one dispatch for all the
+// worlds, with the bodies in their storage buffers. A world's constraints touch only its own
+// bodies, so the workgroups share nothing, and within a group each world's constraints are
+// colored and solved by the functions solve_fused runs for the world alone, in the same order:
+// each world gets its bits. The per-color offsets live in workgroup memory, one set per group
 // (worlds_solve.wgsl).
 
 // `array<GpuVelocity>`, updated.

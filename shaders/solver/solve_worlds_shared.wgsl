@@ -1,6 +1,6 @@
 // requires: solver/common/worlds_solve.wgsl
-// solve_worlds_shared: solve_worlds with each world's bodies' velocities and solver state in
-// workgroup memory for the whole stage (worlds of at most FUSED_SHARED_BODIES bodies, as this
+// solve_worlds_shared: solve_worlds with each group's bodies' velocities and solver state in
+// workgroup memory for the whole stage (groups of at most FUSED_SHARED_BODIES bodies, as this
 // kernel is specialized), so that the barriers between a world's colors and passes are
 // workgroup barriers only: the constraint slots need none, each being visited by the same
 // thread in every pass (fused_solve.wgsl). The same functions in the same order as
@@ -11,7 +11,7 @@
 
 override FUSED_SHARED_BODIES: u32;
 
-// The names the shared solver functions use: this world's bodies, from its first.
+// The names the shared solver functions use: this group's bodies, from its first.
 var<workgroup> velocities: array<GpuVelocity, FUSED_SHARED_BODIES>;
 var<workgroup> solver_bodies: array<GpuSolverBody, FUSED_SHARED_BODIES>;
 

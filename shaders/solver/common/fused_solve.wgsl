@@ -3,7 +3,7 @@
 // requires: solver/common/store_slot.wgsl
 // The fused path's whole color-and-solve stage, run by ONE workgroup: shared by solve_fused
 // (bodies in storage), solve_fused_shared (bodies in workgroup memory) and solve_worlds (one
-// workgroup per world of a batch, bodies in storage), which declare the
+// workgroup per group of worlds of a batch, bodies in storage), which declare the
 // bindings and three hooks: load_velocities(local, n) before prepare, store_bodies(local, n)
 // at the end, and sync_bodies(), the barrier that makes one thread's body writes visible to
 // the others between colors and body loops. Constraint slots need no barrier between the

@@ -15,8 +15,9 @@ pub static SOLVE_FUSED: KernelSpec = KernelSpec::new(file("solver/solve_fused.wg
 /// copies take the names `velocities` and `solver_bodies`).
 pub static SOLVE_FUSED_SHARED: KernelSpec = KernelSpec::new(file("solver/solve_fused_shared.wgsl"));
 
-/// Kernel: one workgroup per world of a batch, each running [`SOLVE_FUSED`]'s stage over its
-/// world's constraints and bodies (`shaders/solver/solve_worlds.wgsl`).
+/// Kernel: one workgroup per group of consecutive worlds of a batch, each running
+/// [`SOLVE_FUSED`]'s stage over its group's constraints and bodies
+/// (`shaders/solver/solve_worlds.wgsl`; the groups: `gpu_solver::worlds::world_groups`).
 pub static SOLVE_WORLDS: KernelSpec = KernelSpec::new(file("solver/solve_worlds.wgsl"));
 
 /// Threads of a [`SOLVE_WORLDS`] workgroup: one warp on NVIDIA GPUs. A batch's worlds are
@@ -37,7 +38,7 @@ pub const WORLDS_OVERRIDES: [(&str, f64); 1] = [("WORKGROUP_SIZE", WORLDS_WORKGR
 pub static SOLVE_WORLDS_SHARED: KernelSpec =
     KernelSpec::new(file("solver/solve_worlds_shared.wgsl"));
 
-/// Bodies of one world [`SOLVE_WORLDS_SHARED`] holds in workgroup memory: 128 bytes each, 8 KiB
+/// Bodies of one group of worlds [`SOLVE_WORLDS_SHARED`] holds in workgroup memory: 128 bytes each, 8 KiB
 /// per workgroup, so that a GPU keeps many worlds resident at once.
 pub const WORLDS_SHARED_BODIES: u32 = 64;
 

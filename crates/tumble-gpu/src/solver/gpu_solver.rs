@@ -133,11 +133,14 @@ pub struct GpuSolver {
     color_dispatches: u32,
     /// Independent worlds in the step ([`Self::set_worlds`]).
     worlds: u32,
-    /// The world count, each world's first body and the body count, for `solve_worlds`;
+    /// The world count, each world's first body and the body count, then the groups of
+    /// worlds (their count, each one's first world, the world count), for `solve_worlds`;
     /// written to its buffer by the next record.
     world_bodies: Option<Vec<u32>>,
-    /// Bodies of the largest world.
-    max_world_bodies: u32,
+    /// Groups of worlds [`SolvePath::Worlds`] runs, one workgroup each.
+    world_groups: u32,
+    /// Bodies of the largest group of worlds.
+    max_group_bodies: u32,
     /// How the wide path's warm start visits the graph colors ([`WarmStartSweep`]).
     warm_start: WarmStartSweep,
     radix: RadixSort,
@@ -206,7 +209,8 @@ impl GpuSolver {
             color_dispatches: GRAPH_COLOR_COUNT,
             worlds: 1,
             world_bodies: None,
-            max_world_bodies: 0,
+            world_groups: 0,
+            max_group_bodies: 0,
             warm_start: WarmStartSweep::default(),
             radix,
             pool: BufferPool::new(ctx).with_per_step(&PER_STEP),
@@ -356,8 +360,9 @@ impl GpuSolver {
             // so fewer than bodies.
             (WORLD_FIRST, bytes_of::<u32>(n)),
             (WORLD_END, bytes_of::<u32>(n)),
-            // The world count, each world's first body, the body count.
-            (WORLD_BODIES, bytes_of::<u32>(n + 2)),
+            // The world count, each world's first body, the body count; the group count, each
+            // group's first world, the world count.
+            (WORLD_BODIES, bytes_of::<u32>(2 * n + 4)),
             (COLOR_TALLY, bytes_of::<u32>(u64::from(COLOR_TALLY_LEN))),
             (COLOR_OFFSETS, bytes_of::<u32>(u64::from(COLOR_OFFSETS_LEN))),
             (COLOR_ARGS, bytes_of::<DispatchArgs>(u64::from(COLOR_SLOTS))),

@@ -38,8 +38,9 @@ pub enum SolvePath {
     Wide,
     /// One single-workgroup dispatch for the whole color and solve stages.
     Fused,
-    /// A batch of worlds: one dispatch with one workgroup per world, each running the fused
-    /// stage over its own world.
+    /// A batch of worlds: one dispatch with one workgroup per group of consecutive worlds
+    /// (as many as fit in 64 bodies; a larger world alone), each running the fused stage over
+    /// its group.
     Worlds,
 }
 

@@ -56,7 +56,7 @@ pipelines! {
         solve_fused: SOLVE_FUSED,
         /// The same with the bodies in workgroup memory.
         solve_fused_shared: SOLVE_FUSED_SHARED,
-        /// The same, one workgroup per world of a batch.
+        /// The same, one workgroup per group of worlds of a batch.
         solve_worlds: SOLVE_WORLDS,
         /// The same with each world's bodies in workgroup memory.
         solve_worlds_shared: SOLVE_WORLDS_SHARED,

@@ -117,9 +117,13 @@ pub const DEFAULT_SLOP: Real = 0.005;
 /// the 650-cube pyramid, but the 100:1 mass ratio needs 60: at 40 the heavy cube knocks the
 /// column over in the first second (docs/solver.md has the sweep).
 pub const DEFAULT_BAUMGARTE_ITERATIONS: u32 = 60;
-/// A rayon task costs a few microseconds; one constraint pass about 0.1 us, so colors smaller
-/// than this run faster on one thread.
-pub const DEFAULT_PARALLEL_THRESHOLD: u32 = 256;
+/// Two of the staged sweep's blocks of 32 constraints (`sweep.rs`): the workers start once per
+/// pass and a color costs them an atomic claim per block and a wait for its last block, so a
+/// color worth two blocks already spreads. It was 256 while each parallel color was a rayon
+/// hand-off of its own (a few microseconds); with 64 the pyramid of 12 (colors of about 230
+/// constraints) takes 3.20 to 3.23 ms per step on two threads instead of 3.53 to 3.57, the
+/// same bits (docs/benchmarks.md, "CPU step: colors spread from two blocks on").
+pub const DEFAULT_PARALLEL_THRESHOLD: u32 = 64;
 
 impl Default for SolverConfig {
     /// Soft step, [`DEFAULT_SUBSTEPS`] substeps at [`DEFAULT_CONTACT_HERTZ`], 1 iteration, 1

@@ -23,7 +23,9 @@ pub const WORLDS_MAX_BODIES: u32 = 128;
 /// path's with the dispatches: on an H200 (`batch_table`, solve stage GPU time) columns of 20
 /// took 0.17 against 0.29 ms at 64 worlds, 0.36 against 0.35 ms at 1,024 (21,504 bodies),
 /// 1.35 against 0.64 ms at 4,096, and 1,024 pyramids of 4 (31,744 bodies) 1.93 against
-/// 1.56 ms.
+/// 1.56 ms. Those figures are for one world per workgroup; since a workgroup runs a group of
+/// worlds (three columns of 20 share one), this bound is still the measured one, to be moved
+/// where a GPU measures the two paths cross again.
 pub const WORLDS_MAX_TOTAL_BODIES: u32 = 16_384;
 
 /// The fused path is used up to this many bodies: its per-body stages also run in one

@@ -1,8 +1,9 @@
 // requires: solver/common/fused_solve.wgsl solver/common/fused_bindings.wgsl
 // The part of solve_worlds and solve_worlds_shared they share: the ranges of a workgroup's
 // group of worlds, its per-color offsets, the constraint numbering within each world, and the
-// workgroup's entry into fused_solve_range for its group. The including kernel declares the bodies' velocities and solver states (bindings
-// 12 and 13), body_slot and the load, store and sync hooks of fused_solve.wgsl.
+// workgroup's entry into fused_solve_range for its group. The including kernel declares the
+// bodies' velocities and solver states (bindings 12 and 13), body_slot and the load, store and
+// sync hooks of fused_solve.wgsl.
 
 // Per world, its first manifold (world_starts.wgsl; 0 for a world without manifolds).
 @group(0) @binding(9) var<storage, read> world_first: array<u32>;

@@ -58,7 +58,7 @@ pipelines! {
         solve_fused_shared: SOLVE_FUSED_SHARED,
         /// The same, one workgroup per group of worlds of a batch.
         solve_worlds: SOLVE_WORLDS,
-        /// The same with each world's bodies in workgroup memory.
+        /// The same with each group's bodies in workgroup memory.
         solve_worlds_shared: SOLVE_WORLDS_SHARED,
         /// Impulses queued by the host.
         apply_impulses: APPLY_IMPULSES,

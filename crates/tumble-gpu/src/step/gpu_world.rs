@@ -310,8 +310,8 @@ impl GpuWorld {
     /// simulation (never by timing), so runs are reproducible.
     fn choose_path(&self) -> SolvePath {
         // The fused path numbers constraints as one world's: a batch takes the wide path, or
-        // one fused workgroup per group of worlds while its worlds are small (or when asked for the
-        // fused path).
+        // one fused workgroup per group of worlds while its worlds are small (or when asked for
+        // the fused path).
         if self.solver.world_count() > 1 {
             let per_world = match self.config.path {
                 PathPolicy::Always(SolvePath::Wide) => false,

@@ -32,20 +32,14 @@ impl GpuSolver {
         self.world_bodies = Some(table);
     }
 
-    /// Workgroups of [`SolvePath::Worlds`]: each runs a group of consecutive worlds
-    /// ([`world_groups`]).
-    pub fn world_group_count(&self) -> u32 {
-        self.world_groups
-    }
-
     /// Independent worlds in the step.
     pub fn world_count(&self) -> u32 {
         self.worlds
     }
 
     /// Records [`SolvePath::Worlds`] into `pass`: each world's manifold range, then one
-    /// workgroup per group of worlds (`solve_worlds`, or `solve_worlds_shared` with the bodies in
-    /// workgroup memory where the device and the worlds' sizes allow). The encoder must have
+    /// workgroup per group of worlds ([`world_groups`]; `solve_worlds`, or `solve_worlds_shared`
+    /// with the bodies in workgroup memory where the device and the groups' sizes allow). The encoder must have
     /// cleared the range buffers (`clear_world_ranges`).
     pub(super) fn record_worlds(
         &self,

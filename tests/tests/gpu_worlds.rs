@@ -12,7 +12,8 @@ use rand_chacha::ChaCha8Rng;
 use tumble_geometry::{Cuboid, Pose, Real, Vec3};
 use tumble_gpu::GpuContext;
 use tumble_gpu::layout::GpuPose;
-use tumble_gpu::solver::{FusedMemory, SolvePath};
+use tumble_gpu::solver::path::{WORLD_GROUP_BODIES, WORLDS_PACK_MIN_BODIES, world_groups};
+use tumble_gpu::solver::{FusedMemory, SolvePath, WorldGrouping};
 use tumble_gpu::step::{GpuWorld, GpuWorldConfig, PathPolicy, ReadRequest};
 use tumble_solver::{Body, BodyKind, BodyState, Material};
 use tumble_tests::gpu_solver_util::{floor, pose_bits};
@@ -215,8 +216,8 @@ fn scenes_match_alone(
 fn worlds_stepped_as_one_batch_end_bitwise_equal_to_each_stepped_alone() {
     // Twelve worlds, 200 steps (3.3 s): landings, slides into the wall, piles settling; the
     // bodies (under 1,024) and pairs take the single-workgroup sorts, and the solve one
-    // fused workgroup per world (SolvePath::Worlds), where each world alone takes the
-    // single-workgroup fused path.
+    // fused workgroup per world (SolvePath::Worlds; a batch this small is not packed into
+    // groups), where each world alone takes the single-workgroup fused path.
     batch_matches_alone(12, 200, GpuWorldConfig::default());
 }
 
@@ -248,14 +249,66 @@ fn groups_of_worlds_with_and_without_contacts_end_bitwise_equal_to_each_stepped_
             }
         })
         .collect();
-    scenes_match_alone(&scenes, 60, GpuWorldConfig::default());
+    let packed = GpuWorldConfig {
+        world_grouping: WorldGrouping::Packed,
+        ..GpuWorldConfig::default()
+    };
+    scenes_match_alone(&scenes, 60, packed);
     let shared = GpuWorldConfig {
         fused_memory: FusedMemory::Workgroup,
-        ..GpuWorldConfig::default()
+        ..packed
     };
     scenes_match_alone(&scenes, 60, shared);
 }
 
+#[test]
+fn a_batch_is_packed_into_groups_of_worlds_only_when_asked_or_large() {
+    // The grouping never changes a bit (the test above), so what it must get right is which
+    // workgroups run: a small batch one world per workgroup (it would leave most of a GPU
+    // idle packed), a large one or one asked for packed as few workgroups as fit 64 bodies.
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let groups = |count: usize, grouping| {
+        let scenes: Vec<_> = (0..count as u64).map(|w| small_world(w % 4)).collect();
+        let (bodies, states, worlds, firsts) = concat(&scenes);
+        let config = GpuWorldConfig {
+            world_grouping: grouping,
+            ..GpuWorldConfig::default()
+        };
+        let mut world = GpuWorld::new(&ctx, config).unwrap();
+        world
+            .set_bodies_in_worlds(&bodies, &states, &worlds)
+            .unwrap();
+        (world.solver().world_group_count(), bodies.len(), firsts)
+    };
+    let (alone, _, _) = groups(24, WorldGrouping::Alone);
+    assert_eq!(alone, 24, "one group per world when alone");
+    let (auto, bodies, _) = groups(24, WorldGrouping::Auto);
+    assert!((bodies as u32) < WORLDS_PACK_MIN_BODIES);
+    assert_eq!(
+        auto, 24,
+        "a batch of {bodies} bodies is small: one world per group"
+    );
+    let (packed, bodies, firsts) = groups(24, WorldGrouping::Packed);
+    let mut starts: Vec<u32> = firsts.iter().map(|&f| f as u32).collect();
+    starts.push(bodies as u32);
+    assert_eq!(
+        packed as usize,
+        world_groups(&starts, WORLD_GROUP_BODIES).len()
+    );
+    assert!(
+        packed < 24,
+        "{packed} groups: the small worlds were not packed"
+    );
+    // Enough worlds for WORLDS_PACK_MIN_BODIES: Auto packs them as Packed does.
+    let count = 24 * (WORLDS_PACK_MIN_BODIES as usize / bodies + 1);
+    let (auto, bodies, _) = groups(count, WorldGrouping::Auto);
+    assert!(bodies as u32 >= WORLDS_PACK_MIN_BODIES);
+    let (packed, _, _) = groups(count, WorldGrouping::Packed);
+    assert_eq!(auto, packed);
+    assert!((auto as usize) < count, "{auto} groups for {count} worlds");
+}
 #[test]
 fn worlds_with_their_bodies_in_workgroup_memory_end_bitwise_equal_to_each_stepped_alone() {
     // solve_worlds_shared (each world's bodies in workgroup memory, workgroup barriers only),

@@ -20,7 +20,7 @@ use super::constants::{
 use super::constraint_store::{constraints_by_manifold, store_stride};
 use super::effects::{Effects, effect_overrides};
 use super::layout::{ColorSlot, GpuConstraint, GpuSolverBody, GpuTilt, SolverParams};
-use super::path::{FusedMemory, SolvePath, WarmStartSweep};
+use super::path::{FusedMemory, SolvePath, WarmStartSweep, WorldGrouping};
 use super::pipelines::{SolverPipelines, pass_kernels, solve_step_kernel};
 use super::solve_color::PassKind;
 use super::solve_step::SubstepDispatch;
@@ -141,6 +141,8 @@ pub struct GpuSolver {
     world_groups: u32,
     /// Bodies of the largest group of worlds.
     max_group_bodies: u32,
+    /// How [`SolvePath::Worlds`] packs the worlds into groups ([`WorldGrouping`]).
+    world_grouping: WorldGrouping,
     /// How the wide path's warm start visits the graph colors ([`WarmStartSweep`]).
     warm_start: WarmStartSweep,
     radix: RadixSort,
@@ -211,6 +213,7 @@ impl GpuSolver {
             world_bodies: None,
             world_groups: 0,
             max_group_bodies: 0,
+            world_grouping: WorldGrouping::default(),
             warm_start: WarmStartSweep::default(),
             radix,
             pool: BufferPool::new(ctx).with_per_step(&PER_STEP),

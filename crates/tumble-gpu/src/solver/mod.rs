@@ -27,5 +27,5 @@ pub mod store;
 pub use effects::{Effects, effect_overrides};
 pub use gpu_solver::{GpuSolver, SolverInputs};
 pub use params::StepParams;
-pub use path::{FusedMemory, SolvePath, WarmStartSweep};
+pub use path::{FusedMemory, SolvePath, WarmStartSweep, WorldGrouping};
 pub use solve_step::SubstepDispatch;

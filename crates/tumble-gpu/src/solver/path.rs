@@ -19,14 +19,58 @@ pub const FUSED_MAX_CONSTRAINTS: u32 = 600;
 pub const WORLDS_MAX_BODIES: u32 = 128;
 
 /// Bodies up to which a batch of small worlds takes [`SolvePath::Worlds`]. Its cost grows with
-/// the worlds (each workgroup walks its world's colors and passes between barriers), the wide
-/// path's with the dispatches: on an H200 (`batch_table`, solve stage GPU time) columns of 20
-/// took 0.17 against 0.29 ms at 64 worlds, 0.36 against 0.35 ms at 1,024 (21,504 bodies),
-/// 1.35 against 0.64 ms at 4,096, and 1,024 pyramids of 4 (31,744 bodies) 1.93 against
-/// 1.56 ms. Those figures are for one world per workgroup; since a workgroup runs a group of
-/// worlds (three columns of 20 share one), this bound is still the measured one, to be moved
-/// where a GPU measures the two paths cross again.
-pub const WORLDS_MAX_TOTAL_BODIES: u32 = 16_384;
+/// the worlds (each workgroup walks its group's colors and passes between barriers), the wide
+/// path's with the dispatches. Measured on an H100 (Vulkan, `batch_table`, 4 substeps, the
+/// solve stage's GPU time per step, groups of worlds packed): columns of 20 took 0.25 against
+/// the wide path's 0.35 + 0.05 ms (solve + color) at 1,024 worlds (21,504 bodies), 0.84
+/// against 0.72 + 0.08 ms at 4,096 (86,016 bodies; the whole step 1.48 against 1.75 ms), and
+/// 2.94 against 2.05 ms at 16,384 (344,064 bodies; the step 5.17 against 4.96 ms); 1,024
+/// pyramids of 4 (31,744 bodies) 2.69 against 3.12 ms per step. The bound sits between the
+/// last two column batches, where the step times cross.
+pub const WORLDS_MAX_TOTAL_BODIES: u32 = 131_072;
+
+/// Bodies from which [`WorldGrouping::Auto`] packs a batch's worlds into groups: 256 full
+/// groups' worth. A small batch leaves most of the GPU idle, and there one world per
+/// workgroup spreads the work over more of it; a large one fills every multiprocessor either
+/// way, and there the packed worlds fill each workgroup's lanes. Measured on an H100
+/// (`batch_table`, solve stage GPU time): 64 columns of 20 (1,344 bodies) took 0.148 ms alone
+/// against 0.166 packed, 1,024 columns (21,504 bodies) 0.411 alone against 0.253 packed, 4,096
+/// columns 1.34 against 0.84 and 1,024 pyramids of 4 2.33 against 1.57.
+pub const WORLDS_PACK_MIN_BODIES: u32 = 256 * WORLD_GROUP_BODIES;
+
+/// Bodies a group of worlds of [`SolvePath::Worlds`] holds at most (a world with more is a
+/// group alone): the bodies' copies of `solve_worlds_shared` hold this many.
+pub const WORLD_GROUP_BODIES: u32 = super::fused::WORLDS_SHARED_BODIES;
+
+/// How [`SolvePath::Worlds`] gives a batch's worlds to its workgroups. Every choice computes
+/// the same bits: the worlds of a group share no body, so each constraint is colored and
+/// solved as in its world alone (`gpu_worlds` checks it); the choice is about speed, made from
+/// the batch's body count, never from timing.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum WorldGrouping {
+    /// [`Self::Packed`] from [`WORLDS_PACK_MIN_BODIES`] bodies in the batch on, else
+    /// [`Self::Alone`].
+    #[default]
+    Auto,
+    /// One world per workgroup.
+    Alone,
+    /// Consecutive worlds share a workgroup up to [`WORLD_GROUP_BODIES`] bodies (three columns
+    /// of 20 share one); a larger world is a group alone.
+    Packed,
+}
+
+impl WorldGrouping {
+    /// The most bodies a group holds in a batch of `batch_bodies` bodies (0: every world
+    /// alone).
+    pub fn group_bodies(self, batch_bodies: u32) -> u32 {
+        let packed = match self {
+            WorldGrouping::Auto => batch_bodies >= WORLDS_PACK_MIN_BODIES,
+            WorldGrouping::Alone => false,
+            WorldGrouping::Packed => true,
+        };
+        if packed { WORLD_GROUP_BODIES } else { 0 }
+    }
+}
 
 /// The fused path is used up to this many bodies: its per-body stages also run in one
 /// workgroup, `WORKGROUP_SIZE` bodies at a time (a pile at the manifold bound above has
@@ -85,6 +129,24 @@ impl FusedMemory {
     }
 }
 
+/// Consecutive worlds packed into groups of at most `max_bodies` bodies, greedily in world
+/// order (a larger world alone): the first world of each group. `starts` holds each world's
+/// first body, then the body count. One workgroup runs a group as one world: its worlds share
+/// no body, so each constraint is colored and solved as in its world alone, while the worlds
+/// of a small batch fill the workgroup's lanes (a column of 20 has about 10 constraints per
+/// color, a third of a 32-thread workgroup).
+pub fn world_groups(starts: &[u32], max_bodies: u32) -> Vec<u32> {
+    let mut groups = Vec::new();
+    let mut group_first_body = 0;
+    for (w, pair) in starts.windows(2).enumerate() {
+        if groups.is_empty() || pair[1] - group_first_body > max_bodies {
+            groups.push(w as u32);
+            group_first_body = pair[0];
+        }
+    }
+    groups
+}
+
 /// How the wide path applies the warm start of the graph colors each substep. Both compute the
 /// same bits (`warm_start_bodies.wgsl` says why); the choice is about speed and is fixed per
 /// device, never made from timing.
@@ -112,5 +174,43 @@ impl WarmStartSweep {
             WarmStartSweep::PerBody => true,
             WarmStartSweep::ByColor => false,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{WORLD_GROUP_BODIES, WORLDS_PACK_MIN_BODIES, WorldGrouping, world_groups};
+
+    #[test]
+    fn groups_take_consecutive_worlds_up_to_the_body_bound() {
+        // Worlds of 21 bodies: three fill 63 of 64, a fourth would make 84.
+        let starts: Vec<u32> = (0..=7).map(|w| 21 * w).collect();
+        assert_eq!(world_groups(&starts, 64), vec![0, 3, 6]);
+        // A bound of one body: every world alone (the one-world-per-workgroup layout).
+        assert_eq!(world_groups(&starts, 1), (0..7).collect::<Vec<_>>());
+        // A world over the bound is a group alone, and the packing resumes after it.
+        let starts = [0, 10, 110, 120, 150, 164];
+        assert_eq!(world_groups(&starts, 64), vec![0, 1, 2]);
+        // Two worlds that exactly fill the bound share a group.
+        assert_eq!(world_groups(&[0, 32, 64], 64), vec![0]);
+        // One world, and no world at all.
+        assert_eq!(world_groups(&[0, 5], 64), vec![0]);
+        assert!(world_groups(&[0], 64).is_empty());
+    }
+
+    #[test]
+    fn auto_packs_worlds_from_the_bound_on() {
+        // Below the bound every world runs alone (a group bound of 0 bodies), from it on the
+        // groups hold up to WORLD_GROUP_BODIES, as asked for explicitly.
+        let auto = WorldGrouping::Auto;
+        assert_eq!(auto.group_bodies(WORLDS_PACK_MIN_BODIES - 1), 0);
+        assert_eq!(
+            auto.group_bodies(WORLDS_PACK_MIN_BODIES),
+            WORLD_GROUP_BODIES
+        );
+        assert_eq!(WorldGrouping::Alone.group_bodies(u32::MAX), 0);
+        assert_eq!(WorldGrouping::Packed.group_bodies(1), WORLD_GROUP_BODIES);
+        // A bound of 0 puts every world alone.
+        assert_eq!(world_groups(&[0, 5, 9, 30], 0), vec![0, 1, 2]);
     }
 }

@@ -6,7 +6,7 @@ use tumble_solver::SolverConfig;
 use crate::GpuError;
 use crate::collision::CollisionConfig;
 use crate::error::invalid;
-use crate::solver::{FusedMemory, SolvePath, SubstepDispatch, WarmStartSweep};
+use crate::solver::{FusedMemory, SolvePath, SubstepDispatch, WarmStartSweep, WorldGrouping};
 
 /// How each step chooses between the wide and the fused solver paths.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -57,6 +57,9 @@ pub struct GpuWorldConfig {
     pub skip_idle_steps: bool,
     /// Where the fused solve path keeps the bodies ([`FusedMemory`]; the same bits either way).
     pub fused_memory: FusedMemory,
+    /// How a batch's worlds share the workgroups of [`crate::solver::SolvePath::Worlds`]
+    /// ([`WorldGrouping`]; the same bits either way).
+    pub world_grouping: WorldGrouping,
     /// How many colors the wide path dispatches one by one ([`ColorDispatch`]; the same bits
     /// either way).
     pub color_dispatch: ColorDispatch,
@@ -84,6 +87,7 @@ impl Default for GpuWorldConfig {
             timestamps: false,
             skip_idle_steps: true,
             fused_memory: FusedMemory::Auto,
+            world_grouping: WorldGrouping::Auto,
             color_dispatch: ColorDispatch::InUse,
             warm_start_sweep: WarmStartSweep::Auto,
             substep_dispatch: SubstepDispatch::Auto,

@@ -112,6 +112,7 @@ impl GpuWorld {
         };
         let mut solver = GpuSolver::new(ctx, Effects::of_bodies(&[], &config.gravity))?;
         solver.set_fused_memory(config.fused_memory);
+        solver.set_world_grouping(config.world_grouping);
         solver.set_warm_start_sweep(config.warm_start_sweep);
         solver.set_substep_dispatch(config.substep_dispatch)?;
         Ok(Self {

@@ -4,6 +4,7 @@
 use super::*;
 use crate::constants::MAX_WORKGROUPS_PER_DIMENSION;
 use crate::solver::fused::WORLDS_SHARED_BODIES;
+use crate::solver::path::world_groups;
 
 impl GpuSolver {
     /// Sets the independent worlds the bodies form: `first_bodies[w]` is world `w`'s first
@@ -17,19 +18,43 @@ impl GpuSolver {
         table.push(first_bodies.len() as u32);
         table.extend_from_slice(first_bodies);
         table.push(bodies);
-        let groups = world_groups(&table[1..], WORLD_GROUP_BODIES);
+        self.world_bodies = Some(table);
+        self.group_worlds();
+    }
+
+    /// How [`SolvePath::Worlds`] packs the worlds into workgroups from the next step on
+    /// ([`WorldGrouping`]; the same bits either way).
+    pub fn set_world_grouping(&mut self, grouping: WorldGrouping) {
+        self.world_grouping = grouping;
+        self.group_worlds();
+    }
+
+    /// Packs the worlds of the table into groups ([`world_groups`]) and appends the groups to
+    /// the table: [worlds, first bodies.., bodies, groups, first worlds.., worlds].
+    fn group_worlds(&mut self) {
+        let Some(table) = self.world_bodies.as_mut() else {
+            return;
+        };
+        let worlds = table[0];
+        table.truncate(worlds as usize + 2);
+        let bodies = table[worlds as usize + 1];
+        let groups = world_groups(&table[1..], self.world_grouping.group_bodies(bodies));
         self.world_groups = groups.len() as u32;
         // The largest group's bodies: the workgroup copies of solve_worlds_shared hold them.
         self.max_group_bodies = groups
             .iter()
-            .zip(groups.iter().skip(1).chain([&(first_bodies.len() as u32)]))
+            .zip(groups.iter().skip(1).chain([&worlds]))
             .map(|(&g, &next)| table[1 + next as usize] - table[1 + g as usize])
             .max()
             .unwrap_or(0);
         table.push(groups.len() as u32);
         table.extend_from_slice(&groups);
-        table.push(first_bodies.len() as u32);
-        self.world_bodies = Some(table);
+        table.push(worlds);
+    }
+
+    /// Groups of worlds [`SolvePath::Worlds`] runs, one workgroup each ([`WorldGrouping`]).
+    pub fn world_group_count(&self) -> u32 {
+        self.world_groups
     }
 
     /// Independent worlds in the step.
@@ -75,49 +100,5 @@ impl GpuSolver {
         }
         encoder.clear_buffer(self.pool.get(WORLD_FIRST), 0, None);
         encoder.clear_buffer(self.pool.get(WORLD_END), 0, None);
-    }
-}
-
-/// Bodies a group of worlds of [`SolvePath::Worlds`] holds at most (a world with more is a
-/// group alone): the bodies' copies of `solve_worlds_shared` hold this many.
-pub const WORLD_GROUP_BODIES: u32 = WORLDS_SHARED_BODIES;
-
-/// Consecutive worlds packed into groups of at most `max_bodies` bodies, greedily in world
-/// order (a larger world alone): the first world of each group. `starts` holds each world's
-/// first body, then the body count. One workgroup runs a group as one world: its worlds share
-/// no body, so each constraint is colored and solved as in its world alone, while the worlds
-/// of a small batch fill the workgroup's lanes (a column of 20 has about 10 constraints per
-/// color, a third of a 32-thread workgroup).
-pub fn world_groups(starts: &[u32], max_bodies: u32) -> Vec<u32> {
-    let mut groups = Vec::new();
-    let mut group_first_body = 0;
-    for (w, pair) in starts.windows(2).enumerate() {
-        if groups.is_empty() || pair[1] - group_first_body > max_bodies {
-            groups.push(w as u32);
-            group_first_body = pair[0];
-        }
-    }
-    groups
-}
-
-#[cfg(test)]
-mod tests {
-    use super::world_groups;
-
-    #[test]
-    fn groups_take_consecutive_worlds_up_to_the_body_bound() {
-        // Worlds of 21 bodies: three fill 63 of 64, a fourth would make 84.
-        let starts: Vec<u32> = (0..=7).map(|w| 21 * w).collect();
-        assert_eq!(world_groups(&starts, 64), vec![0, 3, 6]);
-        // A bound of one body: every world alone (the one-world-per-workgroup layout).
-        assert_eq!(world_groups(&starts, 1), (0..7).collect::<Vec<_>>());
-        // A world over the bound is a group alone, and the packing resumes after it.
-        let starts = [0, 10, 110, 120, 150, 164];
-        assert_eq!(world_groups(&starts, 64), vec![0, 1, 2]);
-        // Two worlds that exactly fill the bound share a group.
-        assert_eq!(world_groups(&[0, 32, 64], 64), vec![0]);
-        // One world, and no world at all.
-        assert_eq!(world_groups(&[0, 5], 64), vec![0]);
-        assert!(world_groups(&[0], 64).is_empty());
     }
 }

@@ -35,10 +35,15 @@ fn gpu_world(effects: EffectOverrides) -> World {
 }
 
 fn world(readback: ReadbackOverrides) -> (World, Vec<BodyHandle>) {
-    let mut world = gpu_world(EffectOverrides {
+    world_with(EffectOverrides {
         readback,
         ..Default::default()
-    });
+    })
+}
+
+/// [`world`] with `effects`.
+fn world_with(effects: EffectOverrides) -> (World, Vec<BodyHandle>) {
+    let mut world = gpu_world(effects);
     let mut handles = vec![add_floor(&mut world, 10.0)];
     for (x, z) in [(-1.5, 0.0), (0.0, 0.0), (1.5, 0.0)] {
         for level in 0..3 {
@@ -136,6 +141,7 @@ fn how_the_caller_reads_never_changes_a_result() {
         velocities: EffectSwitch::Off,
         contacts: EffectSwitch::Off,
         sleeping: EffectSwitch::Off,
+        stats: EffectSwitch::Off,
     };
     // Reads copied with every step, read rarely, never copied with the step: the GPU step is
     // deterministic, so any difference would be a stale host value uploaded back, a lost
@@ -303,4 +309,126 @@ fn sleep_on_the_gpu_is_read_through_the_facade() {
         assert!(world.is_sleeping(h).unwrap(), "the other stack sleeps on");
     }
     assert_eq!(world.pose(stacks[1][1]).unwrap(), resting);
+}
+
+#[test]
+fn stats_read_every_step_cost_sixteen_bytes_and_count_what_the_manifolds_hold() {
+    if !have_gpu() {
+        return;
+    }
+    // Sleep off: a sleeping island's pairs are not collided, and the counts would be 0.
+    let (mut world, _) = world_with(EffectOverrides::NO_SLEEP);
+    // The stacks settle onto the floor and each other: resting manifolds with overlap.
+    for _ in 0..30 {
+        world.step().unwrap();
+    }
+    let mut before = world.readback_bytes();
+    for step in 0..5 {
+        world.step().unwrap();
+        let stats = *world.stats();
+        // The counts alone cross the bus: the first read directly, the next ones copied
+        // with their steps (the GPU reduces every manifold to four words).
+        let after = world.readback_bytes();
+        assert_eq!(after - before, 16, "step {step}: the counts only");
+        before = after;
+        // Three stacks of three cubes on the floor: 9 resting manifolds at least.
+        assert!(stats.manifolds >= 9, "step {step}: {stats:?}");
+    }
+    // The same numbers as counted from the manifolds themselves (read after the counts, so
+    // the counts above came from the GPU's summary).
+    world.step().unwrap();
+    let stats = *world.stats();
+    let reports = world.contacts();
+    assert_eq!(stats.manifolds, reports.len());
+    assert_eq!(
+        stats.contact_points,
+        reports.iter().map(|r| r.points.len()).sum::<usize>()
+    );
+    let deepest = reports.iter().map(|r| r.max_depth()).fold(0.0, Real::max);
+    assert_eq!(stats.max_penetration.to_bits(), deepest.to_bits());
+    // Soft contacts rest with a small overlap: the deepest is positive and well under a
+    // centimetre, or the comparison above would be of two zeros.
+    assert!(
+        stats.max_penetration > 0.0 && stats.max_penetration < 0.01,
+        "{stats:?}"
+    );
+    assert!(stats.pairs >= stats.manifolds, "{stats:?}");
+}
+
+#[test]
+fn the_gpu_contact_summary_matches_its_cpu_twin_copied_with_the_step_and_read_directly() {
+    use tumble_geometry::{Cuboid, Pose, Rot};
+    use tumble_gpu::kernels::contact_summary::contact_summary_cpu;
+    use tumble_gpu::step::{GpuWorld, GpuWorldConfig, ReadRequest};
+    use tumble_solver::{Body, BodyKind, BodyState, Material};
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    // A 6 x 6 layer of tilted cubes pressed into the floor and into each other by different
+    // amounts (0 to 5 cm): many manifolds of 1 to 4 points, each with its own deepest point,
+    // so a wrong sum, a lost maximum or a manifold counted twice shows.
+    let material = Material {
+        friction: 0.5,
+        restitution: 0.0,
+    };
+    let mut bodies = vec![tumble_tests::gpu_solver_util::floor(material)];
+    for i in 0..36 {
+        let (x, z) = ((i % 6) as Real, (i / 6) as Real);
+        let sink = 0.01 * (i % 6) as Real;
+        let tilt = Rot::from_euler_angles(0.02 * (i % 5) as Real, 0.3, 0.0);
+        let mut pose = Pose::translation(0.97 * x, 0.5 - sink, 0.97 * z);
+        pose.rotation = tilt;
+        bodies.push(
+            Body::new(
+                BodyKind::Dynamic,
+                Cuboid::new(Vec3::repeat(0.5)),
+                pose,
+                1.0,
+                material,
+            )
+            .unwrap(),
+        );
+    }
+    let states = vec![BodyState::default(); bodies.len()];
+    let mut world = GpuWorld::new(&ctx, GpuWorldConfig::default()).unwrap();
+    world.set_bodies(&bodies, &states).unwrap();
+    let both = ReadRequest {
+        contacts: true,
+        summary: true,
+        ..Default::default()
+    };
+    world.request_reads(both);
+    for step in 0..3 {
+        world.step().unwrap();
+        let copied = world
+            .wait_snapshot()
+            .unwrap()
+            .expect("requested with the step");
+        let direct = world.read_now(both).unwrap();
+        for (how, snapshot) in [("copied", &copied), ("direct", &direct)] {
+            let contacts = snapshot.contacts.as_ref().expect("contacts requested");
+            let cpu =
+                contact_summary_cpu(contacts.work.count, &contacts.manifolds, &contacts.points);
+            let gpu = snapshot.summary.expect("summary requested");
+            assert_eq!(gpu.manifolds, cpu.manifolds, "{how}, step {step}");
+            assert_eq!(gpu.points, cpu.points, "{how}, step {step}");
+            assert_eq!(gpu.pairs, cpu.pairs, "{how}, step {step}");
+            assert_eq!(
+                gpu.max_depth.to_bits(),
+                cpu.max_depth.to_bits(),
+                "{how}, step {step}: {} against {}",
+                gpu.max_depth,
+                cpu.max_depth
+            );
+            // The pressed layer: every cube touches the floor, and the deepest overlap is
+            // between the 5 cm the deepest cubes were pressed into the floor (less what a
+            // step pushed out) and the 28 cm a cube turned by 0.3 rad reaches into its
+            // neighbour 0.97 m away.
+            assert!(gpu.manifolds >= 36, "{how}, step {step}: {gpu:?}");
+            assert!(
+                gpu.max_depth > 0.03 && gpu.max_depth < 0.28,
+                "{how}, step {step}: {gpu:?}"
+            );
+        }
+    }
 }

@@ -51,6 +51,7 @@ const SLEEPING: ReadRequest = ReadRequest {
     velocities: false,
     contacts: false,
     sleeping: true,
+    summary: false,
 };
 
 /// One step, waited for.

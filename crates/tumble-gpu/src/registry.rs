@@ -21,6 +21,7 @@ pub static KERNELS: LazyLock<Vec<&'static KernelSpec>> = LazyLock::new(|| {
         &kernels::radix_sort::RADIX_SCATTER,
         &kernels::contact_events::CONTACT_BEGINS,
         &kernels::contact_events::CONTACT_ENDS,
+        &kernels::contact_summary::CONTACT_SUMMARY,
         &solver::solve_color::SOLVE_COLOR,
         &solver::solve_color::SOLVE_COLOR_IMMEDIATE,
         &solver::solve_step::SOLVE_STEP,

@@ -34,6 +34,8 @@ pub(crate) struct Reads {
     pub contacts: bool,
     /// Which bodies sleep.
     pub sleeping: bool,
+    /// The contact counts (`ContactSummary`).
+    pub summary: bool,
 }
 
 impl Reads {
@@ -41,12 +43,14 @@ impl Reads {
     const VELOCITIES: u8 = 2;
     const CONTACTS: u8 = 4;
     const SLEEPING: u8 = 8;
+    const SUMMARY: u8 = 16;
 
     fn bits(self) -> u8 {
         (u8::from(self.poses) * Self::POSES)
             | (u8::from(self.velocities) * Self::VELOCITIES)
             | (u8::from(self.contacts) * Self::CONTACTS)
             | (u8::from(self.sleeping) * Self::SLEEPING)
+            | (u8::from(self.summary) * Self::SUMMARY)
     }
 
     fn from_bits(bits: u8) -> Self {
@@ -55,6 +59,7 @@ impl Reads {
             velocities: bits & Self::VELOCITIES != 0,
             contacts: bits & Self::CONTACTS != 0,
             sleeping: bits & Self::SLEEPING != 0,
+            summary: bits & Self::SUMMARY != 0,
         }
     }
 
@@ -65,6 +70,7 @@ impl Reads {
             velocities: self.velocities,
             contacts: self.contacts,
             sleeping: self.sleeping,
+            summary: self.summary,
         }
     }
 }
@@ -186,12 +192,16 @@ impl Unread {
                     .take()
                     .filter(|c| c.work.count as usize <= c.manifolds.len());
             }
+            if want.summary {
+                out.summary = s.summary.take();
+            }
         }
         let missing = ReadRequest {
             poses: want.poses && out.poses.is_empty(),
             velocities: want.velocities && out.velocities.is_empty(),
             contacts: want.contacts && out.contacts.is_none(),
             sleeping: want.sleeping && out.sleeping.is_empty(),
+            summary: want.summary && out.summary.is_none(),
         };
         if missing != ReadRequest::default() {
             let direct = gpu.read_now(missing)?;
@@ -206,6 +216,9 @@ impl Unread {
             }
             if missing.sleeping {
                 out.sleeping = direct.sleeping;
+            }
+            if missing.summary {
+                out.summary = direct.summary;
             }
         }
         Ok(out)
@@ -271,27 +284,45 @@ impl Unread {
         })
     }
 
-    /// The step's statistics: counts from its manifolds, stage times from its timestamps.
+    /// The step's statistics: counts from its manifolds where the host has them already,
+    /// else from the GPU's 16-byte summary of them (`contact_summary`, the same numbers), and
+    /// stage times from its timestamps.
     pub(crate) fn stats(&self, gpu: &Mutex<GpuWorld>) -> &StepStats {
         self.stats.get_or_init(|| {
-            let (contacts, pairs) = match self.contacts(gpu) {
-                Ok(view) => (view.contacts.as_slice(), view.pairs),
-                Err(_) => (&[][..], 0),
-            };
             let timings = gpu
                 .lock()
                 .ok()
                 .and_then(|mut g| g.timings().ok())
                 .map(|stages| stage_timings(&stages))
                 .unwrap_or_default();
-            StepStats {
+            let stats = StepStats {
                 bodies: self.handles.len(),
-                pairs,
-                manifolds: contacts.len(),
-                contact_points: contacts.iter().map(|c| c.manifold.len as usize).sum(),
-                max_penetration: max_penetration(contacts),
                 timings,
                 ..Default::default()
+            };
+            if let Some(Ok(view)) = self.contacts.get() {
+                let contacts = view.contacts.as_slice();
+                return StepStats {
+                    pairs: view.pairs,
+                    manifolds: contacts.len(),
+                    contact_points: contacts.iter().map(|c| c.manifold.len as usize).sum(),
+                    max_penetration: max_penetration(contacts),
+                    ..stats
+                };
+            }
+            let want = Reads {
+                summary: true,
+                ..Default::default()
+            };
+            match self.fetch(gpu, want).ok().and_then(|s| s.summary) {
+                Some(summary) => StepStats {
+                    pairs: summary.pairs as usize,
+                    manifolds: summary.manifolds as usize,
+                    contact_points: summary.points as usize,
+                    max_penetration: summary.max_depth,
+                    ..stats
+                },
+                None => stats,
             }
         })
     }

@@ -35,6 +35,7 @@ const STATE: ReadRequest = ReadRequest {
     velocities: true,
     contacts: false,
     sleeping: true,
+    summary: false,
 };
 
 /// A cube of half extent [`HALF`] of `kind` at `pose`.

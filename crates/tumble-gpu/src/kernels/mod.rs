@@ -13,6 +13,7 @@ pub mod choose_axis;
 pub mod collide_cuboids;
 pub mod compact_touching;
 pub mod contact_events;
+pub mod contact_summary;
 pub mod forget_pairs;
 pub mod gather_sweep_boxes;
 pub mod match_pairs;

@@ -41,6 +41,7 @@ mod draw;
 mod host_contacts;
 mod reads;
 mod saved;
+mod summary;
 
 const BODIES: &str = "world bodies";
 const HOST_MANIFOLDS: &str = "host manifolds";
@@ -99,6 +100,8 @@ pub struct GpuWorld {
     events: Option<EventStage>,
     /// The motion check and the last step's checkpoint, while the check is on.
     check: Option<checked::MotionCheck>,
+    /// The contact summary's kernel and output, once a read asked for it.
+    summary: Option<summary::SummaryStage>,
 }
 
 impl GpuWorld {
@@ -141,6 +144,7 @@ impl GpuWorld {
             idle: IdleSteps::default(),
             events: None,
             check: None,
+            summary: None,
         })
     }
 

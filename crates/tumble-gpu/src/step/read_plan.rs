@@ -2,6 +2,7 @@
 //! filled, in recorded order.
 
 use crate::MAX_MANIFOLD_POINTS;
+use crate::kernels::contact_summary::ContactSummary;
 use crate::layout::{GpuContact, GpuManifold, WorkList};
 use crate::readback::{Region, Ticket};
 use crate::sleep::constants::AWAKE;
@@ -60,6 +61,12 @@ pub(super) fn decode(read: &PendingRead, bodies: usize, bytes: Vec<Vec<u8>>) -> 
         } else {
             vec![false; bodies]
         };
+    }
+    if request.summary {
+        let bytes = next();
+        snapshot.summary = bytes
+            .get(..16)
+            .map(|b| ContactSummary::from_words(bytemuck::pod_read_unaligned(b)));
     }
     snapshot
 }

@@ -6,6 +6,7 @@ use tumble_solver::{BodyState, Contact};
 
 use crate::MAX_MANIFOLD_POINTS;
 use crate::collision::snapshot::to_manifold;
+use crate::kernels::contact_summary::ContactSummary;
 use crate::kernels::velocity_from_gpu;
 use crate::layout::{GpuContact, GpuManifold, GpuPose, GpuVelocity, WorkList};
 use crate::solver::convert::{pose_from_gpu, read_impulses};
@@ -22,6 +23,8 @@ pub struct ReadRequest {
     pub contacts: bool,
     /// Which bodies sleep (all awake while sleep is off, and then nothing is copied).
     pub sleeping: bool,
+    /// The step's contact counts ([`ContactSummary`]: 16 bytes, reduced on the GPU).
+    pub summary: bool,
 }
 
 impl ReadRequest {
@@ -31,6 +34,7 @@ impl ReadRequest {
         velocities: true,
         contacts: false,
         sleeping: false,
+        summary: false,
     };
     /// Everything.
     pub const ALL: Self = Self {
@@ -38,6 +42,7 @@ impl ReadRequest {
         velocities: true,
         contacts: true,
         sleeping: true,
+        summary: true,
     };
 }
 
@@ -101,6 +106,8 @@ pub struct Snapshot {
     pub contacts: Option<ContactSnapshot>,
     /// Whether each body sleeps after the step (empty unless requested).
     pub sleeping: Vec<bool>,
+    /// The step's contact counts (unless not requested, or before the first step).
+    pub summary: Option<ContactSummary>,
 }
 
 impl Snapshot {

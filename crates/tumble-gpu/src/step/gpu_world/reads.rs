@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::buffer_pool::bytes_of;
+use crate::kernels::contact_summary::CONTACT_SUMMARY_BYTES;
 
 impl GpuWorld {
     /// Asks the next steps to copy `request` for reading (see [`Self::wait_snapshot`]).
@@ -18,6 +19,11 @@ impl GpuWorld {
         manifolds: u32,
     ) -> Result<(usize, Vec<Region>, bool), GpuError> {
         let n = self.bodies.len() as u64;
+        let summary = if request.summary {
+            Some(self.record_summary(encoder)?)
+        } else {
+            None
+        };
         let (manifold_buffer, point_buffer, work, capacity) = self.contact_buffers();
         let m = u64::from(manifolds.min(capacity));
         let buffers = self.collision.buffers(self.pool.get(BODIES));
@@ -43,6 +49,9 @@ impl GpuWorld {
         let islands = self.sleep.island_labels().filter(|_| request.sleeping);
         if let Some(islands) = islands {
             copies.push((islands, bytes_of::<u32>(n)));
+        }
+        if let Some(summary) = &summary {
+            copies.push((summary, CONTACT_SUMMARY_BYTES));
         }
         // Alignment slack per region.
         let slack = 2 * wgpu::MAP_ALIGNMENT;
@@ -113,6 +122,9 @@ impl GpuWorld {
                 }
                 None => vec![false; n as usize],
             };
+        }
+        if request.summary {
+            snapshot.summary = self.read_summary_now()?;
         }
         Ok(snapshot)
     }

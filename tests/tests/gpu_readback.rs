@@ -357,37 +357,24 @@ fn stats_read_every_step_cost_sixteen_bytes_and_count_what_the_manifolds_hold() 
 
 #[test]
 fn the_gpu_contact_summary_matches_its_cpu_twin_copied_with_the_step_and_read_directly() {
-    use tumble_geometry::{Cuboid, Pose, Rot};
+    use tumble_geometry::Rot;
     use tumble_gpu::kernels::contact_summary::contact_summary_cpu;
     use tumble_gpu::step::{GpuWorld, GpuWorldConfig, ReadRequest};
-    use tumble_solver::{Body, BodyKind, BodyState, Material};
+    use tumble_solver::{BodyKind, BodyState, Material};
+    use tumble_tests::gpu_solver_util::{cube, floor};
     let Some(ctx) = GpuContext::for_tests() else {
         return;
     };
     // A 6 x 6 layer of tilted cubes pressed into the floor and into each other by different
     // amounts (0 to 5 cm): many manifolds of 1 to 4 points, each with its own deepest point,
     // so a wrong sum, a lost maximum or a manifold counted twice shows.
-    let material = Material {
-        friction: 0.5,
-        restitution: 0.0,
-    };
-    let mut bodies = vec![tumble_tests::gpu_solver_util::floor(material)];
+    let mut bodies = vec![floor(Material::default())];
     for i in 0..36 {
         let (x, z) = ((i % 6) as Real, (i / 6) as Real);
         let sink = 0.01 * (i % 6) as Real;
-        let tilt = Rot::from_euler_angles(0.02 * (i % 5) as Real, 0.3, 0.0);
-        let mut pose = Pose::translation(0.97 * x, 0.5 - sink, 0.97 * z);
-        pose.rotation = tilt;
-        bodies.push(
-            Body::new(
-                BodyKind::Dynamic,
-                Cuboid::new(Vec3::repeat(0.5)),
-                pose,
-                1.0,
-                material,
-            )
-            .unwrap(),
-        );
+        let mut body = cube(BodyKind::Dynamic, Vec3::new(0.97 * x, 0.5 - sink, 0.97 * z));
+        body.pose.rotation = Rot::from_euler_angles(0.02 * (i % 5) as Real, 0.3, 0.0);
+        bodies.push(body);
     }
     let states = vec![BodyState::default(); bodies.len()];
     let mut world = GpuWorld::new(&ctx, GpuWorldConfig::default()).unwrap();

@@ -29,14 +29,16 @@ pub const WORLDS_MAX_BODIES: u32 = 128;
 /// last two column batches, where the step times cross.
 pub const WORLDS_MAX_TOTAL_BODIES: u32 = 131_072;
 
-/// Bodies from which [`WorldGrouping::Auto`] packs a batch's worlds into groups: 256 full
+/// Bodies from which [`WorldGrouping::Auto`] packs a batch's worlds into groups: 128 full
 /// groups' worth. A small batch leaves most of the GPU idle, and there one world per
 /// workgroup spreads the work over more of it; a large one fills every multiprocessor either
 /// way, and there the packed worlds fill each workgroup's lanes. Measured on an H100
-/// (`batch_table`, solve stage GPU time): 64 columns of 20 (1,344 bodies) took 0.148 ms alone
-/// against 0.166 packed, 1,024 columns (21,504 bodies) 0.411 alone against 0.253 packed, 4,096
-/// columns 1.34 against 0.84 and 1,024 pyramids of 4 2.33 against 1.57.
-pub const WORLDS_PACK_MIN_BODIES: u32 = 256 * WORLD_GROUP_BODIES;
+/// (`batch_table`, one sitting, ms per step alone against packed): 64 columns of 20 (1,344
+/// bodies) 0.364 against 0.382, 256 columns (5,376) 0.397 against 0.404, 256 pyramids of 4
+/// (7,936) 1.168 against 1.240, 512 columns (10,752) 0.469 against 0.456, 1,024 columns
+/// (21,504) 0.729 against 0.558; in another sitting 4,096 columns 2.03 against 1.48 and 1,024
+/// pyramids of 4 3.42 against 2.69. The two cross between 7,936 and 10,752 bodies.
+pub const WORLDS_PACK_MIN_BODIES: u32 = 128 * WORLD_GROUP_BODIES;
 
 /// Bodies a group of worlds of [`SolvePath::Worlds`] holds at most (a world with more is a
 /// group alone): the bodies' copies of `solve_worlds_shared` hold this many.

@@ -353,6 +353,29 @@ fn stats_read_every_step_cost_sixteen_bytes_and_count_what_the_manifolds_hold() 
         "{stats:?}"
     );
     assert!(stats.pairs >= stats.manifolds, "{stats:?}");
+
+    // A caller that has the contacts copied with every step (and not the summary) gets the
+    // counts from that copy: reading the stats moves no further byte.
+    let (mut world, _) = world_with(EffectOverrides {
+        readback: ReadbackOverrides {
+            contacts: EffectSwitch::On,
+            stats: EffectSwitch::Off,
+            ..Default::default()
+        },
+        ..EffectOverrides::NO_SLEEP
+    });
+    for _ in 0..30 {
+        world.step().unwrap();
+    }
+    world.step().unwrap();
+    let before = world.readback_bytes();
+    let copied = *world.stats();
+    assert_eq!(
+        world.readback_bytes(),
+        before,
+        "the counts came from the copy"
+    );
+    assert!(copied.manifolds >= 9, "the resting stacks: {copied:?}");
 }
 
 #[test]

@@ -67,7 +67,7 @@ pub struct ReadbackOverrides {
     pub poses: EffectSwitch,
     /// Every body's linear and angular velocity.
     pub velocities: EffectSwitch,
-    /// The step's manifolds with their impulses (contact pairs, contact reports, counts).
+    /// The step's manifolds with their impulses (contact pairs, contact reports).
     pub contacts: EffectSwitch,
     /// Which bodies sleep (only copied when the sleep effect runs).
     pub sleeping: EffectSwitch,

@@ -17,6 +17,7 @@ use std::time::Duration;
 
 use tumble_geometry::Pose;
 use tumble_gpu::GpuError;
+use tumble_gpu::kernels::contact_summary::ContactSummary;
 use tumble_gpu::step::{GpuWorld, ReadRequest, Snapshot};
 use tumble_solver::{BodyState, Contact, Stage};
 
@@ -111,7 +112,10 @@ pub(crate) struct Unread {
     velocities: OnceLock<Result<Vec<BodyState>, String>>,
     contacts: OnceLock<Result<ContactView, String>>,
     sleeping: OnceLock<Result<Vec<bool>, String>>,
+    summary: OnceLock<Result<ContactSummary, String>>,
     stats: OnceLock<StepStats>,
+    /// What the step copied with it.
+    recorded: Reads,
     /// True once a mutating call copied poses and velocities into the world's host arrays,
     /// which are then the state to report (and to upload changes from).
     pub motion_in_host: bool,
@@ -134,7 +138,9 @@ impl Unread {
             velocities: OnceLock::new(),
             contacts: OnceLock::new(),
             sleeping: OnceLock::new(),
+            summary: OnceLock::new(),
             stats: OnceLock::new(),
+            recorded,
             motion_in_host: false,
         }
     }
@@ -153,6 +159,7 @@ impl Unread {
             .or_else(|| err(self.velocities.get()))
             .or_else(|| err(self.contacts.get()))
             .or_else(|| err(self.sleeping.get()))
+            .or_else(|| err(self.summary.get()))
     }
 
     /// Reads `want` from the step's copy where it holds it, from the GPU buffers otherwise.
@@ -300,7 +307,13 @@ impl Unread {
                 timings,
                 ..Default::default()
             };
-            if let Some(Ok(view)) = self.contacts.get() {
+            // The manifolds where the host has them or the step copied them (and not the
+            // summary): the counts cost no other read then.
+            let copied = self.recorded.contacts && !self.recorded.summary;
+            if self.contacts.get().is_some() || copied {
+                let Ok(view) = self.contacts(gpu) else {
+                    return stats;
+                };
                 let contacts = view.contacts.as_slice();
                 return StepStats {
                     pairs: view.pairs,
@@ -310,19 +323,18 @@ impl Unread {
                     ..stats
                 };
             }
-            let want = Reads {
-                summary: true,
-                ..Default::default()
-            };
-            match self.fetch(gpu, want).ok().and_then(|s| s.summary) {
-                Some(summary) => StepStats {
+            match self.decoded(&self.summary, gpu, Reads::SUMMARY, |s| {
+                s.summary.unwrap_or_default()
+            }) {
+                Ok(summary) => StepStats {
                     pairs: summary.pairs as usize,
                     manifolds: summary.manifolds as usize,
                     contact_points: summary.points as usize,
                     max_penetration: summary.max_depth,
                     ..stats
                 },
-                None => stats,
+                // Kept in its cell: the next fallible call reports it.
+                Err(_) => stats,
             }
         })
     }

@@ -17,16 +17,18 @@ pub static SOLVE_FUSED_SHARED: KernelSpec = KernelSpec::new(file("solver/solve_f
 
 /// Kernel: one workgroup per group of consecutive worlds of a batch, each running
 /// [`SOLVE_FUSED`]'s stage over its group's constraints and bodies
-/// (`shaders/solver/solve_worlds.wgsl`; the groups: `gpu_solver::worlds::world_groups`).
+/// (`shaders/solver/solve_worlds.wgsl`; the groups: `path::world_groups`).
 pub static SOLVE_WORLDS: KernelSpec = KernelSpec::new(file("solver/solve_worlds.wgsl"));
 
 /// Threads of a [`SOLVE_WORLDS`] workgroup: one warp on NVIDIA GPUs. A batch's worlds are
 /// small (a few dozen bodies and constraints), and a workgroup this size lets a GPU keep one
 /// group of worlds on every workgroup slot at once and makes its many barriers (between colors and
 /// passes) cheap: on an H200, 4,096 columns of 20 solved in 1.35 ms with 32 threads and in
-/// 5.3 ms with the 256 of the other kernels (the wide path takes 0.64 ms there, which is why
-/// large batches take it: `path::WORLDS_MAX_TOTAL_BODIES`). `order_by_color` gives each color
-/// slot a thread, so it must exceed `EMPTY_COLOR`.
+/// 5.3 ms with the 256 of the other kernels, one world per workgroup. With the worlds packed
+/// in groups, 64 threads over groups of 128 bodies were 11% faster than 32 over 64 at 4,096
+/// and 16,384 columns and slower on smaller batches and on pyramids (docs/benchmarks.md, "What
+/// bounds the worlds path"). `order_by_color` gives each color slot a thread, so it must
+/// exceed `EMPTY_COLOR`.
 pub const WORLDS_WORKGROUP_SIZE: u32 = 32;
 const _: () = assert!(WORLDS_WORKGROUP_SIZE > super::constants::EMPTY_COLOR);
 

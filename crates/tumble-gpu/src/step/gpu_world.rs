@@ -238,7 +238,8 @@ impl GpuWorld {
 
     /// Every pooled device buffer of the world as (pool, buffer name, bytes): the pools
     /// `world`, `collision`, `solver`, `sleep` and, with the motion check on, the shadow
-    /// copies the check keeps of them (`check world`, ...). For memory reports
+    /// copies the check keeps of them (`check world`, ...), and the contact summary's 16 bytes
+    /// once a read asked for it (`readback`). For memory reports
     /// (docs/gpu.md, "Memory per body").
     pub fn buffer_sizes(&self) -> Vec<(&'static str, &'static str, u64)> {
         let stages = [
@@ -252,6 +253,13 @@ impl GpuWorld {
             .flat_map(|(pool, sizes)| sizes.into_iter().map(move |(n, b)| (pool, n, b)))
             .collect();
         out.extend(self.shadow_sizes());
+        if self.summary.is_some() {
+            out.push((
+                "readback",
+                "contact_summary",
+                crate::kernels::contact_summary::CONTACT_SUMMARY_BYTES,
+            ));
+        }
         out
     }
 

@@ -63,9 +63,10 @@ impl GpuSolver {
     }
 
     /// Records [`SolvePath::Worlds`] into `pass`: each world's manifold range, then one
-    /// workgroup per group of worlds ([`world_groups`]; `solve_worlds`, or `solve_worlds_shared`
-    /// with the bodies in workgroup memory where the device and the groups' sizes allow). The encoder must have
-    /// cleared the range buffers (`clear_world_ranges`).
+    /// workgroup per group of worlds ([`world_groups`]; `solve_worlds`, or
+    /// `solve_worlds_shared` with the bodies in workgroup memory where the device and the
+    /// groups' sizes allow). The encoder must have cleared the range buffers
+    /// (`clear_world_ranges`).
     pub(super) fn record_worlds(
         &self,
         pass: &mut wgpu::ComputePass<'_>,

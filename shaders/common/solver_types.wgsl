@@ -132,7 +132,9 @@ struct SolverParams {
     relax_iterations: u32,
     // 1 when some material has restitution (the restitution pass runs).
     restitution: u32,
-    _pad: u32,
+    // 1 when the biased passes leave the friction rows to the relax passes
+    // (FrictionPasses::RelaxOnly), 0 when every pass solves them.
+    relax_only_friction: u32,
 }
 
 // Which color a per-color pass visits. 16 bytes.

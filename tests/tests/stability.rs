@@ -38,3 +38,16 @@ fn large_pyramid_of_4901_cubes_stands_2_s() {
         tumble::SolverConfig::default(),
     );
 }
+
+// Friction in the relax passes only (rapier3d's and Box2D's choice): the biased passes solve
+// the normal and tilt rows alone, so the same suite checks that stacks, pyramids, ramps and
+// the canonical scenes still hold with friction and the patches' second visit left to the
+// relax passes.
+tumble_tests::stability_suite!(
+    soft_step_relax_only_friction,
+    tumble::Backend::Cpu,
+    tumble::SolverConfig {
+        friction_passes: tumble::FrictionPasses::RelaxOnly,
+        ..tumble::SolverConfig::default()
+    }
+);

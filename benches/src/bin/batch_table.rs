@@ -25,7 +25,7 @@ use clap::Parser;
 use rayon::prelude::*;
 use tumble::EffectOverrides;
 use tumble::prelude::*;
-use tumble::{POSE_FLOATS, WorldBatch};
+use tumble::{FrictionPasses, POSE_FLOATS, WorldBatch};
 use tumble_scenes::{RapierOptions, RapierWorld, Scene, build_rapier_with, builders};
 
 /// World-steps per second for batches of small worlds.
@@ -61,6 +61,10 @@ struct Args {
     /// Also time GPU runs that read every pose after every step.
     #[arg(long)]
     read_every_step: bool,
+    /// Tumble's rows with friction in the relax passes only
+    /// (`SolverConfig::friction_passes = FrictionPasses::RelaxOnly`) instead of every pass.
+    #[arg(long)]
+    relax_only_friction: bool,
     /// Writes the rows here as CSV too.
     #[arg(long)]
     csv: Option<String>,
@@ -124,6 +128,11 @@ fn run_tumble(
         backend,
         solver: SolverConfig {
             substeps: args.substeps,
+            friction_passes: if args.relax_only_friction {
+                FrictionPasses::RelaxOnly
+            } else {
+                FrictionPasses::Every
+            },
             ..SolverConfig::default()
         },
         effects: EffectOverrides::NO_SLEEP,

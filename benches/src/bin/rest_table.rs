@@ -20,7 +20,7 @@ use std::time::{Duration, Instant};
 
 use clap::Parser;
 use tumble::prelude::*;
-use tumble::{EffectOverrides, EffectSwitch};
+use tumble::{EffectOverrides, EffectSwitch, FrictionPasses};
 use tumble_benches::cli::count;
 use tumble_tests::facade::{add_uneven_pile, floor_desc};
 
@@ -65,7 +65,7 @@ fn main() {
         "default ({} substeps at {} Hz, {} iteration, {} relax pass)",
         base.substeps, base.contact_hertz, base.iterations, base.relax_iterations
     );
-    let rows: [(&str, SolverConfig); 6] = [
+    let rows: [(&str, SolverConfig); 7] = [
         (default_name.as_str(), base),
         (
             "Box2D v3's 4 substeps at 30 Hz",
@@ -100,6 +100,13 @@ fn main() {
             "no warm starting",
             SolverConfig {
                 warm_start: false,
+                ..base
+            },
+        ),
+        (
+            "friction in the relax passes only",
+            SolverConfig {
+                friction_passes: FrictionPasses::RelaxOnly,
                 ..base
             },
         ),

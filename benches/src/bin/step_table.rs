@@ -22,7 +22,7 @@ use tumble::EffectOverrides;
 use tumble::prelude::*;
 use tumble_benches::cli::{SceneName, count};
 use tumble_scenes::{RapierOptions, Scene, build_rapier_with};
-use tumble_solver::{SolveKernel, Stage};
+use tumble_solver::{FrictionPasses, SolveKernel, Stage};
 
 /// Steps run before timing starts: pipelines compile, buffers grow, caches warm up.
 const WARMUP_STEPS: usize = 10;
@@ -78,8 +78,13 @@ enum Engine {
     /// Tumble on the CPU with contact recycling off (`WorldConfig::recycle_distance = 0`):
     /// every manifold computed afresh every step, the step before recycling.
     CpuFresh,
+    /// Tumble on the CPU with friction in the relax passes only
+    /// (`SolverConfig::friction_passes = FrictionPasses::RelaxOnly`).
+    CpuRelaxFriction,
     /// Tumble, every stage on the GPU.
     Gpu,
+    /// Tumble on the GPU with friction in the relax passes only.
+    GpuRelaxFriction,
     /// Tumble, collision on the GPU and the solver on the CPU.
     Hybrid,
     /// rapier3d.
@@ -90,8 +95,10 @@ impl Engine {
     /// Tumble's backend, or `None` for rapier3d.
     fn backend(self) -> Option<Backend> {
         match self {
-            Engine::Cpu | Engine::CpuScalar | Engine::CpuFresh => Some(Backend::Cpu),
-            Engine::Gpu => Some(Backend::Gpu),
+            Engine::Cpu | Engine::CpuScalar | Engine::CpuFresh | Engine::CpuRelaxFriction => {
+                Some(Backend::Cpu)
+            }
+            Engine::Gpu | Engine::GpuRelaxFriction => Some(Backend::Gpu),
             Engine::Hybrid => Some(Backend::Hybrid),
             Engine::Rapier => None,
         }
@@ -102,6 +109,14 @@ impl Engine {
         match self {
             Engine::CpuScalar => SolveKernel::Scalar,
             _ => SolveKernel::Lanes,
+        }
+    }
+
+    /// Which passes of a Tumble row solve friction.
+    fn friction_passes(self) -> FrictionPasses {
+        match self {
+            Engine::CpuRelaxFriction | Engine::GpuRelaxFriction => FrictionPasses::RelaxOnly,
+            _ => FrictionPasses::Every,
         }
     }
 
@@ -119,7 +134,9 @@ impl Engine {
             Engine::Cpu => "cpu",
             Engine::CpuScalar => "cpu-scalar",
             Engine::CpuFresh => "cpu-fresh",
+            Engine::CpuRelaxFriction => "cpu-relax-friction",
             Engine::Gpu => "gpu",
+            Engine::GpuRelaxFriction => "gpu-relax-friction",
             Engine::Hybrid => "hybrid",
             Engine::Rapier => "rapier",
         }
@@ -150,15 +167,15 @@ fn horizontal_drift(scene: &Scene, poses: &[([f32; 3], bool)]) -> f32 {
 fn run_tumble(
     scene: &Scene,
     backend: Backend,
+    engine: Engine,
     substeps: u32,
     order: Order,
-    kernel: SolveKernel,
-    recycle_distance: f32,
     steps: usize,
 ) -> Result<Run, Error> {
     let solver = SolverConfig {
         substeps,
-        kernel,
+        kernel: engine.kernel(),
+        friction_passes: engine.friction_passes(),
         order: match order {
             Order::Colored => SolveOrder::Colored,
             Order::Rounds => SolveOrder::ColoredInRounds,
@@ -170,7 +187,7 @@ fn run_tumble(
         solver,
         // The full step's cost: no body is put to sleep.
         effects: EffectOverrides::NO_SLEEP,
-        recycle_distance,
+        recycle_distance: engine.recycle_distance(),
         ..WorldConfig::default()
     };
     let (mut world, handles) = World::from_scene(scene, config)?;
@@ -295,10 +312,9 @@ fn main() {
                 Some(backend) => run_tumble(
                     &scene,
                     backend,
+                    engine,
                     args.substeps,
                     args.order,
-                    engine.kernel(),
-                    engine.recycle_distance(),
                     args.steps,
                 ),
                 None => Ok(run_rapier(&scene, args.substeps, args.steps)),

@@ -50,6 +50,25 @@ pub enum SolveKernel {
     Scalar,
 }
 
+/// Which velocity passes solve the friction rows.
+///
+/// A pass visits a manifold's normal rows, the tilt rows of a face patch, the friction rows,
+/// and then, unless every point slides, the normal and tilt rows once more
+/// ([`crate::solve_contact`]). With [`FrictionPasses::RelaxOnly`] the biased passes stop
+/// after the first normal and tilt rows: friction and the second visit run in the relax
+/// passes only, as in rapier3d (`friction_in_bias_pass = false`, its default) and Box2D v3
+/// (docs/solver.md, "Friction in the relax passes only", has the measurements).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum FrictionPasses {
+    /// Friction rows in every biased and relax pass (the default).
+    #[default]
+    Every,
+    /// Friction rows, and a face patch's second visit, in the relax passes only: fewer rows
+    /// per substep, for a little more drift in tall piles. Needs at least one relax pass.
+    RelaxOnly,
+}
+
 /// Everything the solver stage needs besides bodies and contacts.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -85,6 +104,10 @@ pub struct SolverConfig {
     /// one at a time. Every kernel gives the same bits; only the time differs.
     #[cfg_attr(feature = "serde", serde(default))]
     pub kernel: SolveKernel,
+    /// Which passes solve the friction rows: every pass (the default) or the relax passes
+    /// only.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub friction_passes: FrictionPasses,
 }
 
 /// Contact stiffness: 60 Hz, a sixth of the default substep rate (6 substeps of a 60 Hz step);
@@ -144,6 +167,7 @@ impl Default for SolverConfig {
             restitution_threshold: DEFAULT_RESTITUTION_THRESHOLD,
             parallel_threshold: DEFAULT_PARALLEL_THRESHOLD,
             kernel: SolveKernel::Lanes,
+            friction_passes: FrictionPasses::Every,
         }
     }
 }
@@ -257,7 +281,25 @@ impl SolverConfig {
             MAX_SPEED,
             EXPECTED_RESTITUTION_THRESHOLD,
         )?;
+        if self.friction_passes == FrictionPasses::RelaxOnly && self.relax_iterations == 0 {
+            // No pass would solve friction: every contact would be frictionless.
+            return Err(InvalidParameter::new(
+                "solver.friction_passes",
+                self.friction_passes,
+                "FrictionPasses::Every when solver.relax_iterations is 0 (RelaxOnly needs a relax pass)",
+            ));
+        }
         Ok(())
+    }
+
+    /// The context of a biased (`use_bias`) or relax pass at substep rate `inv_h`.
+    pub fn pass_context(&self, inv_h: Real, use_bias: bool) -> crate::PassContext {
+        crate::PassContext {
+            inv_h,
+            use_bias,
+            max_push_out: self.max_push_out,
+            friction: !use_bias || self.friction_passes == FrictionPasses::Every,
+        }
     }
 }
 
@@ -272,7 +314,7 @@ mod tests {
         // Each case: a valid config, the edit that makes it bad, and the field the error names.
         type Edit = fn(&mut SolverConfig);
         let soft = SolverConfig::default();
-        let cases: [(SolverConfig, Edit, &str); 6] = [
+        let cases: [(SolverConfig, Edit, &str); 8] = [
             (soft, |c| c.substeps = 0, "solver.substeps"),
             (
                 soft,
@@ -288,6 +330,20 @@ mod tests {
             (soft, |c| c.substeps = 65, "solver.substeps"),
             (soft, |c| c.contact_hertz = 1e30, "solver.contact_hertz"),
             (soft, |c| c.slop = 1e30, "solver.slop"),
+            // Friction in the relax passes only needs a relax pass; the thesis's solver has none.
+            (
+                SolverConfig::baumgarte(),
+                |c| c.friction_passes = FrictionPasses::RelaxOnly,
+                "solver.friction_passes",
+            ),
+            (
+                soft,
+                |c| {
+                    c.friction_passes = FrictionPasses::RelaxOnly;
+                    c.relax_iterations = 0;
+                },
+                "solver.friction_passes",
+            ),
         ];
         for (valid, edit, field) in cases {
             let mut bad = valid;

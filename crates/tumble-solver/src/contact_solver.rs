@@ -17,6 +17,9 @@ pub struct PassContext {
     pub use_bias: bool,
     /// Cap on the separation speed the position feedback may request, m/s.
     pub max_push_out: Real,
+    /// Solve the friction rows and a face patch's second visit; without, the pass ends after
+    /// the normal and tilt rows ([`crate::FrictionPasses::RelaxOnly`]'s biased passes).
+    pub friction: bool,
 }
 
 /// `a` when it is greater than `b`, else `b`: the clamps of the passes, written as a compare
@@ -187,7 +190,7 @@ fn solve_friction_rows(c: &mut ContactConstraint, a: &mut BodyState, b: &mut Bod
 
 /// One pass over the constraint: non-penetration, the tilt rows of a face patch, Coulomb
 /// friction, then for a face patch that does not slide at every point its non-penetration and
-/// tilt rows once more.
+/// tilt rows once more. Without `ctx.friction` the pass ends after the first tilt rows.
 ///
 /// The friction rows act at the points, below body B's centre and above body A's, so their
 /// impulses turn the bodies and undo what the tilt rows just held. Left so until the next
@@ -210,6 +213,10 @@ pub fn solve_contact(
     solve_normal_rows(c, a, b, ctx);
     if patch {
         solve_tilt(c, a, b);
+    }
+    // A biased pass of FrictionPasses::RelaxOnly: the relax passes solve the rest.
+    if !ctx.friction {
+        return;
     }
     // Zero friction means one row per point: skip the tangent rows entirely, and with them
     // the second visit, which only restores what they disturbed. The same test as prepare's

@@ -98,7 +98,7 @@ pub use coloring::{
 pub use config::{
     DEFAULT_BAUMGARTE, DEFAULT_BAUMGARTE_ITERATIONS, DEFAULT_CONTACT_HERTZ, DEFAULT_DAMPING_RATIO,
     DEFAULT_MAX_PUSH_OUT, DEFAULT_PARALLEL_THRESHOLD, DEFAULT_RESTITUTION_THRESHOLD, DEFAULT_SLOP,
-    DEFAULT_SUBSTEPS, SolveKernel, SolveOrder, SolverConfig, SolverKind,
+    DEFAULT_SUBSTEPS, FrictionPasses, SolveKernel, SolveOrder, SolverConfig, SolverKind,
 };
 pub use constraint::{
     AngularRow, ConstraintPoint, ContactConstraint, PrepareContext, patch_radius, prepare_contact,

@@ -379,15 +379,8 @@ pub fn solve_with_buffers(
     }
     let gravity = effects.gravity.then_some(gravity);
 
-    let solve_pass = |use_bias| {
-        Velocity(PassContext {
-            inv_h,
-            use_bias,
-            max_push_out: config.max_push_out,
-        })
-    };
-    let biased = solve_pass(true);
-    let relaxed = solve_pass(false);
+    let biased = Velocity(config.pass_context(inv_h, true));
+    let relaxed = Velocity(config.pass_context(inv_h, false));
     let mut set = SweepSet {
         constraints,
         blocks,

@@ -65,7 +65,8 @@ pub use tumble_gpu as gpu;
 pub use tumble_scenes as scenes;
 pub use tumble_solver as solver;
 pub use tumble_solver::{
-    BodyKind, CollisionGroups, Effects, Locks, Material, SolveOrder, SolverConfig, SolverKind,
+    BodyKind, CollisionGroups, Effects, FrictionPasses, Locks, Material, SolveOrder, SolverConfig,
+    SolverKind,
 };
 
 /// The names most programs need, in one import.

@@ -14,9 +14,10 @@ fn visit_constraint(s: u32, kind: u32) {
     if kind == PASS_WARM_START {
         warm_start_points(&c, &a, &b);
     } else if kind == PASS_SOLVE {
-        solve_points(&c, &a, &b, true, params.inv_h, params.max_push_out);
+        let friction = params.relax_only_friction == 0u;
+        solve_points(&c, &a, &b, true, params.inv_h, params.max_push_out, friction);
     } else if kind == PASS_RELAX {
-        solve_points(&c, &a, &b, false, params.inv_h, params.max_push_out);
+        solve_points(&c, &a, &b, false, params.inv_h, params.max_push_out, true);
     } else {
         restitution_points(&c, &a, &b, params.restitution_threshold);
     }

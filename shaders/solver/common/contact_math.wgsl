@@ -361,7 +361,8 @@ fn solve_friction_points(c: ptr<function, GpuConstraint>, a: ptr<function, BodyS
 // One pass over the constraint: non-penetration, the tilt rows of a face patch, friction,
 // then for a face patch that does not slide at every point its non-penetration and tilt rows
 // once more, so the pass ends with the patch's rotation held against the friction rows'
-// torque (solve_contact on the CPU, which says why).
+// torque (solve_contact on the CPU, which says why). Without `friction` (the biased passes of
+// FrictionPasses::RelaxOnly) the pass ends after the first tilt rows.
 fn solve_points(
     c: ptr<function, GpuConstraint>,
     a: ptr<function, BodySim>,
@@ -369,13 +370,14 @@ fn solve_points(
     use_bias: bool,
     inv_h: f32,
     max_push_out: f32,
+    friction: bool,
 ) {
     let has_patch = (*c).patch_radius > 0.0;
     solve_normal_points(c, a, b, use_bias, inv_h, max_push_out);
     if has_patch {
         solve_tilt(c, a, b);
     }
-    if !ENABLE_FRICTION || (*c).normal.w == 0.0 {
+    if !friction || !ENABLE_FRICTION || (*c).normal.w == 0.0 {
         return;
     }
     let all_slide = solve_friction_points(c, a, b);

@@ -156,7 +156,9 @@ host_structs! {
             pub relax_iterations: u32,
             /// 1 when the restitution pass runs.
             pub restitution: u32,
-            pad _pad: u32,
+            /// 1 when the biased passes leave the friction rows to the relax passes
+            /// (`FrictionPasses::RelaxOnly`), 0 when every pass solves them.
+            pub relax_only_friction: u32,
     }
 
     /// Which color a per-color pass visits. 16 bytes.

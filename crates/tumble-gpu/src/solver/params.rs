@@ -3,7 +3,7 @@
 //! (`PrepareContext`).
 
 use tumble_geometry::{Real, Vec3};
-use tumble_solver::{PrepareContext, Softness, SolverConfig, SolverKind};
+use tumble_solver::{FrictionPasses, PrepareContext, Softness, SolverConfig, SolverKind};
 
 use super::layout::SolverParams;
 
@@ -54,7 +54,7 @@ impl StepParams {
             iterations: config.iterations,
             relax_iterations: config.relax_iterations,
             restitution: u32::from(restitution),
-            _pad: 0,
+            relax_only_friction: u32::from(config.friction_passes == FrictionPasses::RelaxOnly),
         };
         let prepare = PrepareContext {
             kind: config.kind,

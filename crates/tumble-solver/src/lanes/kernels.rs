@@ -223,6 +223,9 @@ pub(crate) fn solve(c: &mut LaneBlock, v: &mut LaneBodies, ctx: &PassContext) {
     if c.patch.any() {
         tilt(c, v, c.patch);
     }
+    if !ctx.friction {
+        return;
+    }
     let friction = c.friction.gt(F::splat(0.0));
     if !friction.any() {
         return;

@@ -72,6 +72,7 @@ fn lane_kernels_give_the_scalar_kernels_bits_on_random_blocks() {
         let (pass, threshold) = passes[0];
         let relax = PassContext {
             use_bias: false,
+            friction: true,
             ..pass
         };
 
@@ -156,6 +157,7 @@ fn lane_passes(
     use crate::lanes::{self, LaneBlock, LaneBodies};
     let relax = PassContext {
         use_bias: false,
+        friction: true,
         ..*pass
     };
     let mut run = |block: &mut LaneBlock, f: &dyn Fn(&mut LaneBlock, &mut LaneBodies)| {

@@ -92,6 +92,7 @@ branches! {
     tilt_free: "tilt free",
     second_visit: "patch visited again after friction",
     patch_sliding: "patch sliding, no second visit",
+    without_friction: "biased pass without friction (FrictionPasses::RelaxOnly)",
     restitution_applied: "restitution applied",
     restitution_slow: "restitution slow",
     restitution_no_push: "restitution no push",
@@ -210,8 +211,9 @@ impl RefConstraint {
         self.apply_torque(a, b, &tau);
     }
 
-    /// One pass: normal rows, tilt rows of a patch, friction, and for a patch with friction
-    /// that does not slide at every point the normal and tilt rows once more.
+    /// One pass: normal rows, tilt rows of a patch, then (with `friction`) friction, and for
+    /// a patch with friction that does not slide at every point the normal and tilt rows once
+    /// more.
     pub fn solve(
         &mut self,
         a: &mut RefState,
@@ -219,12 +221,17 @@ impl RefConstraint {
         inv_h: f64,
         use_bias: bool,
         max_push_out: f64,
+        friction: bool,
     ) -> Branches {
         let mut br = Branches::default();
         let patch = self.patch_radius > 0.0;
         self.normal_rows(a, b, inv_h, use_bias, max_push_out, &mut br);
         if patch {
             self.tilt_rows(a, b, &mut br);
+        }
+        if !friction {
+            br.without_friction += 1;
+            return br;
         }
         if self.friction == 0.0 {
             return br;

@@ -3,7 +3,10 @@
 use std::time::Duration;
 
 use tumble::scenes::Scene;
-use tumble::{Backend, BodyHandle, EffectOverrides, SolverConfig, SolverKind, World, WorldConfig};
+use tumble::{
+    Backend, BodyHandle, EffectOverrides, FrictionPasses, SolverConfig, SolverKind, World,
+    WorldConfig,
+};
 
 use crate::engine::{BodyState, Engine, StageTime};
 use crate::grid::{BackendChoice, Solver, TumbleSetting};
@@ -30,6 +33,10 @@ pub fn solver_config(setting: &TumbleSetting) -> SolverConfig {
     let base = match setting.solver {
         Solver::Baumgarte => SolverConfig::baumgarte(),
         Solver::SoftStep => SolverConfig::soft_step(),
+        Solver::SoftStepRelaxFriction => SolverConfig {
+            friction_passes: FrictionPasses::RelaxOnly,
+            ..SolverConfig::soft_step()
+        },
     };
     SolverConfig {
         iterations: setting.iterations,

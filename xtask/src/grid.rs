@@ -11,6 +11,9 @@ pub enum Solver {
     Baumgarte,
     /// Soft constraints solved over substeps with a relax pass; accuracy is bought with substeps.
     SoftStep,
+    /// The soft step with friction in the relax passes only (`FrictionPasses::RelaxOnly`):
+    /// fewer rows per substep, as rapier3d solves friction.
+    SoftStepRelaxFriction,
 }
 
 /// Where Tumble runs the step.
@@ -53,6 +56,7 @@ impl Solver {
         match self {
             Self::Baumgarte => "baumgarte",
             Self::SoftStep => "soft_step",
+            Self::SoftStepRelaxFriction => "soft_step_relax_friction",
         }
     }
 }
@@ -170,6 +174,9 @@ const SOFT_WARM_QUICK: &[u32] = &[1, 2, 4, 8, 16];
 const SOFT_COLD_QUICK: &[u32] = &[4];
 /// Quick grid, rapier3d.
 const RAPIER_SUBSTEPS_QUICK: &[u32] = &[1, 2, 4, 8];
+/// Quick grid, warm-started soft step with friction in the relax passes only: the counts
+/// where it competes with rapier3d's iterations on time.
+const SOFT_RELAX_FRICTION_QUICK: &[u32] = &[1, 2, 4];
 
 /// The configurations to run, in a stable order: Tumble per backend, then rapier3d.
 /// `default` is Tumble's default solver setting; it is always included on every backend
@@ -179,17 +186,19 @@ pub fn build_grid(
     backends: &[BackendChoice],
     default: TumbleSetting,
 ) -> Vec<RunConfig> {
-    let (b_warm, b_cold, s_warm, s_cold, rapier) = match size {
+    let (b_warm, b_cold, s_warm, s_cold, relax_friction, rapier) = match size {
         GridSize::Quick => (
             BAUMGARTE_WARM_QUICK,
             BAUMGARTE_COLD_QUICK,
             SOFT_WARM_QUICK,
             SOFT_COLD_QUICK,
+            SOFT_RELAX_FRICTION_QUICK,
             RAPIER_SUBSTEPS_QUICK,
         ),
         GridSize::Full => (
             BAUMGARTE_ITERATIONS_FULL,
             BAUMGARTE_ITERATIONS_FULL,
+            SOFT_SUBSTEPS_FULL,
             SOFT_SUBSTEPS_FULL,
             SOFT_SUBSTEPS_FULL,
             RAPIER_SUBSTEPS_FULL,
@@ -222,6 +231,9 @@ pub fn build_grid(
             for &ss in list {
                 push(Solver::SoftStep, soft_iterations, ss, warm);
             }
+        }
+        for &ss in relax_friction {
+            push(Solver::SoftStepRelaxFriction, soft_iterations, ss, true);
         }
         let default_here = TumbleSetting {
             backend,
@@ -309,8 +321,10 @@ mod tests {
             &[BackendChoice::Cpu, BackendChoice::Hybrid],
             soft_default(),
         );
-        // Per backend: 9 Baumgarte counts and 5 soft-step counts, each warm and cold.
-        let per_backend = 2 * (BAUMGARTE_ITERATIONS_FULL.len() + SOFT_SUBSTEPS_FULL.len());
+        // Per backend: 9 Baumgarte counts and 5 soft-step counts, each warm and cold, and the
+        // 5 soft-step counts with friction in the relax passes only, warm.
+        let per_backend = 2 * (BAUMGARTE_ITERATIONS_FULL.len() + SOFT_SUBSTEPS_FULL.len())
+            + SOFT_SUBSTEPS_FULL.len();
         assert_eq!(grid.len(), 2 * per_backend + RAPIER_SUBSTEPS_FULL.len());
         assert!(grid.iter().any(|c| c.effort() == 150));
     }

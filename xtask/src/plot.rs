@@ -22,6 +22,8 @@ fn solver_color(solver: Solver, warm: bool) -> RGBColor {
         (Solver::Baumgarte, false) => RGBColor(23, 190, 207),
         (Solver::SoftStep, true) => RGBColor(214, 39, 40),
         (Solver::SoftStep, false) => RGBColor(255, 127, 14),
+        (Solver::SoftStepRelaxFriction, true) => RGBColor(44, 160, 44),
+        (Solver::SoftStepRelaxFriction, false) => RGBColor(152, 223, 138),
     }
 }
 /// Plot size in pixels of the two panels side by side; the legend strip is added below.

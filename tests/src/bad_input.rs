@@ -443,6 +443,18 @@ pub fn bad_configs_are_rejected(backend: Backend, solver: SolverConfig) {
             },
             "solver.slop",
         ),
+        // Friction in the relax passes only with no relax pass would solve no friction.
+        (
+            WorldConfig {
+                solver: SolverConfig {
+                    friction_passes: FrictionPasses::RelaxOnly,
+                    relax_iterations: 0,
+                    ..solver
+                },
+                ..good
+            },
+            "solver.friction_passes",
+        ),
     ];
     for (config, field) in cases {
         expect_field(World::new(config), field);

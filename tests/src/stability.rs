@@ -521,7 +521,7 @@ fn left_out_of_sweep(scene: &Scene, solver: &SolverConfig) -> Option<&'static st
 
 /// Tolerance the Baumgarte solver is held to on the 30-degree, mu 0.3 ramp, m/s^2: twice the
 /// scene's 0.1. It slides the cube at 2.48 m/s^2, 0.125 over Coulomb's 2.356 (an effective
-/// friction of 0.285 instead of 0.3); the soft step passes the scene's own 0.1 at 2.44. A
+/// friction of 0.285 instead of 0.3); the soft step passes the scene's own 0.1 at 2.455. A
 /// friction off by 0.05 either way (0.42 m/s^2) still fails the looser bound.
 pub const BAUMGARTE_RAMP_TOLERANCE: Real = 0.2;
 
@@ -529,11 +529,12 @@ pub const BAUMGARTE_RAMP_TOLERANCE: Real = 0.2;
 /// (`FrictionPasses::RelaxOnly`) is held to on the 30-degree, mu 0.3 ramp, m/s^2. It slides the
 /// cube at 2.459 m/s^2, 0.103 over Coulomb's 2.356, where every pass solving friction gives
 /// 2.455 (0.098 over, within the scene's 0.1). The difference is where friction acts: the
-/// positions are integrated between the biased and the relax passes, so without friction in
-/// the biased pass each substep moves the sliding cube with a speed up to `mu g cos(a) h`
-/// higher (7 mm/s at 6 substeps of a 60 Hz step), which the scene's measure
-/// (`2 d / t^2` over 2 s) reads as up to 0.007 m/s^2 more. A friction off by 0.05 either way
-/// (0.42 m/s^2) still fails this bound.
+/// positions are integrated between the biased and the relax passes, and without friction in
+/// the biased pass the velocity they are integrated with carries only the friction the warm
+/// start re-applied, not the pass's own correction, so the sliding cube moves a little
+/// further each substep (at most `mu g cos(a) h` faster, 7 mm/s at 6 substeps of a 60 Hz
+/// step, which the scene's measure `2 d / t^2` over 2 s would read as 0.007 m/s^2; 0.004 is
+/// measured). A friction off by 0.05 either way (0.42 m/s^2) still fails this bound.
 pub const RELAX_ONLY_FRICTION_RAMP_TOLERANCE: Real = 0.11;
 
 /// The scene as judged for `solver`: the scene itself, or for a check the solver is known to

@@ -1,11 +1,13 @@
 //! The CPU stability suite: stacks, pyramids, mass ratios, friction, overlap recovery,
 //! tunneling, gyroscopic motion, round-off far from the origin, every canonical scene against
 //! its own check for its full length (`canonical_scenes_pass_their_checks`), and bad input,
-//! for the default soft-step solver and for the thesis's Baumgarte solver.
+//! for the default soft-step solver, for the soft step with friction in the relax passes only
+//! (`FrictionPasses::RelaxOnly`) and for the thesis's Baumgarte solver.
 //!
-//! The canonical sweeps of both solvers take about 25 s of CPU time together, the soft step's
-//! 650-cube pyramid most of it (the Baumgarte sweep leaves that pyramid to
-//! `pyramid_of_650_cubes_stands_10_s`, which runs the same scene with a tighter bound).
+//! The canonical sweeps of the two soft-step suites take about 25 s of CPU time together with
+//! the Baumgarte one, each soft step's 650-cube pyramid most of it (the Baumgarte sweep leaves
+//! that pyramid to `pyramid_of_650_cubes_stands_10_s`, which runs the same scene with a
+//! tighter bound).
 
 tumble_tests::stability_suite!(
     soft_step,
@@ -39,7 +41,7 @@ fn large_pyramid_of_4901_cubes_stands_2_s() {
     );
 }
 
-// Friction in the relax passes only (rapier3d's and Box2D's choice): the biased passes solve
+// Friction in the relax passes only (rapier3d's default): the biased passes solve
 // the normal and tilt rows alone, so the same suite checks that stacks, pyramids, ramps and
 // the canonical scenes still hold with friction and the patches' second visit left to the
 // relax passes.

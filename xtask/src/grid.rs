@@ -3,7 +3,7 @@
 
 use std::fmt;
 
-/// Tumble's two solvers.
+/// Tumble's solvers: the two kinds, and the soft step with friction in the relax passes only.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Solver {
     /// The thesis's projected Gauss-Seidel with a Baumgarte position bias; accuracy is bought

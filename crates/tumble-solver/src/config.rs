@@ -53,11 +53,12 @@ pub enum SolveKernel {
 /// Which velocity passes solve the friction rows.
 ///
 /// A pass visits a manifold's normal rows, the tilt rows of a face patch, the friction rows,
-/// and then, unless every point slides, the normal and tilt rows once more
+/// and then, for a face patch unless every point slides, the normal and tilt rows once more
 /// ([`crate::solve_contact`]). With [`FrictionPasses::RelaxOnly`] the biased passes stop
 /// after the first normal and tilt rows: friction and the second visit run in the relax
-/// passes only, as in rapier3d (`friction_in_bias_pass = false`, its default) and Box2D v3
-/// (docs/solver.md, "Friction in the relax passes only", has the measurements).
+/// passes only, as in rapier3d (`friction_in_bias_pass = false`, its default; Box2D v3 solves
+/// friction in both passes, as `Every` does). docs/solver.md, "Friction in the relax passes
+/// only", has the measurements.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum FrictionPasses {

@@ -72,8 +72,8 @@ pub use tumble_solver::{
 /// The names most programs need, in one import.
 pub mod prelude {
     pub use crate::{
-        Backend, BodyDesc, BodyHandle, BodyKind, Error, Point3, Pose, Real, Rot, SolveOrder,
-        SolverConfig, SolverKind, Vec3, World, WorldConfig,
+        Backend, BodyDesc, BodyHandle, BodyKind, Error, FrictionPasses, Point3, Pose, Real, Rot,
+        SolveOrder, SolverConfig, SolverKind, Vec3, World, WorldConfig,
     };
 }
 

@@ -86,8 +86,10 @@ pub struct Body {
     pub gravity_scale: Real,
 }
 
-/// The hot part of a body: what the solver's inner loops touch (52 bytes on the CPU).
+/// The hot part of a body: what the solver's inner loops touch (52 bytes on the CPU, in
+/// this field order: the lane kernels load a state as thirteen consecutive floats).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct BodyState {
     /// Linear velocity of the centre of mass, m/s (12 bytes).

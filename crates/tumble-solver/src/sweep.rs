@@ -251,14 +251,25 @@ impl Shared {
     /// # Safety
     /// As [`Shared::solve_batch`], for a lane batch.
     #[inline(always)]
-    unsafe fn solve_blocks<P: Pass>(self, blocks: Range<usize>, pass: &P) {
+    unsafe fn solve_blocks<P: Pass, const AVX2: bool>(self, blocks: Range<usize>, pass: &P) {
         for i in blocks {
             // SAFETY: the caller's contract: block `i` is this thread's alone.
             let block = unsafe { &mut *self.blocks.add(i) };
             // SAFETY: `gather` checks every body index against the states' length (the
             // inverse inertias' too, asserted by `sweep`); the bodies it reads are written by
             // no other thread meanwhile.
-            let mut bodies = unsafe { block.gather(self.states, self.inverse_inertia, self.len) };
+            let mut bodies = unsafe {
+                #[cfg(target_arch = "x86_64")]
+                if AVX2 {
+                    // SAFETY: as `gather`, and AVX2 is present (`AVX2` is set only by
+                    // `solve_blocks_avx2`, whose callers check it).
+                    block.gather_avx2(self.states, self.inverse_inertia, self.len)
+                } else {
+                    block.gather(self.states, self.inverse_inertia, self.len)
+                }
+                #[cfg(not(target_arch = "x86_64"))]
+                block.gather(self.states, self.inverse_inertia, self.len)
+            };
             pass.lanes(block, &mut bodies);
             // SAFETY: indices checked by `gather`; the dynamic bodies are this block's.
             unsafe { block.scatter(&bodies, self.states) };
@@ -273,7 +284,7 @@ impl Shared {
     #[target_feature(enable = "avx2")]
     unsafe fn solve_blocks_avx2<P: Pass>(self, blocks: Range<usize>, pass: &P) {
         // SAFETY: the caller's contract.
-        unsafe { self.solve_blocks(blocks, pass) }
+        unsafe { self.solve_blocks::<P, true>(blocks, pass) }
     }
 
     /// No AVX2 off x86-64: the portable blocks.
@@ -283,7 +294,7 @@ impl Shared {
     #[cfg(not(target_arch = "x86_64"))]
     unsafe fn solve_blocks_avx2<P: Pass>(self, blocks: Range<usize>, pass: &P) {
         // SAFETY: the caller's contract.
-        unsafe { self.solve_blocks(blocks, pass) }
+        unsafe { self.solve_blocks::<P, false>(blocks, pass) }
     }
 
     /// Solves items `items` of `batch` (lane blocks, then a sequential lane batch's scalar
@@ -303,7 +314,7 @@ impl Shared {
                 // build; the detection is a cached load); the rest is the caller's contract.
                 Isa::Avx2 if avx2_present() => unsafe { self.solve_blocks_avx2(blocks, pass) },
                 // SAFETY: the caller's contract.
-                Isa::Avx2 | Isa::Portable => unsafe { self.solve_blocks(blocks, pass) },
+                Isa::Avx2 | Isa::Portable => unsafe { self.solve_blocks::<P, false>(blocks, pass) },
             }
             // A sequential lane batch's scalar tail follows its blocks (a sequential batch is
             // visited as one unit; a parallel lane batch has no tail).

@@ -121,7 +121,7 @@ fn lane_kernels_give_the_scalar_kernels_bits_on_random_blocks() {
             }
             let mut lane_states = states.clone();
             if !avx2 {
-                lane_passes(&mut block, &mut lane_states, &inertia, &pass, threshold);
+                lane_passes::<false>(&mut block, &mut lane_states, &inertia, &pass, threshold);
             }
             #[cfg(target_arch = "x86_64")]
             if avx2 {
@@ -146,8 +146,10 @@ fn lane_kernels_give_the_scalar_kernels_bits_on_random_blocks() {
 /// Warm start, a biased and a relax solve pass and restitution on one lane block, each pass
 /// gathering the block's bodies from `states` and scattering the dynamic ones back, as the
 /// solve does.
+/// With `AVX2` (only inside [`lane_passes_avx2`]) the bodies are gathered as the solve's AVX2
+/// path gathers them, with `LaneBlock::gather_avx2`.
 #[inline(always)]
-fn lane_passes(
+fn lane_passes<const AVX2: bool>(
     block: &mut crate::lanes::LaneBlock,
     states: &mut [BodyState],
     inverse_inertia: &[Mat3],
@@ -166,6 +168,13 @@ fn lane_passes(
         // SAFETY: one thread; `gather` checks every body index against `n`, the length of
         // both arrays.
         unsafe {
+            #[cfg(target_arch = "x86_64")]
+            let mut v = if AVX2 {
+                block.gather_avx2(states.as_ptr(), inverse_inertia.as_ptr(), n)
+            } else {
+                block.gather(states.as_ptr(), inverse_inertia.as_ptr(), n)
+            };
+            #[cfg(not(target_arch = "x86_64"))]
             let mut v = block.gather(states.as_ptr(), inverse_inertia.as_ptr(), n);
             f(block, &mut v);
             block.scatter(&v, states.as_mut_ptr());
@@ -190,7 +199,7 @@ unsafe fn lane_passes_avx2(
     pass: &PassContext,
     threshold: Real,
 ) {
-    lane_passes(block, states, inverse_inertia, pass, threshold);
+    lane_passes::<true>(block, states, inverse_inertia, pass, threshold);
 }
 
 /// `LaneBlock::prepare` (each point's rows for eight lanes at once) against the reference
@@ -270,5 +279,75 @@ fn lane_prepare_gives_the_scalar_prepare_bits() {
                 );
             }
         }
+    }
+}
+
+/// `LaneBlock::gather_avx2` (each body's state and inverse inertia loaded as rows of eight
+/// floats and transposed into lanes by shuffles) against `LaneBlock::gather` (one float at a
+/// time): every gathered value must have the same bits. The matrices are random and not
+/// symmetric, so a row taken for a column shows, and the bodies include the last of the
+/// arrays (whose loads end exactly at the array's end) and repeats, as fixed bodies and
+/// padding lanes repeat.
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn avx2_gather_gives_the_scalar_gathers_bits() {
+    use crate::lanes::{LANES, LaneBlock, LaneBodies};
+    use crate::sweep::Isa;
+    use tumble_geometry::{Rot, Vec3};
+
+    /// The AVX2 gather inside a function compiled for AVX2, as the solve calls it.
+    ///
+    /// # Safety
+    /// The processor runs AVX2; the arrays hold `n` elements and the block's bodies are
+    /// below `n`.
+    #[target_feature(enable = "avx2")]
+    unsafe fn gather_avx2(block: &LaneBlock, s: &[BodyState], m: &[Mat3]) -> LaneBodies {
+        assert_eq!(s.len(), m.len());
+        // SAFETY: the caller's contract.
+        unsafe { block.gather_avx2(s.as_ptr(), m.as_ptr(), s.len()) }
+    }
+
+    if Isa::detect() != Isa::Avx2 {
+        eprintln!("skipped: the processor has no AVX2");
+        return;
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(0x6a7e);
+    let value = |rng: &mut ChaCha8Rng| rng.random_range(-10.0..10.0) as Real;
+    for trial in 0..500 {
+        let n = rng.random_range(1..40);
+        let states: Vec<BodyState> = (0..n)
+            .map(|_| BodyState {
+                linear_velocity: Vec3::from_fn(|_, _| value(&mut rng)),
+                angular_velocity: Vec3::from_fn(|_, _| value(&mut rng)),
+                delta_position: Vec3::from_fn(|_, _| value(&mut rng)),
+                delta_rotation: Rot::from_scaled_axis(Vec3::from_fn(|_, _| value(&mut rng))),
+            })
+            .collect();
+        let inertia: Vec<Mat3> = (0..n)
+            .map(|_| Mat3::from_fn(|_, _| value(&mut rng)))
+            .collect();
+        let len = rng.random_range(1..=LANES);
+        let (mut c, ..) = random_case(&mut rng).parts();
+        let mut block = LaneBlock::default();
+        block.start(len);
+        for l in 0..len {
+            // The last body in every trial's first lane: its loads end at the arrays' ends.
+            c.body_a = if l == 0 {
+                (n - 1) as u32
+            } else {
+                rng.random_range(0..n) as u32
+            };
+            c.body_b = rng.random_range(0..n) as u32;
+            block.set(l, &c);
+        }
+        // SAFETY: AVX2 was detected; the bodies are below `n`.
+        let fast = unsafe { gather_avx2(&block, &states, &inertia) };
+        // SAFETY: the bodies are below `n`, the length of both arrays.
+        let slow = unsafe { block.gather(states.as_ptr(), inertia.as_ptr(), n) };
+        assert_eq!(
+            fast.bits(),
+            slow.bits(),
+            "trial {trial}: the gathers differ"
+        );
     }
 }

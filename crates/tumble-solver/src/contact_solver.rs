@@ -61,22 +61,25 @@ fn apply_row(
 }
 
 /// Re-applies the accumulated impulses (normal, friction, tilt) at the start of a substep.
+///
+/// A point's three rows act at the same anchors, so they are applied as one impulse
+/// `P = n lambda_n + (t1 lambda_1 + t2 lambda_2)`: each body turns by `I^-1 (r x P)`, the sum
+/// of the three rows' turns up to rounding, for one cross product and one matrix product per
+/// body instead of three.
 pub fn warm_start_contact(c: &mut ContactConstraint, a: &mut BodyState, b: &mut BodyState) {
-    let directions = [c.normal, c.tangent1, c.tangent2];
+    // Without friction only the normal row carries an impulse.
+    let frictional = c.friction > 0.0;
     for i in 0..c.point_count as usize {
         let cp = c.points[i];
         c.points[i].total_normal_impulse += cp.normal_impulse;
-        let rows = [cp.normal_row, cp.tangent_rows[0], cp.tangent_rows[1]];
-        let impulses = [
-            cp.normal_impulse,
-            cp.tangent_impulse[0],
-            cp.tangent_impulse[1],
-        ];
-        // Without friction only the normal row carries an impulse.
-        let used = if c.friction > 0.0 { 3 } else { 1 };
-        for ((d, row), lambda) in directions.iter().zip(&rows).zip(impulses).take(used) {
-            apply_row(c, a, b, d, row, lambda);
+        let mut impulse = c.normal * cp.normal_impulse;
+        if frictional {
+            impulse += c.tangent1 * cp.tangent_impulse[0] + c.tangent2 * cp.tangent_impulse[1];
         }
+        a.linear_velocity -= c.inverse_mass_a.component_mul(&impulse);
+        a.angular_velocity -= c.inverse_inertia_a * cp.anchor_a.cross(&impulse);
+        b.linear_velocity += c.inverse_mass_b.component_mul(&impulse);
+        b.angular_velocity += c.inverse_inertia_b * cp.anchor_b.cross(&impulse);
     }
     apply_tilt(c, a, b, c.tilt_impulse);
 }

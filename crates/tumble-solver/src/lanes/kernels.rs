@@ -62,7 +62,7 @@ fn apply_tilt(v: &mut LaneBodies, push_a: &[V3; 2], push_b: &[V3; 2], lambda: [F
     v.b_angular = m.select3(b, v.b_angular);
 }
 
-/// [`crate::warm_start_contact`] on every lane.
+/// [`crate::warm_start_contact`] on every lane: each point's three rows as one impulse.
 #[inline(always)]
 pub(crate) fn warm_start(c: &mut LaneBlock, v: &mut LaneBodies) {
     let (normal, t1, t2) = (c.normal, c.tangent1, c.tangent2);
@@ -74,15 +74,17 @@ pub(crate) fn warm_start(c: &mut LaneBlock, v: &mut LaneBodies) {
             p.total_normal_impulse + p.normal_impulse,
             p.total_normal_impulse,
         );
-        let row = Row::new(v, &p, &normal);
-        apply_row(v, &normal, &row, p.normal_impulse, m);
-        let mf = m & friction;
-        if mf.any() {
-            let row = Row::new(v, &p, &t1);
-            apply_row(v, &t1, &row, p.tangent_impulse[0], mf);
-            let row = Row::new(v, &p, &t2);
-            apply_row(v, &t2, &row, p.tangent_impulse[1], mf);
-        }
+        let along = normal.scale(p.normal_impulse);
+        let tangential = t1.scale(p.tangent_impulse[0]) + t2.scale(p.tangent_impulse[1]);
+        let impulse = friction.select3(along + tangential, along);
+        let a_linear = v.a_linear - v.inverse_mass_a.cmul(&impulse);
+        let a_angular = v.a_angular - v.inverse_inertia_a.mul(&p.anchor_a.cross(&impulse));
+        let b_linear = v.b_linear + v.inverse_mass_b.cmul(&impulse);
+        let b_angular = v.b_angular + v.inverse_inertia_b.mul(&p.anchor_b.cross(&impulse));
+        v.a_linear = m.select3(a_linear, v.a_linear);
+        v.a_angular = m.select3(a_angular, v.a_angular);
+        v.b_linear = m.select3(b_linear, v.b_linear);
+        v.b_angular = m.select3(b_angular, v.b_angular);
     }
     let (push_a, push_b) = tilt_push(c, v);
     apply_tilt(v, &push_a, &push_b, c.tilt_impulse, M::ALL);

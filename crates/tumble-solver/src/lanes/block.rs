@@ -323,87 +323,49 @@ impl LaneBlock {
         let [b0, b1, bi0, bi1] = unsafe { gather_side(&self.body_b, states, inverse_inertia, len) };
         // Row 0 of a state: linear (0, 1, 2), angular (3, 4, 5), delta position x, y (6, 7);
         // row 1 (from float 5): delta position z (3), rotation i, j, k, w (4 to 7).
-        v.a_linear = V3 {
-            x: a0[0],
-            y: a0[1],
-            z: a0[2],
+        let three = |t: &[F; 8], i: usize| V3 {
+            x: t[i],
+            y: t[i + 1],
+            z: t[i + 2],
         };
-        v.a_angular = V3 {
-            x: a0[3],
-            y: a0[4],
-            z: a0[5],
+        let delta = |r0: &[F; 8], r1: &[F; 8]| V3 {
+            x: r0[6],
+            y: r0[7],
+            z: r1[3],
         };
-        v.b_linear = V3 {
-            x: b0[0],
-            y: b0[1],
-            z: b0[2],
+        // Column-major: floats 0..8 are m00 m10 m20 m01 m11 m21 m02 m12, and the load from
+        // float 1 ends with m22; the lanes hold the matrix row by row (row `r`: floats `r`,
+        // `r + 3`, `r + 6`, the last row's third from the second load).
+        let three_apart = |t: &[F; 8], r: usize| V3 {
+            x: t[r],
+            y: t[r + 3],
+            z: t[(r + 6).min(7)],
         };
-        v.b_angular = V3 {
-            x: b0[3],
-            y: b0[4],
-            z: b0[5],
+        let matrix = |i0: &[F; 8], i1: &[F; 8]| {
+            M3([
+                three_apart(i0, 0),
+                three_apart(i0, 1),
+                V3 {
+                    z: i1[7],
+                    ..three_apart(i0, 2)
+                },
+            ])
         };
-        v.delta_position = V3 {
-            x: b0[6],
-            y: b0[7],
-            z: b1[3],
-        } - V3 {
-            x: a0[6],
-            y: a0[7],
-            z: a1[3],
-        };
+        v.a_linear = three(&a0, 0);
+        v.a_angular = three(&a0, 3);
+        v.b_linear = three(&b0, 0);
+        v.b_angular = three(&b0, 3);
+        v.delta_position = delta(&b0, &b1) - delta(&a0, &a1);
         v.rotation_a = Q {
-            v: V3 {
-                x: a1[4],
-                y: a1[5],
-                z: a1[6],
-            },
+            v: three(&a1, 4),
             w: a1[7],
         };
         v.rotation_b = Q {
-            v: V3 {
-                x: b1[4],
-                y: b1[5],
-                z: b1[6],
-            },
+            v: three(&b1, 4),
             w: b1[7],
         };
-        // Column-major: floats 0..8 are m00 m10 m20 m01 m11 m21 m02 m12, and the load from
-        // float 1 ends with m22.
-        v.inverse_inertia_a = M3([
-            V3 {
-                x: ai0[0],
-                y: ai0[3],
-                z: ai0[6],
-            },
-            V3 {
-                x: ai0[1],
-                y: ai0[4],
-                z: ai0[7],
-            },
-            V3 {
-                x: ai0[2],
-                y: ai0[5],
-                z: ai1[7],
-            },
-        ]);
-        v.inverse_inertia_b = M3([
-            V3 {
-                x: bi0[0],
-                y: bi0[3],
-                z: bi0[6],
-            },
-            V3 {
-                x: bi0[1],
-                y: bi0[4],
-                z: bi0[7],
-            },
-            V3 {
-                x: bi0[2],
-                y: bi0[5],
-                z: bi1[7],
-            },
-        ]);
+        v.inverse_inertia_a = matrix(&ai0, &ai1);
+        v.inverse_inertia_b = matrix(&bi0, &bi1);
         v
     }
 

@@ -63,9 +63,10 @@ fn apply_row(
 /// Re-applies the accumulated impulses (normal, friction, tilt) at the start of a substep.
 ///
 /// A point's three rows act at the same anchors, so they are applied as one impulse
-/// `P = n lambda_n + (t1 lambda_1 + t2 lambda_2)`: each body turns by `I^-1 (r x P)`, the sum
+/// `P = (n lambda_n + t1 lambda_1) + t2 lambda_2`: each body turns by `I^-1 (r x P)`, the sum
 /// of the three rows' turns up to rounding, for one cross product and one matrix product per
-/// body instead of three.
+/// body instead of three. The GPU's `warm_start_points` (contact_math.wgsl) forms the same sum
+/// in the same order.
 pub fn warm_start_contact(c: &mut ContactConstraint, a: &mut BodyState, b: &mut BodyState) {
     // Without friction only the normal row carries an impulse.
     let frictional = c.friction > 0.0;
@@ -74,7 +75,8 @@ pub fn warm_start_contact(c: &mut ContactConstraint, a: &mut BodyState, b: &mut 
         c.points[i].total_normal_impulse += cp.normal_impulse;
         let mut impulse = c.normal * cp.normal_impulse;
         if frictional {
-            impulse += c.tangent1 * cp.tangent_impulse[0] + c.tangent2 * cp.tangent_impulse[1];
+            impulse =
+                impulse + c.tangent1 * cp.tangent_impulse[0] + c.tangent2 * cp.tangent_impulse[1];
         }
         a.linear_velocity -= c.inverse_mass_a.component_mul(&impulse);
         a.angular_velocity -= c.inverse_inertia_a * cp.anchor_a.cross(&impulse);

@@ -75,8 +75,8 @@ pub(crate) fn warm_start(c: &mut LaneBlock, v: &mut LaneBodies) {
             p.total_normal_impulse,
         );
         let along = normal.scale(p.normal_impulse);
-        let tangential = t1.scale(p.tangent_impulse[0]) + t2.scale(p.tangent_impulse[1]);
-        let impulse = friction.select3(along + tangential, along);
+        let total = along + t1.scale(p.tangent_impulse[0]) + t2.scale(p.tangent_impulse[1]);
+        let impulse = friction.select3(total, along);
         let a_linear = v.a_linear - v.inverse_mass_a.cmul(&impulse);
         let a_angular = v.a_angular - v.inverse_inertia_a.mul(&p.anchor_a.cross(&impulse));
         let b_linear = v.b_linear + v.inverse_mass_b.cmul(&impulse);

@@ -207,7 +207,14 @@ pub fn narrow_phase(
         let (contacts, keys): (Vec<_>, Vec<_>) = parts.into_iter().unzip();
         rayon::join(|| concat(&contacts), || concat(&keys))
     } else {
-        pairs.iter().filter_map(test).unzip()
+        // Reserved at the pair count, as each task's arrays are: grown by doubling, the
+        // contacts were copied again at every growth.
+        let mut found = (
+            Vec::with_capacity(pairs.len()),
+            Vec::with_capacity(pairs.len()),
+        );
+        found.extend(pairs.iter().filter_map(test));
+        found
     };
     NarrowPhaseOutput { contacts, keys }
 }

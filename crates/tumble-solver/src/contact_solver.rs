@@ -64,9 +64,11 @@ fn apply_row(
 ///
 /// A point's three rows act at the same anchors, so they are applied as one impulse
 /// `P = (n lambda_n + t1 lambda_1) + t2 lambda_2`: each body turns by `I^-1 (r x P)`, the sum
-/// of the three rows' turns up to rounding, for one cross product and one matrix product per
-/// body instead of three. The GPU's `warm_start_points` (contact_math.wgsl) forms the same sum
-/// in the same order.
+/// of the three rows' turns up to rounding. The lane kernel, which rebuilds a row's angular
+/// terms from the anchors, so does one cross product and one matrix product per body instead
+/// of three; this scalar reference does the same operations to keep its bits. The GPU's
+/// `warm_start_points` (contact_math.wgsl) writes the same sum in the same order (it also adds
+/// a frictionless contact's zero tangent terms, and may fuse multiply-adds).
 pub fn warm_start_contact(c: &mut ContactConstraint, a: &mut BodyState, b: &mut BodyState) {
     // Without friction only the normal row carries an impulse.
     let frictional = c.friction > 0.0;

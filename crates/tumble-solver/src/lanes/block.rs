@@ -335,7 +335,8 @@ impl LaneBlock {
         };
         // Column-major: floats 0..8 are m00 m10 m20 m01 m11 m21 m02 m12, and the load from
         // float 1 ends with m22; the lanes hold the matrix row by row (row `r`: floats `r`,
-        // `r + 3`, `r + 6`, the last row's third from the second load).
+        // `r + 3`, `r + 6`, the last row's third from the second load: row 2's `z` read here
+        // is float 7, m12, which `matrix` replaces with the second load's m22).
         let three_apart = |t: &[F; 8], r: usize| V3 {
             x: t[r],
             y: t[r + 3],
@@ -416,7 +417,7 @@ pub(crate) struct LaneBodies {
     pub(super) rotation_b: Q,
 }
 
-#[cfg(test)]
+#[cfg(all(test, target_arch = "x86_64"))]
 impl LaneBodies {
     /// The bits of every field, lane by lane, for comparing two gathers.
     pub(crate) fn bits(&self) -> Vec<u32> {

@@ -1,4 +1,4 @@
-// requires: common/indexing.wgsl common/quat.wgsl common/persistence.wgsl
+// requires: common/indexing.wgsl common/box_pair.wgsl common/persistence.wgsl
 // carry_impulses: one thread per manifold. It keeps the manifold in body A's frame for the
 // next step, then gives each point last step's accumulated impulses by the rule of the CPU
 // contact cache (tumble-solver's ContactCache::warm_start), claims in the same order:
@@ -9,7 +9,9 @@
 //      in A's frame (ids of points on exactly coincident edges flip under round-off while
 //      the points stay put, as in aligned stacks).
 // Points matched by neither start at zero, as collide_cuboids wrote them. This is the warm
-// start's input.
+// start's input. A recycled manifold keeps the frame-A record of the one it was recycled from
+// (its anchors stay those of the manifold last computed, as in the CPU's contact cache) and
+// inherits each point's impulses by id: ids, kind and feature are the old ones.
 
 // This step's pair `WorkList`.
 @group(0) @binding(0) var<storage, read> work: WorkList;
@@ -28,16 +30,19 @@
 // This step's manifolds in body A's frame; written for every manifold with points.
 @group(0) @binding(7) var<storage, read_write> locals: array<GpuLocalManifold>;
 
-// Manifold k's normal and points in the frame of body A at pose `a`.
-fn local_manifold(k: u32, m: GpuManifold, a: GpuPose) -> GpuLocalManifold {
+// Manifold k's normal, points and depths in the frame of body A at pose `a`, with B's frame
+// (pose `b`) in A's.
+fn local_manifold(k: u32, m: GpuManifold, a: GpuPose, b: GpuPose) -> GpuLocalManifold {
     // The conjugate: the inverse of a unit quaternion.
-    let inverse = vec4<f32>(-a.rotation.xyz, a.rotation.w);
+    let inverse = quat_conjugate(a.rotation);
     var out: GpuLocalManifold;
     out.normal = vec4<f32>(quat_rotate(inverse, m.normal.xyz), 0.0);
     for (var i = 0u; i < m.len; i++) {
-        let world = contacts[k * MAX_MANIFOLD_POINTS + i].position.xyz;
-        out.points[i] = vec4<f32>(quat_rotate(inverse, world - a.position.xyz), 0.0);
+        let point = contacts[k * MAX_MANIFOLD_POINTS + i];
+        out.points[i] = vec4<f32>(quat_rotate(inverse, point.position.xyz - a.position.xyz), point.depth);
     }
+    out.frame_rotation = quat_mul(inverse, b.rotation);
+    out.frame_position = vec4<f32>(quat_rotate(inverse, b.position.xyz - a.position.xyz), 0.0);
     return out;
 }
 
@@ -58,8 +63,12 @@ fn main(thread: Thread) {
     if m.len == 0u {
         return;
     }
-    var here = local_manifold(k, m, poses[m.body_a]);
-    locals[k] = here;
+    var here = local_manifold(k, m, poses[m.body_a], poses[m.body_b]);
+    if m.recycled != 0u {
+        locals[k] = previous_locals[m.previous];
+    } else {
+        locals[k] = here;
+    }
     if m.previous == NO_PREVIOUS {
         return;
     }

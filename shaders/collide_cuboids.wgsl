@@ -1,9 +1,12 @@
-// requires: common/indexing.wgsl common/sat.wgsl common/face_contact.wgsl common/edge_contact.wgsl common/vertex_contact.wgsl common/reduce.wgsl
+// requires: common/indexing.wgsl common/sat.wgsl common/face_contact.wgsl common/edge_contact.wgsl common/vertex_contact.wgsl common/reduce.wgsl common/recycle.wgsl
 // collide_cuboids: one thread per candidate pair builds the pair's contact manifold (port of
 // tumble-narrow's collide.rs): SAT over 15 axes, the preferred axis with last step's
 // reference face as hysteresis, a face contact (clipping) or an edge contact on it, the
 // closest-pair check when the boxes are apart, and the reduction to four points. A pair
-// without contact gets len = 0. Manifold k belongs to pair k.
+// without contact gets len = 0. Manifold k belongs to pair k. With params.recycle_distance
+// above 0, a pair whose bodies barely moved relative to each other since its manifold was
+// last computed keeps it instead (common/recycle.wgsl), with the same ids, kind and feature,
+// and is marked `recycled`.
 
 @group(0) @binding(0) var<uniform> params: NarrowParams;
 // This step's pair `WorkList`.
@@ -24,6 +27,10 @@
 @group(0) @binding(9) var<storage, read_write> manifolds: array<GpuManifold>;
 // Output points, `MAX_MANIFOLD_POINTS` per pair.
 @group(0) @binding(10) var<storage, read_write> contacts: array<GpuContact>;
+// Last step's points (their feature ids, for a recycled manifold).
+@group(0) @binding(11) var<storage, read> previous_contacts: array<GpuContact>;
+// Last step's manifolds in their body A's frame (the anchors of recycling).
+@group(0) @binding(12) var<storage, read> previous_locals: array<GpuLocalManifold>;
 
 fn half_extents(i: u32) -> vec3<f32> {
     let s = shapes[i];
@@ -167,6 +174,46 @@ fn contact_for_pair(k: u32, a: u32, b: u32, out: ptr<function, ContactPolygon>) 
     }
 }
 
+// Pair k's manifold reused from last step when the pair may recycle it (written with its
+// points, and true); false when the pair needs a fresh one.
+fn try_recycle(k: u32, a: u32, b: u32) -> bool {
+    let prev = previous_index[k];
+    if !(params.recycle_distance > 0.0) || prev == NO_PREVIOUS {
+        return false;
+    }
+    let old = previous_manifolds[prev];
+    if old.len == 0u {
+        return false;
+    }
+    let local = previous_locals[prev];
+    let pose_a = poses[a];
+    let tolerance = recycle_tolerance(params.recycle_distance, half_extents(a), half_extents(b));
+    var points: array<vec4<f32>, MAX_MANIFOLD_POINTS>;
+    if !recycle_points(local, old.len, pose_a, poses[b], pair_margin(a, b), tolerance, &points) {
+        return false;
+    }
+    var manifold: GpuManifold;
+    manifold.normal = vec4<f32>(quat_rotate(pose_a.rotation, local.normal.xyz), 0.0);
+    manifold.body_a = a;
+    manifold.body_b = b;
+    manifold.kind = old.kind;
+    manifold.feature = old.feature;
+    manifold.previous = prev;
+    manifold.len = old.len;
+    manifold.recycled = 1u;
+    for (var s = 0u; s < MAX_MANIFOLD_POINTS; s++) {
+        var contact: GpuContact;
+        if s < old.len {
+            contact.position = vec4<f32>(points[s].xyz, 0.0);
+            contact.depth = points[s].w;
+            contact.id = previous_contacts[prev * MAX_MANIFOLD_POINTS + s].id;
+        }
+        contacts[k * MAX_MANIFOLD_POINTS + s] = contact;
+    }
+    manifolds[k] = manifold;
+    return true;
+}
+
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn main(thread: Thread) {
     let k = thread_index(thread);
@@ -175,6 +222,9 @@ fn main(thread: Thread) {
     }
     let a = pair_a[k];
     let b = pair_b[k];
+    if try_recycle(k, a, b) {
+        return;
+    }
     var polygon: ContactPolygon;
     contact_for_pair(k, a, b, &polygon);
     var manifold: GpuManifold;

@@ -109,8 +109,9 @@ struct NarrowParams {
     margin: f32,
     // Time step (s): the margin grows by how far a pair can close in one step.
     dt: f32,
+    // Largest slide of a recycled point across the normal (m); 0: every manifold afresh.
+    recycle_distance: f32,
     _pad0: u32,
-    _pad1: u32,
 }
 
 // One contact point of a manifold. 48 bytes.
@@ -145,18 +146,26 @@ struct GpuManifold {
     len: u32,
     // Index of this pair's manifold last step, or NO_PREVIOUS.
     previous: u32,
+    // 1 when last step's manifold was reused (recycle_manifold), else 0.
+    recycled: u32,
     _pad0: u32,
-    _pad1: u32,
 }
 
 // A manifold in body A's frame at the poses it was found at, kept per pair slot so that
 // the next step's carry_impulses can match points whose feature ids changed by where they are
-// on A (the CPU contact cache keeps the same). 80 bytes.
+// on A (the CPU contact cache keeps the same), and so that collide_cuboids can reuse it while
+// the bodies barely moved relative to each other (the anchors of tumble-solver's
+// CachedManifold follow from the points, their depths and B's frame). A recycled manifold
+// keeps the one it was recycled from: it stays that of the manifold last computed. 112 bytes.
 struct GpuLocalManifold {
     // The manifold normal in A's frame; w unused.
     normal: vec4<f32>,
-    // Each point in A's frame; w unused, slots past the manifold's len zero.
+    // Each point in A's frame; w: its depth. Slots past the manifold's len zero.
     points: array<vec4<f32>, MAX_MANIFOLD_POINTS>,
+    // B's rotation in A's frame (x, y, z, w).
+    frame_rotation: vec4<f32>,
+    // B's origin in A's frame; w unused.
+    frame_position: vec4<f32>,
 }
 
 // A body's AABB in sweep order, coordinates permuted so the sweep axis comes first (then

@@ -46,11 +46,11 @@ const GPU_GOLDEN: &[(&str, [u64; 5])] = &[
     (
         "llvmpipe (LLVM 15.0.6, 256 bits)",
         [
-            0x3310_c120_7143_3809,
-            0xd5bf_8ea1_a57f_f668,
-            0xe751_0332_15a9_440b,
-            0x5a9e_1920_47ba_446e,
-            0x7a4e_060c_01c9_2e39,
+            0x6bee_c7c1_8038_8ca2,
+            0x44de_4e79_8c5b_194e,
+            0x4dda_0636_9011_f1b8,
+            0xc5d8_3585_7cc5_19da,
+            0xc808_e5cc_07fc_cb5b,
         ],
     ),
     // Vulkan, driver 580.159.04 (docs/testing.md).

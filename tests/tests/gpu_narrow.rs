@@ -1,7 +1,7 @@
 //! The GPU narrow phase against its CPU twin on seeded pairs: the manifolds (the same
 //! features and ids, positions and depths to 1e-4 of the box size, normals to 1e-3 rad), and
 //! over two steps the feature hysteresis, pair matching and impulse carry (by id and by
-//! position).
+//! position), and contact recycling against the CPU contact cache's rule.
 //!
 //! Runs on any adapter (lavapipe in CI, with `TUMBLE_REQUIRE_GPU=1` so a missing adapter
 //! fails); without one and without that variable, each test prints "skipped" and passes.
@@ -16,6 +16,7 @@ use tumble_gpu::kernels::{
     carry_impulses::{CarryHistory, carry_impulses_cpu},
     collide_cuboids::{kind_code, kind_from_code},
     match_pairs::match_pairs_cpu,
+    recycle::recycle_gpu_pair,
 };
 use tumble_gpu::layout::{GpuContact, GpuPose};
 use tumble_gpu::{GpuContext, MAX_MANIFOLD_POINTS, ReadbackRequest};
@@ -195,7 +196,12 @@ fn second_step_keeps_features_by_hysteresis_and_carries_impulses_by_id_and_posit
         return;
     };
     let mut scene = contact_pairs(3_000, 8);
-    let config = CollisionConfig::default();
+    // Fresh manifolds only: a pair moved less than the recycle tolerance would keep last
+    // step's (that rule has its own test below).
+    let config = CollisionConfig {
+        recycle_distance: 0.0,
+        ..CollisionConfig::default()
+    };
     let mut gpu = collision(&ctx, &scene, config);
     let first = gpu.step_and_read(ReadbackRequest::CONTACTS).unwrap();
     let first_locals = gpu.read_local_manifolds().unwrap();
@@ -320,4 +326,142 @@ fn second_step_keeps_features_by_hysteresis_and_carries_impulses_by_id_and_posit
         "most points persist over a small motion"
     );
     let _ = MAX_MANIFOLD_POINTS;
+}
+
+#[test]
+fn recycled_manifolds_follow_the_cpu_contact_caches_rule_and_keep_their_impulses() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let mut scene = contact_pairs(3_000, 11);
+    let config = CollisionConfig::default();
+    assert!(config.recycle_distance > 0.0, "recycling is on by default");
+    let mut gpu = collision(&ctx, &scene, config);
+    let first = gpu.step_and_read(ReadbackRequest::CONTACTS).unwrap();
+    let first_locals = gpu.read_local_manifolds().unwrap();
+    // Impulses a solver would have left: distinct per point, so a wrong match shows.
+    let mut stored = first.contacts.clone();
+    for (i, c) in stored.iter_mut().enumerate() {
+        c.normal_impulse = 1.0 + i as f32;
+        c.friction_impulse = [i as f32, -(i as f32), 0.5, 0.0];
+    }
+    gpu.store_contacts(0, &stored).unwrap();
+
+    // Three designed pairs in four barely move (each body up to 0.1 mm and 0.003 degrees: a
+    // slide far inside the 1 mm tolerance of boxes whose half extents are at least 0.2 m, a
+    // turn far inside one degree); in the fourth, each body moves up to 5 mm and a degree,
+    // well past both: most pairs recycle, some cannot.
+    let mut rng = ChaCha8Rng::seed_from_u64(12);
+    for (i, p) in scene.poses.iter_mut().enumerate() {
+        let (shift, turn) = if (i / 2) % 4 == 3 {
+            (5e-3, 1.8e-2)
+        } else {
+            (1e-4, 5e-5)
+        };
+        let pose = tumble_gpu::kernels::update_aabbs::pose_from_gpu(p);
+        let nudge = Rot::from_scaled_axis(random_vec(&mut rng, -turn..turn));
+        let moved = random_vec(&mut rng, -shift..shift);
+        *p = GpuPose::from_pose(&Pose::from_parts(
+            Translation3::from(pose.translation.vector + moved),
+            nudge * pose.rotation,
+        ));
+    }
+    gpu.set_motion(&scene.poses, &scene.velocities).unwrap();
+    let second = gpu.step_and_read(ReadbackRequest::CONTACTS).unwrap();
+    let second_locals = gpu.read_local_manifolds().unwrap();
+
+    let per = MAX_MANIFOLD_POINTS as usize;
+    let (mut recycled, mut fresh, mut disagree) = (0usize, 0usize, Vec::new());
+    for (k, &pair) in second.pairs.iter().enumerate() {
+        let m = &second.manifolds[k];
+        let prev = m.previous;
+        if prev == tumble_gpu::constants::NO_PREVIOUS || first.manifolds[prev as usize].len == 0 {
+            assert_eq!(
+                m.recycled, 0,
+                "pair {pair:?} recycled without a manifold to reuse"
+            );
+            continue;
+        }
+        let p = prev as usize;
+        let old = &first.manifolds[p];
+        let cpu = recycle_gpu_pair(
+            &scene.poses,
+            &scene.velocities,
+            &scene.shapes,
+            pair,
+            (
+                old,
+                &first.contacts[p * per..(p + 1) * per],
+                &first_locals[p],
+            ),
+            config.recycle_distance,
+            config.margin,
+            config.dt,
+        );
+        match (m.recycled != 0, cpu) {
+            (true, Some(c)) => {
+                recycled += 1;
+                // The same points: ids, kind and feature are the old manifold's.
+                let g = second.manifold(k).expect("a recycled manifold has points");
+                assert_eq!((g.kind, g.feature, g.len), (c.kind, c.feature, c.len));
+                let ids = |m: &tumble_geometry::Manifold| {
+                    m.points().iter().map(|p| p.id).collect::<Vec<_>>()
+                };
+                assert_eq!(ids(&g), ids(&c), "pair {pair:?}");
+                // The CPU carries the anchors to world space and subtracts there, the GPU in
+                // A's frame: both round world coordinates of up to 45 m (f32 spacing 4e-6 m)
+                // a few times, so positions and depths agree to 2e-5 m, a fiftieth of the
+                // tolerance a point may slide.
+                for (a, b) in g.points().iter().zip(c.points()) {
+                    let dp = (a.position - b.position).norm();
+                    let dd = (a.depth - b.depth).abs();
+                    assert!(
+                        !(dp > 2e-5) && !(dd > 2e-5),
+                        "pair {pair:?}: {dp} m, depth {dd} m"
+                    );
+                }
+                assert!(!((g.normal - c.normal).norm() > 1e-5), "pair {pair:?}");
+                // Each point keeps its own impulse: ids and feature are unchanged, so the
+                // carry matches every point to its old self.
+                for i in 0..g.len as usize {
+                    let (now, before) = (&second.contacts[k * per + i], &stored[p * per + i]);
+                    assert_eq!(now.normal_impulse, before.normal_impulse, "pair {pair:?}");
+                    assert_eq!(
+                        now.friction_impulse, before.friction_impulse,
+                        "pair {pair:?}"
+                    );
+                }
+                // The anchors stay those of the manifold last computed.
+                assert_eq!(second_locals[k], first_locals[p], "pair {pair:?}");
+            }
+            (false, None) => fresh += 1,
+            (gpu_says, cpu) => disagree.push(format!(
+                "pair {pair:?}: GPU recycled {gpu_says}, CPU {}",
+                cpu.is_some()
+            )),
+        }
+    }
+    eprintln!(
+        "{recycled} recycled, {fresh} fresh, {} disagree",
+        disagree.len()
+    );
+    // The two sides round differently, so a pair on the edge of a threshold may fall either
+    // way; more than 1 % would be a different rule.
+    assert!(
+        disagree.len() * 100 <= recycled + fresh,
+        "{} disagreements:\n{}",
+        disagree.len(),
+        disagree.join("\n")
+    );
+    // Both branches were exercised.
+    assert!(
+        recycled * 2 > recycled + fresh,
+        "{recycled} recycled of {}",
+        recycled + fresh
+    );
+    assert!(
+        fresh * 10 > recycled + fresh,
+        "{fresh} fresh of {}",
+        recycled + fresh
+    );
 }

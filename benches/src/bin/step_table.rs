@@ -85,6 +85,9 @@ enum Engine {
     Gpu,
     /// Tumble on the GPU with friction in the relax passes only.
     GpuRelaxFriction,
+    /// Tumble on the GPU with contact recycling off: every manifold computed afresh every
+    /// step, the GPU step before recycling.
+    GpuFresh,
     /// Tumble, collision on the GPU and the solver on the CPU.
     Hybrid,
     /// rapier3d.
@@ -98,7 +101,7 @@ impl Engine {
             Engine::Cpu | Engine::CpuScalar | Engine::CpuFresh | Engine::CpuRelaxFriction => {
                 Some(Backend::Cpu)
             }
-            Engine::Gpu | Engine::GpuRelaxFriction => Some(Backend::Gpu),
+            Engine::Gpu | Engine::GpuRelaxFriction | Engine::GpuFresh => Some(Backend::Gpu),
             Engine::Hybrid => Some(Backend::Hybrid),
             Engine::Rapier => None,
         }
@@ -123,7 +126,7 @@ impl Engine {
     /// The contact recycle distance of a Tumble row.
     fn recycle_distance(self) -> f32 {
         match self {
-            Engine::CpuFresh => 0.0,
+            Engine::CpuFresh | Engine::GpuFresh => 0.0,
             _ => tumble_solver::DEFAULT_RECYCLE_DISTANCE,
         }
     }
@@ -137,6 +140,7 @@ impl Engine {
             Engine::CpuRelaxFriction => "cpu-relax-friction",
             Engine::Gpu => "gpu",
             Engine::GpuRelaxFriction => "gpu-relax-friction",
+            Engine::GpuFresh => "gpu-fresh",
             Engine::Hybrid => "hybrid",
             Engine::Rapier => "rapier",
         }
@@ -222,9 +226,11 @@ fn run_tumble(
         .map(|(s, d)| format!("{} {:.2}", s.name(), d.as_secs_f64() * 1e3 / steps as f64))
         .collect();
     let note = format!(
-        "{} pairs, {} contacts, {} colors; pose hash {hash:#018x}; mean stage ms: {}",
+        "{} pairs, {} contacts, {} of {} manifolds recycled, {} colors; pose hash {hash:#018x}; mean stage ms: {}",
         stats.pairs,
         stats.contact_points,
+        stats.recycled_manifolds,
+        stats.manifolds,
         stats.colors,
         stage_ms.join(" ")
     );

@@ -102,6 +102,8 @@ pub fn shader_constants() -> Vec<(&'static str, f64)> {
         PERSIST_DISTANCE,
         // Also in the solver's list (its tilt carry); both read tumble-solver's value.
         PERSIST_NORMAL_COS,
+        RECYCLE_NORMAL_COS = tumble_solver::RECYCLE_NORMAL_COS,
+        RECYCLE_SIZE_FRACTION = tumble_solver::RECYCLE_SIZE_FRACTION,
         PARALLEL_EDGE_SIN_SQ,
         FACE_B_REL_TOL,
         FACE_B_ABS_TOL,

@@ -179,7 +179,11 @@ host_structs! {
             pub margin: f32,
             /// Time step (s): the margin grows by how far a pair can close in one step.
             pub dt: f32,
-            pad _pad0, _pad1: u32,
+            /// The world's `recycle_distance` (m): the largest slide of a recycled point
+            /// across the normal is the smaller of it and `RECYCLE_SIZE_FRACTION` of the pair's
+            /// smallest half extent. 0: every manifold afresh.
+            pub recycle_distance: f32,
+            pad _pad0: u32,
     }
 
     /// One contact point of a manifold. 48 bytes.
@@ -216,18 +220,29 @@ host_structs! {
             pub len: u32,
             /// Index of this pair's manifold last step, or `NO_PREVIOUS`.
             pub previous: u32,
-            pad _pad0, _pad1: u32,
+            /// 1 when last step's manifold was reused instead of computed (contact
+            /// recycling), else 0.
+            pub recycled: u32,
+            pad _pad0: u32,
     }
 
     /// A manifold in body A's frame at the poses it was found at, kept per pair slot so that the
     /// next step's `carry_impulses` can match points whose feature ids changed by where they are
-    /// on A (the CPU contact cache keeps the same). 80 bytes.
+    /// on A (the CPU contact cache keeps the same), and so that `collide_cuboids` can reuse it
+    /// while the bodies barely moved relative to each other: the anchors of
+    /// `tumble_solver::CachedManifold` follow from the points, their depths and B's frame
+    /// ([`crate::kernels::recycle`]). A recycled manifold keeps the one it was recycled from,
+    /// so it stays that of the manifold last computed. 112 bytes.
     #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
     pub struct GpuLocalManifold {
             /// The manifold normal in A's frame; `w` unused.
             pub normal: [f32; 4],
-            /// Each point in A's frame; `w` unused, slots past the manifold's `len` zero.
+            /// Each point in A's frame; `w`: its depth. Slots past the manifold's `len` zero.
             pub points: [[f32; 4]; tumble_geometry::MAX_MANIFOLD_POINTS],
+            /// B's rotation in A's frame (`x, y, z, w`).
+            pub frame_rotation: [f32; 4],
+            /// B's origin in A's frame; `w` unused.
+            pub frame_position: [f32; 4],
     }
 
     /// A body's AABB in sweep order, coordinates permuted so the sweep axis comes first (then the

@@ -292,7 +292,7 @@ impl Unread {
     }
 
     /// The step's statistics: counts from its manifolds where the host has them already,
-    /// else from the GPU's 16-byte summary of them (`contact_summary`, the same numbers), and
+    /// else from the GPU's 32-byte summary of them (`contact_summary`, the same numbers), and
     /// stage times from its timestamps.
     pub(crate) fn stats(&self, gpu: &Mutex<GpuWorld>) -> &StepStats {
         self.stats.get_or_init(|| {
@@ -318,6 +318,7 @@ impl Unread {
                 return StepStats {
                     pairs: view.pairs,
                     manifolds: contacts.len(),
+                    recycled_manifolds: contacts.iter().filter(|c| c.recycled).count(),
                     contact_points: contacts.iter().map(|c| c.manifold.len as usize).sum(),
                     max_penetration: max_penetration(contacts),
                     ..stats
@@ -329,6 +330,7 @@ impl Unread {
                 Ok(summary) => StepStats {
                     pairs: summary.pairs as usize,
                     manifolds: summary.manifolds as usize,
+                    recycled_manifolds: summary.recycled as usize,
                     contact_points: summary.points as usize,
                     max_penetration: summary.max_depth,
                     ..stats

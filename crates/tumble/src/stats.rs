@@ -124,8 +124,8 @@ pub struct StepStats {
     pub pairs: usize,
     /// Manifolds out of the narrow phase (touching or speculative).
     pub manifolds: usize,
-    /// Of those, the ones reused from the step before (`WorldConfig::recycle_distance`);
-    /// always 0 on the GPU narrow phase, which computes every manifold.
+    /// Of those, the ones reused from the step before (`WorldConfig::recycle_distance`), on
+    /// every backend.
     pub recycled_manifolds: usize,
     /// Contact points over all manifolds.
     pub contact_points: usize,

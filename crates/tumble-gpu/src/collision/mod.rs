@@ -68,6 +68,12 @@ pub struct CollisionConfig {
     pub min_pair_capacity: u32,
     /// Let [`GpuCollision::step_and_read`] grow the pair buffers and redo the step on overflow.
     pub auto_grow: bool,
+    /// Contact recycling, m: a pair whose bodies barely moved relative to each other keeps
+    /// last step's manifold while its points slid at most this far (and at most
+    /// `tumble_solver::RECYCLE_SIZE_FRACTION` of the pair's smallest half extent) across the
+    /// normal; 0 computes every manifold afresh. The rule of `tumble_solver::CachedManifold::
+    /// recycle` (docs/solver.md, "Contact recycling").
+    pub recycle_distance: f32,
 }
 
 impl Default for CollisionConfig {
@@ -81,6 +87,8 @@ impl Default for CollisionConfig {
             pairs_per_body: 8,
             min_pair_capacity: 4096,
             auto_grow: true,
+            // The facade's default (`WorldConfig::recycle_distance`).
+            recycle_distance: tumble_solver::DEFAULT_RECYCLE_DISTANCE,
         }
     }
 }
@@ -389,6 +397,7 @@ impl GpuCollision {
             bytemuck::bytes_of(&NarrowParams {
                 margin: c.margin,
                 dt: c.dt,
+                recycle_distance: c.recycle_distance,
                 ..Default::default()
             }),
         );

@@ -131,6 +131,7 @@ pub fn to_manifold(m: &GpuManifold, points: &[GpuContact]) -> Manifold {
 /// A GPU manifold and its points as a solver contact with their impulses.
 fn to_contact(m: &GpuManifold, points: &[GpuContact]) -> Contact {
     let mut contact = Contact::new(m.body_a, m.body_b, to_manifold(m, points));
+    contact.recycled = m.recycled != 0;
     for (slot, c) in contact.impulses.iter_mut().zip(points) {
         *slot = PointImpulse {
             normal: c.normal_impulse,

@@ -35,15 +35,35 @@ fn rotate_inverse(q: [f32; 4], v: Vec3) -> Vec3 {
     v + q[3] * t + axis.cross(&t)
 }
 
-/// Manifold `m` (points `points`) in the frame of body A at pose `a`.
-fn local_manifold(m: &GpuManifold, points: &[GpuContact], a: &GpuPose) -> GpuLocalManifold {
+/// The product `conj(a) b` of unit quaternions `(x, y, z, w)` (B's rotation in A's frame), in
+/// the shader's `quat_mul(quat_conjugate(a), b)` form.
+fn relative_rotation(a: [f32; 4], b: [f32; 4]) -> [f32; 4] {
+    let (av, aw) = (-Vec3::new(a[0], a[1], a[2]), a[3]);
+    let (bv, bw) = (Vec3::new(b[0], b[1], b[2]), b[3]);
+    let v = aw * bv + bw * av + av.cross(&bv);
+    vec4(&v, aw * bw - av.dot(&bv))
+}
+
+/// Manifold `m` (points `points`) in the frame of body A at pose `a`: normal, points with
+/// their depths, and B's frame (pose `b`) in A's.
+fn local_manifold(
+    m: &GpuManifold,
+    points: &[GpuContact],
+    a: &GpuPose,
+    b: &GpuPose,
+) -> GpuLocalManifold {
     let mut out = GpuLocalManifold {
         normal: vec4(&rotate_inverse(a.rotation, vec3(&m.normal)), 0.0),
+        frame_rotation: relative_rotation(a.rotation, b.rotation),
+        frame_position: vec4(
+            &rotate_inverse(a.rotation, vec3(&b.position) - vec3(&a.position)),
+            0.0,
+        ),
         ..Default::default()
     };
     for (slot, p) in out.points.iter_mut().zip(points) {
         let local = rotate_inverse(a.rotation, vec3(&p.position) - vec3(&a.position));
-        *slot = vec4(&local, 0.0);
+        *slot = vec4(&local, p.depth);
     }
     out
 }
@@ -98,8 +118,8 @@ fn carry_manifold(
 /// The CPU twin of [`CARRY_IMPULSES`], in place on `contacts` (the CPU contact cache's rule:
 /// under the same kind and feature by id, then by position within [`PERSIST_DISTANCE`] while
 /// the normal turned by less than the angle of [`PERSIST_NORMAL_COS`]). Returns this step's
-/// manifolds in A's frame, one per manifold (zero where it has no points), the next step's
-/// `previous.locals`.
+/// manifolds in A's frame, one per manifold (zero where it has no points; a recycled one's is
+/// the one it was recycled from), the next step's `previous.locals`.
 pub fn carry_impulses_cpu(
     poses: &[GpuPose],
     manifolds: &[GpuManifold],
@@ -113,7 +133,17 @@ pub fn carry_impulses_cpu(
             continue;
         }
         let points = &mut contacts[k * per..k * per + m.len as usize];
-        locals[k] = local_manifold(m, points, &poses[m.body_a as usize]);
+        let here = local_manifold(
+            m,
+            points,
+            &poses[m.body_a as usize],
+            &poses[m.body_b as usize],
+        );
+        locals[k] = if m.recycled != 0 {
+            previous.locals[m.previous as usize]
+        } else {
+            here
+        };
         if m.previous == NO_PREVIOUS {
             continue;
         }
@@ -123,7 +153,7 @@ pub fn carry_impulses_cpu(
             continue;
         }
         let before = &previous.contacts[prev * per..prev * per + old.len as usize];
-        carry_manifold(m, points, &locals[k], old, before, &previous.locals[prev]);
+        carry_manifold(m, points, &here, old, before, &previous.locals[prev]);
     }
     locals
 }

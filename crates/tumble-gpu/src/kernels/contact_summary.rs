@@ -1,6 +1,7 @@
 //! `contact_summary`: a step's contact counts (manifolds with points, their points, the
-//! deepest overlap, the pair count) reduced on the GPU, so that a host that wants only the
-//! counts (`World::stats` on `Backend::Gpu`) reads 16 bytes instead of every manifold.
+//! deepest overlap, the pair count, the recycled manifolds) reduced on the GPU, so that a
+//! host that wants only the counts (`World::stats` on `Backend::Gpu`) reads 32 bytes instead
+//! of every manifold.
 
 use crate::MAX_MANIFOLD_POINTS;
 use crate::kernel::KernelSpec;
@@ -11,9 +12,12 @@ use crate::shader::file;
 pub static CONTACT_SUMMARY: KernelSpec = KernelSpec::new(file("contact_summary.wgsl"));
 
 /// Bytes of the kernel's output.
-pub const CONTACT_SUMMARY_BYTES: u64 = 16;
+pub const CONTACT_SUMMARY_BYTES: u64 = 32;
 
-/// A step's contacts in four numbers.
+/// Words of the kernel's output (the last three unused).
+pub const CONTACT_SUMMARY_WORDS: usize = 8;
+
+/// A step's contacts in five numbers.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ContactSummary {
     /// Manifolds with at least one point.
@@ -24,16 +28,19 @@ pub struct ContactSummary {
     pub max_depth: f32,
     /// Candidate pairs the narrow phase examined (the pair work list's count).
     pub pairs: u32,
+    /// Manifolds with points reused from the step before (contact recycling).
+    pub recycled: u32,
 }
 
 impl ContactSummary {
-    /// The summary in the kernel's four output words.
-    pub fn from_words(words: [u32; 4]) -> Self {
+    /// The summary in the kernel's output words.
+    pub fn from_words(words: [u32; CONTACT_SUMMARY_WORDS]) -> Self {
         Self {
             manifolds: words[0],
             points: words[1],
             max_depth: f32::from_bits(words[2]),
             pairs: words[3],
+            recycled: words[4],
         }
     }
 }
@@ -56,6 +63,7 @@ pub fn contact_summary_cpu(
             continue;
         }
         out.manifolds += 1;
+        out.recycled += u32::from(m.recycled != 0);
         out.points += len;
         for p in &contacts[k * per..k * per + len as usize] {
             if p.depth > out.max_depth {

@@ -20,6 +20,7 @@ pub mod match_pairs;
 pub mod plan_dispatch;
 pub mod radix_sort;
 pub mod rank_sort;
+pub mod recycle;
 pub mod remap_pairs;
 pub mod sweep_pairs;
 pub mod update_aabbs;

@@ -112,8 +112,8 @@ pub fn gpu_manifold(
         feature: m.feature,
         len: u32::from(m.len),
         previous,
+        recycled: u32::from(contact.recycled),
         _pad0: 0,
-        _pad1: 0,
     };
     (manifold, points)
 }

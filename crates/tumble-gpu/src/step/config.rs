@@ -41,6 +41,9 @@ pub struct GpuWorldConfig {
     pub dt: Real,
     /// Speculative margin, m (AABB growth and the narrow phase's reporting distance).
     pub margin: Real,
+    /// Contact recycling, m ([`CollisionConfig::recycle_distance`]; 0: every manifold
+    /// afresh).
+    pub recycle_distance: Real,
     /// Solver settings, as for the CPU solver.
     pub solver: SolverConfig,
     /// Wide or fused solver path.
@@ -80,6 +83,7 @@ impl Default for GpuWorldConfig {
             gravity: Vec3::new(0.0, -9.81, 0.0),
             dt: collision.dt,
             margin: collision.margin,
+            recycle_distance: collision.recycle_distance,
             solver: SolverConfig::default(),
             path: PathPolicy::Auto,
             pairs_per_body: collision.pairs_per_body,
@@ -112,6 +116,9 @@ impl GpuWorldConfig {
         if !(self.margin.is_finite() && self.margin >= 0.0) {
             return Err(invalid("margin", self.margin));
         }
+        if !(self.recycle_distance.is_finite() && self.recycle_distance >= 0.0) {
+            return Err(invalid("recycle_distance", self.recycle_distance));
+        }
         if self.pairs_per_body == 0 {
             return Err(invalid("pairs_per_body", self.pairs_per_body));
         }
@@ -130,6 +137,7 @@ impl GpuWorldConfig {
             pairs_per_body: self.pairs_per_body,
             min_pair_capacity: self.min_pair_capacity,
             auto_grow: false,
+            recycle_distance: self.recycle_distance,
         }
     }
 }

@@ -238,7 +238,7 @@ impl GpuWorld {
 
     /// Every pooled device buffer of the world as (pool, buffer name, bytes): the pools
     /// `world`, `collision`, `solver`, `sleep` and, with the motion check on, the shadow
-    /// copies the check keeps of them (`check world`, ...), and the contact summary's 16 bytes
+    /// copies the check keeps of them (`check world`, ...), and the contact summary's 32 bytes
     /// once a read asked for it (`readback`). For memory reports
     /// (docs/gpu.md, "Memory per body").
     pub fn buffer_sizes(&self) -> Vec<(&'static str, &'static str, u64)> {

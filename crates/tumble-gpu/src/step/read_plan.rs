@@ -2,7 +2,7 @@
 //! filled, in recorded order.
 
 use crate::MAX_MANIFOLD_POINTS;
-use crate::kernels::contact_summary::ContactSummary;
+use crate::kernels::contact_summary::{CONTACT_SUMMARY_BYTES, ContactSummary};
 use crate::layout::{GpuContact, GpuManifold, WorkList};
 use crate::readback::{Region, Ticket};
 use crate::sleep::constants::AWAKE;
@@ -65,7 +65,7 @@ pub(super) fn decode(read: &PendingRead, bodies: usize, bytes: Vec<Vec<u8>>) -> 
     if request.summary {
         let bytes = next();
         snapshot.summary = bytes
-            .get(..16)
+            .get(..CONTACT_SUMMARY_BYTES as usize)
             .map(|b| ContactSummary::from_words(bytemuck::pod_read_unaligned(b)));
     }
     snapshot

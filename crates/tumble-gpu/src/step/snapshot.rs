@@ -23,7 +23,7 @@ pub struct ReadRequest {
     pub contacts: bool,
     /// Which bodies sleep (all awake while sleep is off, and then nothing is copied).
     pub sleeping: bool,
-    /// The step's contact counts ([`ContactSummary`]: 16 bytes, reduced on the GPU).
+    /// The step's contact counts ([`ContactSummary`]: 32 bytes, reduced on the GPU).
     pub summary: bool,
 }
 
@@ -71,6 +71,7 @@ impl ContactSnapshot {
         let points = &self.points[k * per..(k + 1) * per];
         let manifold = to_manifold(m, &points[..(m.len as usize).min(per)]);
         let mut contact = Contact::new(m.body_a, m.body_b, manifold);
+        contact.recycled = m.recycled != 0;
         read_impulses(points, &self.tilts[k], &mut contact);
         Some(contact)
     }

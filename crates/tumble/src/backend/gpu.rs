@@ -49,6 +49,7 @@ pub(crate) fn gpu_world_config(
         gravity: config.gravity,
         dt: config.dt,
         margin: config.margin,
+        recycle_distance: config.recycle_distance,
         solver: config.solver,
         timestamps: ctx.has_timestamps,
         ..Default::default()

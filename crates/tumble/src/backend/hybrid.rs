@@ -120,6 +120,7 @@ impl HybridBackend {
             CollisionConfig {
                 margin: config.margin,
                 dt: config.dt,
+                recycle_distance: config.recycle_distance,
                 ..Default::default()
             },
         )

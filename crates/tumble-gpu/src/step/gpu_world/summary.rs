@@ -3,9 +3,11 @@
 
 use super::*;
 use crate::kernel::Kernel;
-use crate::kernels::contact_summary::{CONTACT_SUMMARY, CONTACT_SUMMARY_BYTES, ContactSummary};
+use crate::kernels::contact_summary::{
+    CONTACT_SUMMARY, CONTACT_SUMMARY_BYTES, CONTACT_SUMMARY_WORDS, ContactSummary,
+};
 
-/// The summary kernel and its 16-byte output, made on the first request.
+/// The summary kernel and its 32-byte output, made on the first request.
 #[derive(Debug)]
 pub(super) struct SummaryStage {
     kernel: Kernel,
@@ -56,10 +58,12 @@ impl GpuWorld {
         let mut encoder = self.ctx.encoder("tumble contact summary");
         let output = self.record_summary(&mut encoder)?;
         self.ctx.submit(encoder)?;
-        let words: Vec<u32> = self.ctx.read_buffer(&output, 0, 4)?;
+        let words: Vec<u32> = self
+            .ctx
+            .read_buffer(&output, 0, CONTACT_SUMMARY_WORDS as u64)?;
         self.bytes_read += CONTACT_SUMMARY_BYTES;
-        Ok(Some(ContactSummary::from_words([
-            words[0], words[1], words[2], words[3],
-        ])))
+        let mut out = [0; CONTACT_SUMMARY_WORDS];
+        out.copy_from_slice(&words);
+        Ok(Some(ContactSummary::from_words(out)))
     }
 }

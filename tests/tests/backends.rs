@@ -94,9 +94,9 @@ struct Trajectory {
 fn run(scene: &Scene, backend: Backend, order: SolveOrder) -> Trajectory {
     let mut config = WorldConfig {
         backend,
-        // The GPU's narrow phase computes every manifold every step: the CPU twin does too, so
-        // that the comparison keeps to the algorithms both run (recycling moves a resting
-        // point by up to its 1 mm tolerance, `tests/tests/recycling.rs`).
+        // Every manifold computed every step on both sides: near the recycle tolerance the
+        // two sides' rounding decides differently which pairs keep theirs, and a recycled
+        // point may sit up to its 1 mm tolerance from a fresh one (`tests/tests/recycling.rs`).
         recycle_distance: 0.0,
         ..WorldConfig::default()
     };

@@ -53,29 +53,9 @@ const GPU_GOLDEN: &[(&str, [u64; 5])] = &[
             0xc808_e5cc_07fc_cb5b,
         ],
     ),
-    // Vulkan, driver 580.159.04 (docs/testing.md).
-    (
-        "NVIDIA H200",
-        [
-            0xe562_270c_47cb_8e9b,
-            0x9395_8a2d_d909_6f79,
-            0x7627_e9b1_387e_eb93,
-            0xa0af_06a7_89db_0591,
-            0xe5d7_b59e_b5a4_0439,
-        ],
-    ),
-    // Vulkan, driver 580.159.04: the same five hashes as the H200's, recorded at the commit
-    // that runs the wide path's substeps in one dispatch on GPUs (which moves no bit).
-    (
-        "NVIDIA H100 80GB HBM3",
-        [
-            0xe562_270c_47cb_8e9b,
-            0x9395_8a2d_d909_6f79,
-            0x7627_e9b1_387e_eb93,
-            0xa0af_06a7_89db_0591,
-            0xe5d7_b59e_b5a4_0439,
-        ],
-    ),
+    // The NVIDIA H200 and H100 values (docs/testing.md) predate contact recycling on the GPU,
+    // which changes every scene's result; until they are recorded again those cards run each
+    // scene twice and check that the two runs agree.
 ];
 
 fn scenes() -> Vec<Scene> {

@@ -312,7 +312,7 @@ fn sleep_on_the_gpu_is_read_through_the_facade() {
 }
 
 #[test]
-fn stats_read_every_step_cost_sixteen_bytes_and_count_what_the_manifolds_hold() {
+fn stats_read_every_step_cost_thirty_two_bytes_and_count_what_the_manifolds_hold() {
     if !have_gpu() {
         return;
     }
@@ -327,9 +327,9 @@ fn stats_read_every_step_cost_sixteen_bytes_and_count_what_the_manifolds_hold() 
         world.step().unwrap();
         let stats = *world.stats();
         // The counts alone cross the bus: the first read directly, the next ones copied
-        // with their steps (the GPU reduces every manifold to four words).
+        // with their steps (the GPU reduces every manifold to eight words).
         let after = world.readback_bytes();
-        assert_eq!(after - before, 16, "step {step}: the counts only");
+        assert_eq!(after - before, 32, "step {step}: the counts only");
         before = after;
         // Three stacks of three cubes on the floor: 9 resting manifolds at least.
         assert!(stats.manifolds >= 9, "step {step}: {stats:?}");
@@ -353,6 +353,12 @@ fn stats_read_every_step_cost_sixteen_bytes_and_count_what_the_manifolds_hold() 
         "{stats:?}"
     );
     assert!(stats.pairs >= stats.manifolds, "{stats:?}");
+    // The stacks rest: their pairs keep last step's manifolds (contact recycling, on by
+    // default), and the summary counts them.
+    assert!(
+        stats.recycled_manifolds > 0 && stats.recycled_manifolds <= stats.manifolds,
+        "{stats:?}"
+    );
 
     // A caller that has the contacts copied with every step (and not the summary) gets the
     // counts from that copy: reading the stats moves no further byte.

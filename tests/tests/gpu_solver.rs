@@ -297,7 +297,8 @@ fn cpu_contacts(
     let aabbs = tumble::stages::update_aabbs(bodies, states, MARGIN, DT);
     let pairs = tumble::stages::broad_phase(&mut KeptPairs::new(), &aabbs, bodies);
     let ids: Vec<u64> = (0..bodies.len() as u64).collect();
-    // Every manifold afresh, as the GPU's narrow phase computes them (no recycling).
+    // Every manifold afresh: these tests give the GPU solver host-made manifolds, not recycled
+    // ones.
     let out = tumble::stages::narrow_phase(bodies, states, &pairs, &ids, cache, MARGIN, DT, 0.0);
     (out.contacts, out.keys)
 }

@@ -81,7 +81,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     for n in counts {
         let (poses, velocities, shapes) = random_pile::random_pile(n, 42);
-        let config = CollisionConfig::default();
+        // Every manifold afresh, as the CPU column computes them: the same poses stepped again
+        // would otherwise recycle every manifold after the first step.
+        let config = CollisionConfig {
+            recycle_distance: 0.0,
+            ..CollisionConfig::default()
+        };
         let mut gpu = GpuCollision::new(&ctx, config)?;
         gpu.set_bodies(&poses, &velocities, &shapes)?;
         for _ in 0..WARM_UP_STEPS {

@@ -48,8 +48,8 @@ pub struct WorldConfig {
     /// half extent) since its manifold was computed, keeps that manifold with its depths
     /// updated instead of a fresh separating axis test (`tumble_solver::CachedManifold::
     /// recycle`). 0 computes every manifold every step. The default, 1 mm, is parry3d's
-    /// threshold. `Backend::Cpu` recycles; the GPU narrow phase (`Backend::Gpu` and
-    /// `Backend::Hybrid`) computes every manifold and ignores it.
+    /// threshold. Every backend recycles by the same rule (the GPU's narrow phase in
+    /// `collide_cuboids`; docs/solver.md, "Contact recycling").
     #[cfg_attr(feature = "serde", serde(default = "default_recycle_distance"))]
     pub recycle_distance: Real,
 }

@@ -22,8 +22,10 @@ use crate::{Backend, BodyHandle, Error, StepStats, World, WorldConfig};
 
 /// The layout of [`WorldSnapshot`]: a snapshot of another layout is refused. Format 2 added
 /// each body's collision groups, force, torque, gravity scale and user data; format 3 the
-/// GPU backends' device state.
-const FORMAT: u32 = 3;
+/// GPU backends' device state; format 4 the wider per-pair record of the GPU's contact
+/// recycling (`GpuLocalManifold`, 80 to 112 bytes), which a format-3 device state would be
+/// read at the wrong stride.
+const FORMAT: u32 = 4;
 
 /// What a snapshot expects of its contents.
 const EXPECTED: &str = "a snapshot as World::snapshot took it";

@@ -112,7 +112,7 @@ pub const WORLD_PAIR_STARTS: &str = "world_pair_starts";
 /// The buffers kept in two parities, this step's and the last step's, left out of the step
 /// check's checkpoints ([`BufferPool::with_per_step`]). A step writes only its own parity:
 /// every kernel that reads the last step's copies binds them read-only (`match_pairs`,
-/// `carry_impulses`, `contact_begins`, `contact_ends`), so a step that is undone leaves them
+/// `collide_cuboids`, `carry_impulses`, `contact_begins`, `contact_ends`), so a step that is undone leaves them
 /// as they were, and its own parity, which held the step before last, is rewritten by the
 /// step taken again before anything reads it (rolling back the parity counter restores
 /// which is which). They are most of the collision stage's memory: a manifold, four contact

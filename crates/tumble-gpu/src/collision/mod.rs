@@ -200,6 +200,7 @@ impl GpuCollision {
     pub fn new(ctx: &GpuContext, config: CollisionConfig) -> Result<Self, GpuError> {
         validate::check_at_least("config.margin", config.margin, 0.0)?;
         validate::check_at_least("config.dt", config.dt, 0.0)?;
+        validate::check_recycle_distance("config.recycle_distance", config.recycle_distance)?;
         Ok(Self {
             ctx: ctx.clone(),
             config,

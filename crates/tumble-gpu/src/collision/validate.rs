@@ -82,6 +82,16 @@ pub fn check_count(field: &str, len: usize, expected: usize) -> Result<(), GpuEr
     Ok(())
 }
 
+/// Errs unless `value` is a contact recycling distance: finite, in
+/// `[0, tumble_solver::bounds::MAX_RECYCLE_DISTANCE]` (the facade's bound).
+pub fn check_recycle_distance(field: &str, value: f32) -> Result<(), GpuError> {
+    use tumble_solver::bounds::MAX_RECYCLE_DISTANCE;
+    if !(value.is_finite() && (0.0..=MAX_RECYCLE_DISTANCE).contains(&value)) {
+        return Err(invalid(field, value));
+    }
+    Ok(())
+}
+
 /// Errs unless `value` is finite and at least `min`.
 pub fn check_at_least(field: &str, value: f32, min: f32) -> Result<(), GpuError> {
     if !(value.is_finite() && value >= min) {

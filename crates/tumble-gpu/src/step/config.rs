@@ -116,9 +116,10 @@ impl GpuWorldConfig {
         if !(self.margin.is_finite() && self.margin >= 0.0) {
             return Err(invalid("margin", self.margin));
         }
-        if !(self.recycle_distance.is_finite() && self.recycle_distance >= 0.0) {
-            return Err(invalid("recycle_distance", self.recycle_distance));
-        }
+        crate::collision::validate::check_recycle_distance(
+            "recycle_distance",
+            self.recycle_distance,
+        )?;
         if self.pairs_per_body == 0 {
             return Err(invalid("pairs_per_body", self.pairs_per_body));
         }
@@ -187,6 +188,29 @@ mod tests {
                     assert!(value.starts_with(&groups.to_string()), "{value}");
                 }
                 other => panic!("expected an InvalidInput error, got {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn a_recycle_distance_outside_the_facades_bound_is_refused_by_name() {
+        let with = |recycle_distance| GpuWorldConfig {
+            recycle_distance,
+            ..Default::default()
+        };
+        // 0 (off), the default and the facade's largest are settings.
+        for d in [0.0, 1e-3, tumble_solver::bounds::MAX_RECYCLE_DISTANCE] {
+            assert!(with(d).validate().is_ok(), "{d}");
+        }
+        // Negative, past the bound (a slide that large is no longer the same contact), or not
+        // a number: refused, not clamped or turned off.
+        for d in [-1e-3, 0.02, f32::NAN, f32::INFINITY] {
+            match with(d).validate() {
+                Err(GpuError::InvalidInput { field, value }) => {
+                    assert_eq!(field, "recycle_distance");
+                    assert_eq!(value, d.to_string(), "{d}");
+                }
+                other => panic!("{d}: expected an InvalidInput error, got {other:?}"),
             }
         }
     }

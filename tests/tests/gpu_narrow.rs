@@ -159,6 +159,26 @@ fn compare_manifolds(
     (snap.pairs.len(), near_ties)
 }
 
+/// The first step of `gpu`, its manifolds in A's frame, and the points with impulses a solver
+/// would have left (distinct per point, so a wrong match shows), stored for the next step.
+fn first_step_with_impulses(
+    gpu: &mut tumble_gpu::GpuCollision,
+) -> (
+    tumble_gpu::CollisionSnapshot,
+    Vec<tumble_gpu::layout::GpuLocalManifold>,
+    Vec<GpuContact>,
+) {
+    let first = gpu.step_and_read(ReadbackRequest::CONTACTS).unwrap();
+    let locals = gpu.read_local_manifolds().unwrap();
+    let mut stored = first.contacts.clone();
+    for (i, c) in stored.iter_mut().enumerate() {
+        c.normal_impulse = 1.0 + i as f32;
+        c.friction_impulse = [i as f32, -(i as f32), 0.5, 0.0];
+    }
+    gpu.store_contacts(0, &stored).unwrap();
+    (first, locals, stored)
+}
+
 #[test]
 fn gpu_manifolds_match_the_cpu_narrow_phase_on_10000_random_pairs() {
     let Some(ctx) = GpuContext::for_tests() else {
@@ -203,15 +223,7 @@ fn second_step_keeps_features_by_hysteresis_and_carries_impulses_by_id_and_posit
         ..CollisionConfig::default()
     };
     let mut gpu = collision(&ctx, &scene, config);
-    let first = gpu.step_and_read(ReadbackRequest::CONTACTS).unwrap();
-    let first_locals = gpu.read_local_manifolds().unwrap();
-    // Impulses a solver would have left: distinct per point, so a wrong match shows.
-    let mut stored = first.contacts.clone();
-    for (i, c) in stored.iter_mut().enumerate() {
-        c.normal_impulse = 1.0 + i as f32;
-        c.friction_impulse = [i as f32, -(i as f32), 0.5, 0.0];
-    }
-    gpu.store_contacts(0, &stored).unwrap();
+    let (first, first_locals, stored) = first_step_with_impulses(&mut gpu);
 
     // Every second body moves a little: a millimetre and a quarter degree.
     let mut rng = ChaCha8Rng::seed_from_u64(9);
@@ -337,15 +349,7 @@ fn recycled_manifolds_follow_the_cpu_contact_caches_rule_and_keep_their_impulses
     let config = CollisionConfig::default();
     assert!(config.recycle_distance > 0.0, "recycling is on by default");
     let mut gpu = collision(&ctx, &scene, config);
-    let first = gpu.step_and_read(ReadbackRequest::CONTACTS).unwrap();
-    let first_locals = gpu.read_local_manifolds().unwrap();
-    // Impulses a solver would have left: distinct per point, so a wrong match shows.
-    let mut stored = first.contacts.clone();
-    for (i, c) in stored.iter_mut().enumerate() {
-        c.normal_impulse = 1.0 + i as f32;
-        c.friction_impulse = [i as f32, -(i as f32), 0.5, 0.0];
-    }
-    gpu.store_contacts(0, &stored).unwrap();
+    let (first, first_locals, stored) = first_step_with_impulses(&mut gpu);
 
     // Three designed pairs in four barely move (each body up to 0.1 mm and 0.003 degrees: a
     // slide far inside the 1 mm tolerance of boxes whose half extents are at least 0.2 m, a

@@ -59,13 +59,8 @@ pub fn collide_gpu_pair(
     dt: f32,
 ) -> Option<Manifold> {
     use crate::solver::convert::pose_from_gpu;
+    let margin = gpu_pair_margin(velocities, shapes, (a, b), margin, dt);
     let (a, b) = (a as usize, b as usize);
-    let margin = tumble_narrow::pair_margin(
-        &box_motion(&shapes[a], &velocities[a]),
-        &box_motion(&shapes[b], &velocities[b]),
-        margin,
-        dt,
-    );
     tumble_narrow::collide_cuboids_cached(
         &cuboid_from_gpu(&shapes[a]),
         &pose_from_gpu(&poses[a]),
@@ -73,6 +68,24 @@ pub fn collide_gpu_pair(
         &pose_from_gpu(&poses[b]),
         margin,
         previous,
+    )
+}
+
+/// The speculative margin `collide_cuboids` gives pair `(a, b)`: `tumble_narrow::pair_margin`
+/// on the GPU body arrays, from the base `margin` and step `dt`.
+pub fn gpu_pair_margin(
+    velocities: &[GpuVelocity],
+    shapes: &[GpuShape],
+    (a, b): (u32, u32),
+    margin: f32,
+    dt: f32,
+) -> f32 {
+    let (a, b) = (a as usize, b as usize);
+    tumble_narrow::pair_margin(
+        &box_motion(&shapes[a], &velocities[a]),
+        &box_motion(&shapes[b], &velocities[b]),
+        margin,
+        dt,
     )
 }
 

@@ -8,7 +8,7 @@ use tumble_geometry::{FeatureKind, Manifold, Pose, Rot, Vec3, nalgebra::Quaterni
 use tumble_solver::{CachedManifold, recycle_tolerance};
 
 use super::collide_cuboids::kind_from_code;
-use super::{box_motion, cuboid_from_gpu};
+use super::{cuboid_from_gpu, gpu_pair_margin};
 use crate::MAX_MANIFOLD_POINTS;
 use crate::layout::{GpuContact, GpuLocalManifold, GpuManifold, GpuPose, GpuShape, GpuVelocity};
 use crate::solver::convert::{pose_from_gpu, vec3};
@@ -84,13 +84,8 @@ pub fn recycle_gpu_pair(
     margin: f32,
     dt: f32,
 ) -> Option<Manifold> {
+    let margin = gpu_pair_margin(velocities, shapes, (a, b), margin, dt);
     let (a, b) = (a as usize, b as usize);
-    let margin = tumble_narrow::pair_margin(
-        &box_motion(&shapes[a], &velocities[a]),
-        &box_motion(&shapes[b], &velocities[b]),
-        margin,
-        dt,
-    );
     let tolerance = recycle_tolerance(
         recycle_distance,
         &cuboid_from_gpu(&shapes[a]),

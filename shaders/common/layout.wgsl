@@ -146,7 +146,7 @@ struct GpuManifold {
     len: u32,
     // Index of this pair's manifold last step, or NO_PREVIOUS.
     previous: u32,
-    // 1 when last step's manifold was reused (recycle_manifold), else 0.
+    // 1 when last step's manifold was reused (collide_cuboids' try_recycle), else 0.
     recycled: u32,
     _pad0: u32,
 }

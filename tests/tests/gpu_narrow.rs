@@ -445,6 +445,30 @@ fn recycled_manifolds_follow_the_cpu_contact_caches_rule_and_keep_their_impulses
             )),
         }
     }
+    // The carry's CPU twin on the same manifolds (recycled ones included) hands out the same
+    // impulses and keeps the same frame-A records for the recycled manifolds (copied, never
+    // computed, so exactly).
+    let mut want: Vec<GpuContact> = second.contacts.clone();
+    for c in &mut want {
+        c.normal_impulse = 0.0;
+        c.friction_impulse = [0.0; 4];
+    }
+    let twin_locals = carry_impulses_cpu(
+        &scene.poses,
+        &second.manifolds,
+        &mut want,
+        &CarryHistory {
+            manifolds: &first.manifolds,
+            contacts: &stored,
+            locals: &first_locals,
+        },
+    );
+    assert_eq!(second.contacts, want);
+    for (k, m) in second.manifolds.iter().enumerate() {
+        if m.recycled != 0 {
+            assert_eq!(second_locals[k], twin_locals[k], "slot {k}");
+        }
+    }
     eprintln!(
         "{recycled} recycled, {fresh} fresh, {} disagree",
         disagree.len()

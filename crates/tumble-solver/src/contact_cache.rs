@@ -22,7 +22,7 @@ pub const PERSIST_NORMAL_COS: Real = 0.996;
 pub type PairKey = (u64, u64);
 
 /// What a pair's manifold left behind for the next step.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct CachedManifold {
     /// Which SAT axis kind made the manifold (hysteresis input for the narrow phase).

@@ -4,7 +4,7 @@
 //! by [`cached_anchors`], which rebuilds the contact cache's anchors from what the GPU keeps
 //! per pair slot (a [`GpuLocalManifold`]: points and depths in A's frame, B's frame in A's).
 
-use tumble_geometry::{FeatureKind, Manifold, Pose, Rot, Vec3, nalgebra::Quaternion};
+use tumble_geometry::{Manifold, Pose, Rot, nalgebra::Quaternion};
 use tumble_solver::{CachedManifold, recycle_tolerance};
 
 use super::collide_cuboids::kind_from_code;
@@ -33,7 +33,7 @@ pub fn cached_anchors(
         local_normal: normal,
         normal_b: back * normal,
         len: m.len.min(MAX_MANIFOLD_POINTS) as u8,
-        ..cached_default()
+        ..Default::default()
     };
     let len = out.len as usize;
     for (i, (point, c)) in local.points.iter().zip(points).enumerate().take(len) {
@@ -48,24 +48,6 @@ pub fn cached_anchors(
         }
     }
     out
-}
-
-/// An empty cache entry (no points).
-fn cached_default() -> CachedManifold {
-    CachedManifold {
-        kind: FeatureKind::FaceA,
-        feature: 0,
-        ids: [0; MAX_MANIFOLD_POINTS as usize],
-        local_points: [Vec3::zeros(); MAX_MANIFOLD_POINTS as usize],
-        local_normal: Vec3::zeros(),
-        impulses: Default::default(),
-        tilt_impulse: Vec3::zeros(),
-        len: 0,
-        anchors_a: [Vec3::zeros(); MAX_MANIFOLD_POINTS as usize],
-        anchors_b: [Vec3::zeros(); MAX_MANIFOLD_POINTS as usize],
-        normal_b: Vec3::zeros(),
-        overlapped: 0,
-    }
 }
 
 /// Last step's manifold of pair `(a, b)` (`old` with points `points` and frame-A record

@@ -1,4 +1,4 @@
-// requires: common/indexing.wgsl common/sat.wgsl common/face_contact.wgsl common/edge_contact.wgsl common/vertex_contact.wgsl common/reduce.wgsl common/recycle.wgsl
+// requires: common/indexing.wgsl common/tile_scan.wgsl common/sat.wgsl common/face_contact.wgsl common/edge_contact.wgsl common/vertex_contact.wgsl common/reduce.wgsl common/recycle.wgsl
 // collide_cuboids: one thread per candidate pair builds the pair's contact manifold (port of
 // tumble-narrow's collide.rs): SAT over 15 axes, the preferred axis with last step's
 // reference face as hysteresis, a face contact (clipping) or an edge contact on it, the
@@ -6,7 +6,11 @@
 // without contact gets len = 0. Manifold k belongs to pair k. With params.recycle_distance
 // above 0, a pair whose bodies barely moved relative to each other since its manifold was
 // last computed keeps it instead (common/recycle.wgsl), with the same ids, kind and feature,
-// and is marked `recycled`.
+// and is marked `recycled`. The pairs of a workgroup that need the full test are then listed
+// in pair order and run by the workgroup's first threads, so that they fill whole warps: a
+// warp runs as long as its slowest thread, and with most pairs recycled a warp would otherwise
+// hold one or two full tests among recycled threads that wait for them. Each result is still
+// written at its own pair's index, so the output does not depend on the order.
 
 @group(0) @binding(0) var<uniform> params: NarrowParams;
 // This step's pair `WorkList`.
@@ -214,17 +218,10 @@ fn try_recycle(k: u32, a: u32, b: u32) -> bool {
     return true;
 }
 
-@compute @workgroup_size(WORKGROUP_SIZE)
-fn main(thread: Thread) {
-    let k = thread_index(thread);
-    if k >= work.count {
-        return;
-    }
+// Pair k's manifold from the full test (separating axes, clipping, reduction).
+fn collide_fresh(k: u32) {
     let a = pair_a[k];
     let b = pair_b[k];
-    if try_recycle(k, a, b) {
-        return;
-    }
     var polygon: ContactPolygon;
     contact_for_pair(k, a, b, &polygon);
     var manifold: GpuManifold;
@@ -247,4 +244,26 @@ fn main(thread: Thread) {
         contacts[k * MAX_MANIFOLD_POINTS + s] = contact;
     }
     manifolds[k] = manifold;
+}
+
+// The pairs of this workgroup that need the full test, in pair order.
+var<workgroup> fresh_pairs: array<u32, WORKGROUP_SIZE>;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn main(thread: Thread) {
+    let k = thread_index(thread);
+    var fresh = 0u;
+    if k < work.count && !try_recycle(k, pair_a[k], pair_b[k]) {
+        fresh = 1u;
+    }
+    // Every thread reaches the scan (it holds workgroup barriers), so no thread returns early.
+    let listed = tile_inclusive_scan(thread.local, vec2<u32>(fresh, 0u)).x;
+    if fresh == 1u {
+        fresh_pairs[listed - 1u] = k;
+    }
+    workgroupBarrier();
+    let count = tile_scan_values[WORKGROUP_SIZE - 1u].x;
+    if thread.local < count {
+        collide_fresh(fresh_pairs[thread.local]);
+    }
 }

@@ -1,21 +1,23 @@
 //! Where a whole GPU step's time goes: per-pass GPU times (timestamp queries) of
-//! `tumble_gpu::step::GpuWorld` on pyramids, summed by pass name and averaged over steps,
+//! `tumble_gpu::step::GpuWorld` on scenes, summed by pass name and averaged over steps,
 //! with the counts that drive them (manifolds, colors used, overflow set).
 //!
 //! ```sh
 //! cargo run --release -p tumble-benches --bin gpu_profile -- 24 50
+//! cargo run --release -p tumble-benches --bin gpu_profile -- stack20 pyramid24
 //! ```
 //!
 //! `--help` lists the flags and their defaults; an unknown flag or value is an error.
 //!
-//! Arguments are pyramid heights (default 24 and 50). Each scene settles for 60 steps first so
+//! Arguments are scenes: a bare number is a pyramid of that height, otherwise a scene name
+//! (stackN, pyramidH, poolN; default 24 and 50). Each scene settles for 60 steps first so
 //! warm starts and color seeds are in their steady state, then 20 steps are profiled.
 
 use std::collections::BTreeMap;
 use std::time::Instant;
 
 use clap::Parser;
-use tumble_benches::cli::count;
+use tumble_benches::cli::SceneName;
 use tumble_benches::gpu_pool::contact_counts;
 use tumble_gpu::GpuContext;
 use tumble_gpu::solver::constants::COLOR_OFFSETS_LEN;
@@ -27,20 +29,28 @@ const SETTLE_STEPS: usize = 60;
 /// Steps profiled.
 const PROFILED_STEPS: usize = 20;
 
-/// Per-pass GPU times of the whole GPU step on pyramids.
+/// Per-pass GPU times of the whole GPU step on scenes.
 #[derive(Parser, Debug)]
 struct Args {
-    /// Pyramid heights, one profile each.
-    #[arg(default_values_t = [24, 50], value_parser = count())]
-    heights: Vec<usize>,
+    /// Scenes, one profile each: a pyramid height (24), or a name (stack20, pyramid24, pool1000).
+    #[arg(default_values = ["24", "50"], value_parser = profile_scene)]
+    scenes: Vec<SceneName>,
+}
+
+/// A bare height of at least 1 is a pyramid; anything else parses as a scene name.
+fn profile_scene(text: &str) -> Result<SceneName, String> {
+    match text.parse::<usize>() {
+        Ok(h) if h >= 1 => Ok(SceneName::Pyramid(h)),
+        _ => text.parse(),
+    }
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let Args { heights } = Args::parse();
+    let Args { scenes } = Args::parse();
     let ctx = GpuContext::new()?;
     println!("device: {} ({:?})", ctx.info.name, ctx.info.backend);
-    for h in heights {
-        let scene = tumble_scenes::pyramid(h);
+    for name in scenes {
+        let scene = name.build();
         let mut world = gpu_world_of(
             &ctx,
             &scene,
@@ -73,7 +83,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let sizes: Vec<u32> = offsets.windows(2).map(|w| w[1] - w[0]).collect();
         let used = sizes[..sizes.len() - 1].iter().filter(|&&s| s > 0).count();
         println!(
-            "\npyramid {h}: {} bodies, {manifolds} manifolds with points, {points} points, \
+            "\n{name}: {} bodies, {manifolds} manifolds with points, {points} points, \
              path {:?}, colors used {used}, overflow set {}",
             scene.bodies.len(),
             world.last_path(),

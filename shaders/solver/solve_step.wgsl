@@ -43,9 +43,11 @@
 // before the dispatch.
 @group(0) @binding(8) var<storage, read_write> step_progress: array<atomic<u32>>;
 
-// Phase kinds.
-const PHASE_VELOCITIES: u32 = 0u;
-const PHASE_WARM_BODIES: u32 = 1u;
+// Phase kinds. A body's velocity integration and its warm start are one phase: both read
+// and write that body's velocity only (warm_start_body.wgsl), so one thread doing the two in
+// turn gives the bits of two phases, one after the other, and saves a dependent phase a
+// substep.
+const PHASE_VELOCITIES_AND_WARM: u32 = 0u;
 const PHASE_COLOR: u32 = 2u;
 const PHASE_POSITIONS: u32 = 3u;
 
@@ -57,12 +59,12 @@ struct Phase {
     color: u32,
 }
 
-// Phases of substep `s`: integrate velocities, the warm start per body, the overflow set's
-// warm start, `iterations` solve sweeps of every color slot, integrate positions,
+// Phases of substep `s`: integrate velocities and the warm start per body, the overflow
+// set's warm start, `iterations` solve sweeps of every color slot, integrate positions,
 // `relax_iterations` relax sweeps, and after the last substep a restitution sweep when the
 // step has restitution.
 fn phases_in_substep(s: u32) -> u32 {
-    var count = 4u + (params.iterations + params.relax_iterations) * COLOR_SLOT_COUNT;
+    var count = 3u + (params.iterations + params.relax_iterations) * COLOR_SLOT_COUNT;
     if ENABLE_RESTITUTION && params.restitution != 0u && s + 1u == params.substeps {
         count += COLOR_SLOT_COUNT;
     }
@@ -75,17 +77,14 @@ override COLOR_SLOT_COUNT: u32 = OVERFLOW_COLOR + 1u;
 // Phase q of a substep.
 fn phase_at(q: u32) -> Phase {
     if q == 0u {
-        return Phase(PHASE_VELOCITIES, 0u, 0u);
+        return Phase(PHASE_VELOCITIES_AND_WARM, 0u, 0u);
     }
     if q == 1u {
-        return Phase(PHASE_WARM_BODIES, 0u, 0u);
-    }
-    if q == 2u {
         return Phase(PHASE_COLOR, PASS_WARM_START, OVERFLOW_COLOR);
     }
-    let solve_end = 3u + params.iterations * COLOR_SLOT_COUNT;
+    let solve_end = 2u + params.iterations * COLOR_SLOT_COUNT;
     if q < solve_end {
-        return Phase(PHASE_COLOR, PASS_SOLVE, (q - 3u) % COLOR_SLOT_COUNT);
+        return Phase(PHASE_COLOR, PASS_SOLVE, (q - 2u) % COLOR_SLOT_COUNT);
     }
     if q == solve_end {
         return Phase(PHASE_POSITIONS, 0u, 0u);
@@ -141,7 +140,7 @@ fn run_chunk(phase: Phase, chunk: u32, groups: u32, local: u32) {
     for (var i = chunk * size + local; i < end; i += SOLVE_STEP_WORKGROUP_SIZE) {
         if phase.kind == PHASE_COLOR {
             visit_constraint(color_offsets[phase.color] + i, phase.pass_kind);
-        } else if phase.kind == PHASE_VELOCITIES {
+        } else if phase.kind == PHASE_VELOCITIES_AND_WARM {
             velocities[i] = integrate_velocity(
                 bodies[i],
                 poses[i].rotation,
@@ -150,7 +149,6 @@ fn run_chunk(phase: Phase, chunk: u32, groups: u32, local: u32) {
                 params.gravity.xyz,
                 params.h,
             );
-        } else if phase.kind == PHASE_WARM_BODIES {
             warm_start_body(i);
         } else {
             var velocity = velocities[i];

@@ -1,4 +1,4 @@
-// requires: common/indexing.wgsl common/tile_scan.wgsl common/sat.wgsl common/face_contact.wgsl common/edge_contact.wgsl common/vertex_contact.wgsl common/reduce.wgsl common/recycle.wgsl
+// requires: common/indexing.wgsl common/sat.wgsl common/face_contact.wgsl common/edge_contact.wgsl common/vertex_contact.wgsl common/reduce.wgsl common/recycle.wgsl
 // collide_cuboids: one thread per candidate pair builds the pair's contact manifold (port of
 // tumble-narrow's collide.rs): SAT over 15 axes, the preferred axis with last step's
 // reference face as hysteresis, a face contact (clipping) or an edge contact on it, the
@@ -7,7 +7,7 @@
 // above 0, a pair whose bodies barely moved relative to each other since its manifold was
 // last computed keeps it instead (common/recycle.wgsl), with the same ids, kind and feature,
 // and is marked `recycled`. The pairs of a workgroup that need the full test are then listed
-// in pair order and run by the workgroup's first threads, so that they fill whole warps: a
+// (a workgroup atomic) and run by the workgroup's first threads, so that they fill whole warps: a
 // warp runs as long as its slowest thread, and with most pairs recycled a warp would otherwise
 // hold one or two full tests among recycled threads that wait for them. Each result is still
 // written at its own pair's index, so the output does not depend on the order.
@@ -246,24 +246,38 @@ fn collide_fresh(k: u32) {
     manifolds[k] = manifold;
 }
 
-// The pairs of this workgroup that need the full test, in pair order.
+// The pairs of this workgroup that need the full test, in the order their threads listed
+// them (which varies from run to run and changes no result: each is written at its own index).
 var<workgroup> fresh_pairs: array<u32, WORKGROUP_SIZE>;
+// How many `fresh_pairs` holds.
+var<workgroup> fresh_count: atomic<u32>;
+
+// Whether the workgroup lists its fresh pairs first (above); off, each thread runs its own
+// pair's full test. Off on CPU adapters (kernels::collide_cuboids::compact_fresh_pairs):
+// there a workgroup is a loop over its threads in SIMD slices, so idle threads cost little,
+// while each workgroup barrier costs a switch per thread.
+override COMPACT_FRESH_PAIRS: bool = true;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn main(thread: Thread) {
-    let k = thread_index(thread);
-    var fresh = 0u;
-    if k < work.count && !try_recycle(k, pair_a[k], pair_b[k]) {
-        fresh = 1u;
+    if !COMPACT_FRESH_PAIRS {
+        let k = thread_index(thread);
+        if k < work.count && !try_recycle(k, pair_a[k], pair_b[k]) {
+            collide_fresh(k);
+        }
+        return;
     }
-    // Every thread reaches the scan (it holds workgroup barriers), so no thread returns early.
-    let listed = tile_inclusive_scan(thread.local, vec2<u32>(fresh, 0u)).x;
-    if fresh == 1u {
-        fresh_pairs[listed - 1u] = k;
+    if thread.local == 0u {
+        atomicStore(&fresh_count, 0u);
+    }
+    // Every thread reaches both barriers, so no thread returns early.
+    workgroupBarrier();
+    let k = thread_index(thread);
+    if k < work.count && !try_recycle(k, pair_a[k], pair_b[k]) {
+        fresh_pairs[atomicAdd(&fresh_count, 1u)] = k;
     }
     workgroupBarrier();
-    let count = tile_scan_values[WORKGROUP_SIZE - 1u].x;
-    if thread.local < count {
+    if thread.local < atomicLoad(&fresh_count) {
         collide_fresh(fresh_pairs[thread.local]);
     }
 }

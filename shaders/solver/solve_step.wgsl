@@ -160,6 +160,30 @@ fn run_chunk(phase: Phase, chunk: u32, groups: u32, local: u32) {
     }
 }
 
+// Whether the chunks of `phase` load their constraints before the wait: a graph color's
+// chunks when each thread visits at most one constraint (the overflow set runs in one thread,
+// and a thread with several constraints visits them in run_chunk).
+fn loads_early(phase: Phase, groups: u32) -> bool {
+    return phase.kind == PHASE_COLOR && phase.color != OVERFLOW_COLOR
+        && items_per_thread(phase_items(phase), groups) == 1u;
+}
+
+// No constraint to load early.
+const NO_EARLY_SLOT: u32 = 0xffffffffu;
+
+// The slot thread `local` visits in chunk `chunk` of `phase` when the phase loads early and
+// the thread has a constraint, else NO_EARLY_SLOT.
+fn early_slot(phase: Phase, chunk: u32, groups: u32, local: u32) -> u32 {
+    if !loads_early(phase, groups) {
+        return NO_EARLY_SLOT;
+    }
+    let i = chunk * SOLVE_STEP_WORKGROUP_SIZE + local;
+    if i >= phase_items(phase) {
+        return NO_EARLY_SLOT;
+    }
+    return color_offsets[phase.color] + i;
+}
+
 // How a workgroup waits for the phases before its chunk and counts its chunk done. On a GPU,
 // thread 0 waits (an atomic load) and counts (one add per chunk), and workgroup barriers with
 // device-scope acquire-release semantics (storageBarrier) order the other threads' accesses
@@ -255,11 +279,25 @@ fn main(
             // Every chunk of the step was handed out.
             break;
         }
+        // A color chunk of one constraint per thread loads its constraint before the wait:
+        // everything but the impulses is fixed from prepare to store, so the load is not on
+        // the path from the phases before to this one, and after the wait the impulses and
+        // the bodies (whose indices the constraint gave) are read at once.
+        let early = early_slot(phase, ticket - first_ticket, groups, local);
+        var constraint: GpuConstraint;
+        if early != NO_EARLY_SLOT {
+            constraint = load_constraint(early);
+        }
         // Every ticket before first_ticket belongs to an earlier phase: once that many chunks
         // are done, so are those phases (no chunk of this phase or a later one can finish
         // before them).
         wait_for(first_ticket, local);
-        run_chunk(phase, ticket - first_ticket, groups, local);
+        if early != NO_EARLY_SLOT {
+            reload_pass_impulses(early, &constraint);
+            visit_loaded(early, phase.pass_kind, &constraint);
+        } else if !loads_early(phase, groups) {
+            run_chunk(phase, ticket - first_ticket, groups, local);
+        }
         count_done(local);
     }
 }

@@ -340,23 +340,13 @@ fn second_step_keeps_features_by_hysteresis_and_carries_impulses_by_id_and_posit
     let _ = MAX_MANIFOLD_POINTS;
 }
 
-#[test]
-fn recycled_manifolds_follow_the_cpu_contact_caches_rule_and_keep_their_impulses() {
-    let Some(ctx) = GpuContext::for_tests() else {
-        return;
-    };
-    let mut scene = contact_pairs(3_000, 11);
-    let config = CollisionConfig::default();
-    assert!(config.recycle_distance > 0.0, "recycling is on by default");
-    let mut gpu = collision(&ctx, &scene, config);
-    let (first, first_locals, stored) = first_step_with_impulses(&mut gpu);
-
-    // Three designed pairs in four barely move (each body up to 0.1 mm and 0.003 degrees: a
-    // slide far inside the 1 mm tolerance of boxes whose half extents are at least 0.2 m, a
-    // turn far inside one degree); in the fourth, each body moves up to 5 mm and a degree,
-    // well past both: most pairs recycle, some cannot.
+/// Moves the bodies of `poses` for a second step: three designed pairs in four barely move
+/// (each body up to 0.1 mm and 0.003 degrees: a slide far inside the 1 mm tolerance of boxes
+/// whose half extents are at least 0.2 m, a turn far inside one degree); in the fourth, each
+/// body moves up to 5 mm and a degree, well past both: most pairs recycle, some cannot.
+fn mostly_barely_moved(poses: &mut [GpuPose]) {
     let mut rng = ChaCha8Rng::seed_from_u64(12);
-    for (i, p) in scene.poses.iter_mut().enumerate() {
+    for (i, p) in poses.iter_mut().enumerate() {
         let (shift, turn) = if (i / 2) % 4 == 3 {
             (5e-3, 1.8e-2)
         } else {
@@ -370,6 +360,63 @@ fn recycled_manifolds_follow_the_cpu_contact_caches_rule_and_keep_their_impulses
             nudge * pose.rotation,
         ));
     }
+}
+
+#[test]
+fn listing_the_fresh_pairs_of_a_workgroup_first_changes_no_bit() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    // collide_cuboids may run the pairs of a workgroup that need the full test on its first
+    // threads, in an order that varies from run to run; each result must still land at its own
+    // pair's index, with the bits the pair's own thread would have given. A result written at
+    // the listing position, a pair listed twice or left out, or a recycled thread that also ran
+    // the full test would change a manifold or point here. Both settings run on any adapter
+    // (the device picks one by default), on the mix of recycled and fresh pairs of the
+    // recycling test.
+    let second_step = |compact| {
+        let mut scene = contact_pairs(3_000, 11);
+        let config = CollisionConfig {
+            compact_fresh_pairs: Some(compact),
+            ..CollisionConfig::default()
+        };
+        let mut gpu = collision(&ctx, &scene, config);
+        first_step_with_impulses(&mut gpu);
+        mostly_barely_moved(&mut scene.poses);
+        gpu.set_motion(&scene.poses, &scene.velocities).unwrap();
+        gpu.step_and_read(ReadbackRequest::CONTACTS).unwrap()
+    };
+    let (each, listed) = (second_step(false), second_step(true));
+    let recycled = listed.manifolds.iter().filter(|m| m.recycled != 0).count();
+    let fresh = listed.manifolds.iter().filter(|m| m.recycled == 0).count();
+    // Both kinds, in every workgroup of 256 pairs on average: otherwise the listing is trivial.
+    assert!(
+        recycled > 1_000 && fresh > 300,
+        "{recycled} recycled, {fresh} fresh"
+    );
+    assert_eq!(listed.pairs, each.pairs);
+    // Debug prints each float's shortest round-trip form, so equal text is equal bits.
+    for (k, (a, b)) in listed.manifolds.iter().zip(&each.manifolds).enumerate() {
+        assert_eq!(format!("{a:?}"), format!("{b:?}"), "manifold {k}");
+    }
+    for (i, (a, b)) in listed.contacts.iter().zip(&each.contacts).enumerate() {
+        assert_eq!(format!("{a:?}"), format!("{b:?}"), "point {i}");
+    }
+    assert_eq!(listed.contacts.len(), each.contacts.len());
+}
+
+#[test]
+fn recycled_manifolds_follow_the_cpu_contact_caches_rule_and_keep_their_impulses() {
+    let Some(ctx) = GpuContext::for_tests() else {
+        return;
+    };
+    let mut scene = contact_pairs(3_000, 11);
+    let config = CollisionConfig::default();
+    assert!(config.recycle_distance > 0.0, "recycling is on by default");
+    let mut gpu = collision(&ctx, &scene, config);
+    let (first, first_locals, stored) = first_step_with_impulses(&mut gpu);
+
+    mostly_barely_moved(&mut scene.poses);
     gpu.set_motion(&scene.poses, &scene.velocities).unwrap();
     let second = gpu.step_and_read(ReadbackRequest::CONTACTS).unwrap();
     let second_locals = gpu.read_local_manifolds().unwrap();

@@ -7,7 +7,7 @@ use std::collections::BTreeSet;
 use tumble_gpu::kernel::KernelSpec;
 use tumble_gpu::naga;
 use tumble_gpu::registry::KERNELS;
-use tumble_gpu::shader::ShaderSource;
+use tumble_gpu::shader::{FILES, ShaderSource};
 use tumble_gpu::solver::constants::solver_constants;
 use tumble_gpu::solver::layout::solver_struct_layouts;
 use tumble_gpu::solver::{Effects, effect_overrides};
@@ -112,6 +112,67 @@ fn solver_constants_are_each_declared_by_some_shader() {
             "{name} is declared by no solver shader"
         );
     }
+}
+
+/// The body of WGSL function `name` in `source`: from its signature to the next function.
+fn function_body<'a>(source: &'a str, name: &str) -> &'a str {
+    let start = source
+        .find(&format!("fn {name}("))
+        .unwrap_or_else(|| panic!("no function {name}"));
+    let rest = &source[start..];
+    let end = rest[1..].find("\nfn ").map_or(rest.len(), |e| e + 1);
+    &rest[..end]
+}
+
+/// The constraint-store indices a function body reads (`constraints[i]` not followed by
+/// ` =`) or writes (followed by ` =`).
+fn store_indices(body: &str, writes: bool) -> BTreeSet<String> {
+    let mut found = BTreeSet::new();
+    let mut rest = body;
+    while let Some(at) = rest.find("constraints[") {
+        let after = &rest[at + "constraints[".len()..];
+        let close = after.find(']').expect("an index closes");
+        let assigned = after[close + 1..].trim_start().starts_with("= ");
+        if assigned == writes {
+            found.insert(after[..close].to_string());
+        }
+        rest = &after[close..];
+    }
+    found
+}
+
+#[test]
+fn the_early_constraint_load_reads_again_every_row_a_pass_writes() {
+    // solve_step loads a color chunk's constraints before it waits for the phases before
+    // (everything but the impulses is fixed from prepare to store), then reads again what a
+    // pass changes (reload_pass_impulses). A row that store_pass_impulses writes and the
+    // reload leaves out would be read before the pass that last wrote it is known to be done:
+    // a stale impulse on a GPU whose workgroups run at once. On a CPU adapter the kernel runs
+    // one workgroup, which never reads ahead of itself, so the bits cannot show it there;
+    // this compares the two functions' rows instead.
+    let store = FILES
+        .iter()
+        .find(|f| f.path == "solver/common/constraint_store.wgsl")
+        .expect("the constraint store's shader");
+    let write = FILES
+        .iter()
+        .find(|f| f.path == "solver/common/constraint_write.wgsl")
+        .expect("the constraint writes' shader");
+    let written = store_indices(function_body(write.source, "store_pass_impulses"), true);
+    let reloaded = store_indices(function_body(store.source, "reload_pass_impulses"), false);
+    assert_eq!(
+        written.len(),
+        3,
+        "the tilt row and two rows per point: {written:?}"
+    );
+    assert_eq!(
+        reloaded, written,
+        "reload_pass_impulses reads other rows than store_pass_impulses writes"
+    );
+    // And the point row the two name is the same row.
+    let row = "let r = point_row(p) * stride + s;";
+    assert!(function_body(write.source, "store_pass_impulses").contains(row));
+    assert!(function_body(store.source, "reload_pass_impulses").contains(row));
 }
 
 #[test]

@@ -9,6 +9,12 @@
 
 fn visit_constraint(s: u32, kind: u32) {
     var c = load_constraint(s);
+    visit_loaded(s, kind, &c);
+}
+
+// The pass on the constraint of slot s, already loaded into c (whose impulses are current).
+fn visit_loaded(s: u32, kind: u32, constraint: ptr<function, GpuConstraint>) {
+    var c = *constraint;
     var a = body_sim(velocities[body_slot(c.body_a)], solver_bodies[body_slot(c.body_a)]);
     var b = body_sim(velocities[body_slot(c.body_b)], solver_bodies[body_slot(c.body_b)]);
     if kind == PASS_WARM_START {

@@ -57,3 +57,31 @@ fn load_constraint(s: u32) -> GpuConstraint {
     }
     return c;
 }
+
+// Reads again into c the rows of slot s that a pass changes (the tilt row, each point's
+// masses-and-impulses and impulses rows: store_pass_impulses's rows), for a constraint loaded
+// before an earlier pass could have written them. Everything else of a constraint is fixed
+// from prepare to store.
+fn reload_pass_impulses(s: u32, c: ptr<function, GpuConstraint>) {
+    let stride = constraint_stride();
+    let tilt = constraints[5u * stride + s];
+    (*c).tilt_mass_1 = tilt.x;
+    (*c).tilt_mass_2 = tilt.y;
+    (*c).tilt_impulse_1 = tilt.z;
+    (*c).tilt_impulse_2 = tilt.w;
+    for (var p = 0u; p < MAX_MANIFOLD_POINTS; p++) {
+        if p >= (*c).point_count {
+            break;
+        }
+        let r = point_row(p) * stride + s;
+        let masses = constraints[r + 2u * stride];
+        (*c).points[p].tangent_mass_1 = masses.x;
+        (*c).points[p].tangent_mass_2 = masses.y;
+        (*c).points[p].normal_impulse = masses.z;
+        (*c).points[p].total_normal_impulse = masses.w;
+        let impulses = constraints[r + 3u * stride];
+        (*c).points[p].tangent_impulse_1 = impulses.x;
+        (*c).points[p].tangent_impulse_2 = impulses.y;
+        (*c).points[p].relative_velocity = impulses.z;
+    }
+}

@@ -33,6 +33,7 @@ pub use snapshot::{CollisionSnapshot, ReadbackRequest};
 use crate::buffer_pool::{BufferPool, STORAGE_USAGE};
 use crate::constants::MAX_WORKGROUPS_PER_DIMENSION;
 use crate::kernel::Kernel;
+use crate::kernels::collide_cuboids::{COLLIDE_CUBOIDS, collide_cuboids_kernel};
 use crate::kernels::radix_sort::RadixSort;
 use crate::kernels::rank_sort::{RANK_SORT_CAPACITY, WORLD_PAIR_SORT_MAX_BODIES};
 use crate::layout::{
@@ -74,6 +75,11 @@ pub struct CollisionConfig {
     /// normal; 0 computes every manifold afresh. The rule of `tumble_solver::CachedManifold::
     /// recycle` (docs/solver.md, "Contact recycling").
     pub recycle_distance: f32,
+    /// Whether `collide_cuboids` first lists the pairs of a workgroup that need the full
+    /// test and runs them on its first threads; `None` takes the device's choice
+    /// ([`crate::kernels::collide_cuboids::compact_fresh_pairs`]). Both give the same bits;
+    /// the choice is about speed.
+    pub compact_fresh_pairs: Option<bool>,
 }
 
 impl Default for CollisionConfig {
@@ -89,6 +95,7 @@ impl Default for CollisionConfig {
             auto_grow: true,
             // The facade's default (`WorldConfig::recycle_distance`).
             recycle_distance: tumble_solver::DEFAULT_RECYCLE_DISTANCE,
+            compact_fresh_pairs: None,
         }
     }
 }
@@ -204,7 +211,13 @@ impl GpuCollision {
         Ok(Self {
             ctx: ctx.clone(),
             config,
-            kernels: CollisionKernels::build(|spec| Kernel::new(ctx, spec))?,
+            kernels: CollisionKernels::build(|spec| {
+                if std::ptr::eq(spec, &COLLIDE_CUBOIDS) {
+                    collide_cuboids_kernel(ctx, config.compact_fresh_pairs)
+                } else {
+                    Kernel::new(ctx, spec)
+                }
+            })?,
             radix: RadixSort::new(ctx)?,
             pool: BufferPool::new(ctx).with_per_step(&buffers::PER_STEP_BUFFERS),
             body_count: 0,

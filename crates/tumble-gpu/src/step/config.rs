@@ -139,6 +139,7 @@ impl GpuWorldConfig {
             min_pair_capacity: self.min_pair_capacity,
             auto_grow: false,
             recycle_distance: self.recycle_distance,
+            compact_fresh_pairs: None,
         }
     }
 }

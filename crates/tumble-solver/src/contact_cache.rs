@@ -143,41 +143,56 @@ impl ContactCache {
         // table): slot `i` held `keys[i]`, so contact `i`'s old entry is slot `i`, and the
         // table built from these keys is the one already here. A resting pile's pairs are.
         let same = self.len == self.keys.len() && self.keys[..] == keys[..];
+        if same {
+            // Each entry is updated where it is: a recycled contact's keeps what it had beside
+            // the points and impulses, the others are replaced.
+            let update = |(c, entry): (&Contact, &mut CachedManifold)| {
+                let pose_a = &bodies[c.body_a as usize].pose;
+                if c.recycled {
+                    entry.take_recycled(c, pose_a);
+                } else {
+                    *entry = CachedManifold::of(c, pose_a, &bodies[c.body_b as usize].pose);
+                }
+            };
+            let entries = &mut self.manifolds[..n];
+            if n >= PARALLEL_MIN_STORE && rayon::current_num_threads() > 1 {
+                contacts
+                    .par_iter()
+                    .zip(entries.par_iter_mut())
+                    .with_min_len(STORE_PER_TASK)
+                    .for_each(update);
+            } else {
+                contacts.iter().zip(entries.iter_mut()).for_each(update);
+            }
+            return;
+        }
         // The new entries are built beside the old ones: a recycled contact keeps the anchors
         // of its pair's entry, which is looked up in the old cache.
         let mut fresh = std::mem::take(&mut self.spare);
         let old = &*self;
-        let cached = |(i, (key, c)): (usize, (&PairKey, &Contact))| {
+        let cached = |(key, c): (&PairKey, &Contact)| {
             let pose_a = &bodies[c.body_a as usize].pose;
-            if c.recycled {
-                let last = if same {
-                    Some(&old.manifolds[i])
-                } else {
-                    old.get(key)
-                };
-                if let Some(last) = last {
-                    return CachedManifold::recycled_of(c, pose_a, last);
-                }
+            if c.recycled
+                && let Some(last) = old.get(key)
+            {
+                return CachedManifold::recycled_of(c, pose_a, last);
             }
             CachedManifold::of(c, pose_a, &bodies[c.body_b as usize].pose)
         };
         if n >= PARALLEL_MIN_STORE && rayon::current_num_threads() > 1 {
             keys.par_iter()
                 .zip(contacts.par_iter())
-                .enumerate()
                 .with_min_len(STORE_PER_TASK)
                 .map(cached)
                 .collect_into_vec(&mut fresh);
         } else {
             fresh.clear();
-            fresh.extend(keys.iter().zip(contacts).enumerate().map(cached));
+            fresh.extend(keys.iter().zip(contacts).map(cached));
         }
         self.spare = std::mem::replace(&mut self.manifolds, fresh);
-        if !same {
-            self.keys.clear();
-            self.keys.extend_from_slice(keys);
-            self.len = self.table.rebuild(&self.keys);
-        }
+        self.keys.clear();
+        self.keys.extend_from_slice(keys);
+        self.len = self.table.rebuild(&self.keys);
     }
 
     /// Every cached pair with what it left behind, sorted by pair key (a copy of the cache
@@ -261,6 +276,14 @@ impl CachedManifold {
     /// those of the manifold last computed (`of(..).with_anchors_of(last)`, without computing
     /// the anchors it would replace).
     pub fn recycled_of(contact: &Contact, pose_a: &Pose, last: &CachedManifold) -> Self {
+        let mut entry = *last;
+        entry.take_recycled(contact, pose_a);
+        entry
+    }
+
+    /// Makes this entry, the one `contact`'s recycled manifold came from, the entry of that
+    /// manifold in place: [`Self::recycled_of`] without a copy of what stays.
+    pub fn take_recycled(&mut self, contact: &Contact, pose_a: &Pose) {
         let m = &contact.manifold;
         let mut ids = [0u32; MAX_MANIFOLD_POINTS];
         let mut local_points = [Vec3::zeros(); MAX_MANIFOLD_POINTS];
@@ -268,16 +291,13 @@ impl CachedManifold {
             ids[i] = p.id;
             local_points[i] = pose_a.inverse_transform_point(&p.position).coords;
         }
-        CachedManifold {
-            kind: m.kind,
-            feature: m.feature,
-            ids,
-            local_points,
-            impulses: contact.impulses,
-            tilt_impulse: contact.tilt_impulse,
-            len: m.len,
-            ..*last
-        }
+        self.kind = m.kind;
+        self.feature = m.feature;
+        self.ids = ids;
+        self.local_points = local_points;
+        self.impulses = contact.impulses;
+        self.tilt_impulse = contact.tilt_impulse;
+        self.len = m.len;
     }
 
     /// This entry (of a recycled manifold) with the anchors, normals and signs of `last`, the

@@ -43,8 +43,12 @@ pub const SOLVE_STEP_GROUPS: u32 = 264;
 /// per-color dispatches first): pyramids of 8 (205 bodies) 1.275 / 1.204-1.221 ms, 16 (1,497)
 /// 1.392-1.395 / 1.299-1.304, 24 (4,901) 1.508-1.510 / 1.384-1.386, 32 (11,441) 1.811 /
 /// 1.924, 40 (22,141) 2.064 / 3.499; the pyramid of 50 2.42 against 3.1 ms even with 1,056
-/// workgroups. The bound lies between the last size that gains and the first that loses.
-pub const SOLVE_STEP_MAX_BODIES: u32 = 8_192;
+/// workgroups. The bound lies between the last size that gains and the first that loses: it
+/// was 8,192 then. Once each chunk loaded its constraint before its wait (be12a56), the same
+/// H100 gave (`dispatch_probe 32,40 1 wide in-use per-body per-color,one:264`, one run each):
+/// pyramid of 32 1.838 / 1.757 ms (step wall 3.403 / 3.192 ms), pyramid of 40 2.056 / 3.239,
+/// so the bound moved between the two.
+pub const SOLVE_STEP_MAX_BODIES: u32 = 16_384;
 
 /// Workgroups of a [`SOLVE_STEP`] dispatch on a CPU adapter: one. On lavapipe (Mesa 23,
 /// LLVM 15) two or more workgroups of this kernel, one per host thread, gave poses that

@@ -44,7 +44,7 @@ pub const SOLVE_STEP_GROUPS: u32 = 264;
 /// 1.392-1.395 / 1.299-1.304, 24 (4,901) 1.508-1.510 / 1.384-1.386, 32 (11,441) 1.811 /
 /// 1.924, 40 (22,141) 2.064 / 3.499; the pyramid of 50 2.42 against 3.1 ms even with 1,056
 /// workgroups. The bound lies between the last size that gains and the first that loses: it
-/// was 8,192 then. Once each chunk loaded its constraint before its wait (be12a56), the same
+/// was 8,192 then. Once each chunk loaded its constraint before its wait (060d5f8), the same
 /// H100 gave (`dispatch_probe 32,40 1 wide in-use per-body per-color,one:264`, one run each):
 /// pyramid of 32 1.838 / 1.757 ms (step wall 3.403 / 3.192 ms), pyramid of 40 2.056 / 3.239,
 /// so the bound moved between the two.

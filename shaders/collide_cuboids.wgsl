@@ -253,9 +253,8 @@ var<workgroup> fresh_pairs: array<u32, WORKGROUP_SIZE>;
 var<workgroup> fresh_count: atomic<u32>;
 
 // Whether the workgroup lists its fresh pairs first (above); off, each thread runs its own
-// pair's full test. Off on CPU adapters (kernels::collide_cuboids::compact_fresh_pairs):
-// there a workgroup is a loop over its threads in SIMD slices, so idle threads cost little,
-// while each workgroup barrier costs a switch per thread.
+// pair's full test. Off on CPU adapters (kernels::collide_cuboids::compact_fresh_pairs),
+// where the two workgroup barriers were measured to cost more than the idle threads.
 override COMPACT_FRESH_PAIRS: bool = true;
 
 @compute @workgroup_size(WORKGROUP_SIZE)

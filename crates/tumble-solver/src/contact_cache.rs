@@ -107,6 +107,20 @@ impl ContactCache {
             .map(|slot| &self.manifolds[slot])
     }
 
+    /// [`Self::get`] with the entry's slot, trying slot `hint` first: a pile's pairs come in
+    /// the order they were stored, so the slot after the last one found is usually the next
+    /// pair's, and then the table is not read. The table answers otherwise (or when a pair
+    /// was stored twice, where it holds the later slot).
+    #[inline]
+    pub fn get_near(&self, key: &PairKey, hint: usize) -> Option<(usize, &CachedManifold)> {
+        if self.len == self.keys.len() && self.keys.get(hint) == Some(key) {
+            return Some((hint, &self.manifolds[hint]));
+        }
+        self.table
+            .get(&self.keys, key)
+            .map(|slot| (slot, &self.manifolds[slot]))
+    }
+
     /// Last step's feature for `key`, for the narrow phase's hysteresis.
     pub fn previous_feature(&self, key: &PairKey) -> Option<(FeatureKind, u32)> {
         self.get(key).map(|m| (m.kind, m.feature))

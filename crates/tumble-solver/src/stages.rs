@@ -134,7 +134,8 @@ pub fn narrow_phase(
     dt: Real,
     recycle_distance: Real,
 ) -> NarrowPhaseOutput {
-    let test = |&(i, j): &(u32, u32)| {
+    // `hint`: the cache slot after the last pair's, where this pair's entry usually is.
+    let test = |&(i, j): &(u32, u32), hint: &mut usize| {
         let (a, b) = if ids[i as usize] <= ids[j as usize] {
             (i, j)
         } else {
@@ -149,7 +150,10 @@ pub fn narrow_phase(
             dt,
         );
         // One lookup serves the recycling, the hysteresis and both warm starts.
-        let old = cache.get(&key);
+        let old = cache.get_near(&key, *hint).map(|(slot, entry)| {
+            *hint = slot + 1;
+            entry
+        });
         if recycle_distance > 0.0
             && let Some(old) = old
             && let Some(manifold) = old.recycle(
@@ -200,7 +204,8 @@ pub fn narrow_phase(
                     Vec::with_capacity(chunk.len()),
                     Vec::with_capacity(chunk.len()),
                 );
-                found.extend(chunk.iter().filter_map(test));
+                let mut hint = 0;
+                found.extend(chunk.iter().filter_map(|p| test(p, &mut hint)));
                 found
             })
             .collect();
@@ -213,7 +218,8 @@ pub fn narrow_phase(
             Vec::with_capacity(pairs.len()),
             Vec::with_capacity(pairs.len()),
         );
-        found.extend(pairs.iter().filter_map(test));
+        let mut hint = 0;
+        found.extend(pairs.iter().filter_map(|p| test(p, &mut hint)));
         found
     };
     NarrowPhaseOutput { contacts, keys }

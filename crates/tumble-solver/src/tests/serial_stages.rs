@@ -128,6 +128,34 @@ fn the_cache_stored_on_any_pool_holds_what_a_map_of_the_last_manifold_per_pair_h
             for (k, m) in &expected {
                 assert_eq!(cache.get(k), Some(m));
             }
+            // Looking near a slot gives what the table gives from any hint: the pair's own
+            // slot, an earlier slot of a pair stored twice (where the later manifold wins, so
+            // the slot tried first must not answer), another pair's slot, or none.
+            for (slot, k) in keys.iter().enumerate() {
+                for hint in [slot, slot + 1, 0, keys.len()] {
+                    assert_eq!(
+                        cache.get_near(k, hint).map(|(_, m)| m),
+                        cache.get(k),
+                        "{threads} threads, slot {slot}, hint {hint}"
+                    );
+                }
+            }
+        }
+        // Each pair once: the slot tried first is the pair's own, and it answers with it.
+        let mut seen = std::collections::HashSet::new();
+        let (once_keys, once): (Vec<PairKey>, Vec<Contact>) = keys
+            .iter()
+            .zip(&contacts)
+            .filter(|(k, _)| seen.insert(**k))
+            .map(|(k, c)| (*k, *c))
+            .unzip();
+        let mut distinct = ContactCache::new();
+        pool(threads).install(|| distinct.store(&once_keys, &once, &bodies));
+        for (slot, k) in once_keys.iter().enumerate() {
+            let near = distinct.get_near(k, slot);
+            assert_eq!(near.map(|(s, _)| s), Some(slot));
+            assert_eq!(near.map(|(_, m)| m), distinct.get(k));
+            assert_eq!(distinct.get_near(k, slot + 1).map(|(s, _)| s), Some(slot));
         }
         // The entries rebuild the same cache; forgetting a body drops exactly its pairs.
         let again = ContactCache::from_entries(cache.entries());

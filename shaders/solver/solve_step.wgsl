@@ -171,10 +171,10 @@ fn loads_early(phase: Phase, groups: u32) -> bool {
 // No constraint to load early.
 const NO_EARLY_SLOT: u32 = 0xffffffffu;
 
-// The slot thread `local` visits in chunk `chunk` of `phase` when the phase loads early and
-// the thread has a constraint, else NO_EARLY_SLOT.
-fn early_slot(phase: Phase, chunk: u32, groups: u32, local: u32) -> u32 {
-    if !loads_early(phase, groups) {
+// The slot thread `local` visits in chunk `chunk` of `phase` when the phase loads early
+// (`loads_first`, from loads_early) and the thread has a constraint, else NO_EARLY_SLOT.
+fn early_slot(loads_first: bool, phase: Phase, chunk: u32, local: u32) -> u32 {
+    if !loads_first {
         return NO_EARLY_SLOT;
     }
     let i = chunk * SOLVE_STEP_WORKGROUP_SIZE + local;
@@ -283,7 +283,8 @@ fn main(
         // everything but the impulses is fixed from prepare to store, so the load is not on
         // the path from the phases before to this one, and after the wait the impulses and
         // the bodies (whose indices the constraint gave) are read at once.
-        let early = early_slot(phase, ticket - first_ticket, groups, local);
+        let loads_first = loads_early(phase, groups);
+        let early = early_slot(loads_first, phase, ticket - first_ticket, local);
         var constraint: GpuConstraint;
         if early != NO_EARLY_SLOT {
             constraint = load_constraint(early);
@@ -295,7 +296,7 @@ fn main(
         if early != NO_EARLY_SLOT {
             reload_pass_impulses(early, &constraint);
             visit_loaded(early, phase.pass_kind, &constraint);
-        } else if !loads_early(phase, groups) {
+        } else if !loads_first {
             run_chunk(phase, ticket - first_ticket, groups, local);
         }
         count_done(local);

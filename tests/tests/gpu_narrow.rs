@@ -179,6 +179,33 @@ fn first_step_with_impulses(
     (first, locals, stored)
 }
 
+/// The carry's CPU twin on the second step's manifolds: its points with the impulses it hands
+/// out from the first step (`stored`, `first_locals`), and the frame-A records it keeps.
+fn carried_by_twin(
+    scene: &Scene,
+    second: &tumble_gpu::CollisionSnapshot,
+    first: &tumble_gpu::CollisionSnapshot,
+    stored: &[GpuContact],
+    first_locals: &[tumble_gpu::layout::GpuLocalManifold],
+) -> (Vec<GpuContact>, Vec<tumble_gpu::layout::GpuLocalManifold>) {
+    let mut want: Vec<GpuContact> = second.contacts.clone();
+    for c in &mut want {
+        c.normal_impulse = 0.0;
+        c.friction_impulse = [0.0; 4];
+    }
+    let locals = carry_impulses_cpu(
+        &scene.poses,
+        &second.manifolds,
+        &mut want,
+        &CarryHistory {
+            manifolds: &first.manifolds,
+            contacts: stored,
+            locals: first_locals,
+        },
+    );
+    (want, locals)
+}
+
 #[test]
 fn gpu_manifolds_match_the_cpu_narrow_phase_on_10000_random_pairs() {
     let Some(ctx) = GpuContext::for_tests() else {
@@ -290,21 +317,7 @@ fn second_step_keeps_features_by_hysteresis_and_carries_impulses_by_id_and_posit
     );
 
     // Impulses: copied exactly (no arithmetic), so compare exactly with the CPU twin.
-    let mut want: Vec<GpuContact> = second.contacts.clone();
-    for c in &mut want {
-        c.normal_impulse = 0.0;
-        c.friction_impulse = [0.0; 4];
-    }
-    let second_locals = carry_impulses_cpu(
-        &scene.poses,
-        &second.manifolds,
-        &mut want,
-        &CarryHistory {
-            manifolds: &first.manifolds,
-            contacts: &stored,
-            locals: &first_locals,
-        },
-    );
+    let (want, second_locals) = carried_by_twin(&scene, &second, &first, &stored, &first_locals);
     assert_eq!(second.contacts, want);
     // The manifolds kept for the next step are this step's in A's frame: the twin rotates in
     // the shader's arithmetic, so they differ only by the round-off of world coordinates up
@@ -495,21 +508,7 @@ fn recycled_manifolds_follow_the_cpu_contact_caches_rule_and_keep_their_impulses
     // The carry's CPU twin on the same manifolds (recycled ones included) hands out the same
     // impulses and keeps the same frame-A records for the recycled manifolds (copied, never
     // computed, so exactly).
-    let mut want: Vec<GpuContact> = second.contacts.clone();
-    for c in &mut want {
-        c.normal_impulse = 0.0;
-        c.friction_impulse = [0.0; 4];
-    }
-    let twin_locals = carry_impulses_cpu(
-        &scene.poses,
-        &second.manifolds,
-        &mut want,
-        &CarryHistory {
-            manifolds: &first.manifolds,
-            contacts: &stored,
-            locals: &first_locals,
-        },
-    );
+    let (want, twin_locals) = carried_by_twin(&scene, &second, &first, &stored, &first_locals);
     assert_eq!(second.contacts, want);
     for (k, m) in second.manifolds.iter().enumerate() {
         if m.recycled != 0 {

@@ -208,63 +208,6 @@ fn fused_path_gives_the_same_bits_with_bodies_in_workgroup_memory() {
 }
 
 #[test]
-fn fused_path_gives_the_same_bits_with_constraints_kept_in_registers() {
-    let Some(ctx) = GpuContext::for_tests() else {
-        return;
-    };
-    // A leaning column of ten cubes, pushed sideways at the top: its constraints form a
-    // chain of two colors of five, so the fused path may keep each thread's constraints in
-    // registers from prepare to finish (`keep_constraints`) instead of loading and storing
-    // them at every pass. Kept or not, and with the bodies in storage or in workgroup
-    // memory, every bit must agree after 60 steps of the column swaying and settling: a
-    // kept copy that missed a pass's impulses or was stored back incompletely would change
-    // the next step's warm start.
-    let column = || {
-        let mut bodies = vec![floor(Material::default())];
-        for k in 0..10 {
-            bodies.push(
-                Body::new(
-                    BodyKind::Dynamic,
-                    Cuboid::new(Vec3::repeat(0.5)),
-                    Pose::translation(0.02 * k as Real, 0.5 + k as Real * 1.001, 0.0),
-                    1.0,
-                    Material::default(),
-                )
-                .unwrap(),
-            );
-        }
-        let mut states = vec![BodyState::default(); bodies.len()];
-        states[10] = BodyState::moving(Vec3::new(0.6, 0.0, 0.2), Vec3::zeros());
-        (bodies, states)
-    };
-    let run_column = |keep: bool, fused_memory| {
-        let config = GpuWorldConfig {
-            fused_memory,
-            keep_constraints: Some(keep),
-            ..on_path(SolvePath::Fused)
-        };
-        let mut world = world_with(&ctx, config, column());
-        for _ in 0..60 {
-            world.step().unwrap();
-        }
-        world.read_now(ReadRequest::MOTION).unwrap().poses
-    };
-    let loaded = run_column(false, FusedMemory::Storage);
-    // The push must have moved the top cube (a column left alone moves well under a
-    // millimetre), or equal bits would mean nothing.
-    let top = &loaded[10];
-    let slid = (top.position[0] - 0.18).hypot(top.position[2]);
-    assert!(
-        slid > 0.02 && top.position.iter().all(|c| c.is_finite()),
-        "the top cube did not move: {top:?}"
-    );
-    for memory in [FusedMemory::Storage, FusedMemory::Workgroup] {
-        let kept = run_column(true, memory);
-        assert_bitwise_equal(&loaded, &kept, &format!("loaded vs kept ({memory:?})"));
-    }
-}
-
-#[test]
 fn wide_path_gives_the_same_bits_whichever_colors_are_dispatched_one_by_one() {
     let Some(ctx) = GpuContext::for_tests() else {
         return;

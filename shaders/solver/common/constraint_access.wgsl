@@ -15,32 +15,23 @@ fn visit_constraint(s: u32, kind: u32) {
 // The pass on the constraint of slot s, already loaded into c (whose impulses are current).
 fn visit_loaded(s: u32, kind: u32, constraint: ptr<function, GpuConstraint>) {
     var c = *constraint;
-    visit_in_place(kind, &c);
-    store_pass_impulses(s, c);
-}
-
-// The pass on constraint c, which holds what the pass changes (its impulses) afterwards:
-// its two bodies loaded, the pass, the dynamic bodies' velocities stored. Nothing of c is
-// stored (visit_loaded stores its impulses; the fused path may keep c for the next pass).
-fn visit_in_place(kind: u32, c: ptr<function, GpuConstraint>) {
-    let body_a = (*c).body_a;
-    let body_b = (*c).body_b;
-    var a = body_sim(velocities[body_slot(body_a)], solver_bodies[body_slot(body_a)]);
-    var b = body_sim(velocities[body_slot(body_b)], solver_bodies[body_slot(body_b)]);
+    var a = body_sim(velocities[body_slot(c.body_a)], solver_bodies[body_slot(c.body_a)]);
+    var b = body_sim(velocities[body_slot(c.body_b)], solver_bodies[body_slot(c.body_b)]);
     if kind == PASS_WARM_START {
-        warm_start_points(c, &a, &b);
+        warm_start_points(&c, &a, &b);
     } else if kind == PASS_SOLVE {
         let friction = params.relax_only_friction == 0u;
-        solve_points(c, &a, &b, true, params.inv_h, params.max_push_out, friction);
+        solve_points(&c, &a, &b, true, params.inv_h, params.max_push_out, friction);
     } else if kind == PASS_RELAX {
-        solve_points(c, &a, &b, false, params.inv_h, params.max_push_out, true);
+        solve_points(&c, &a, &b, false, params.inv_h, params.max_push_out, true);
     } else {
-        restitution_points(c, &a, &b, params.restitution_threshold);
+        restitution_points(&c, &a, &b, params.restitution_threshold);
     }
-    if ((*c).flags & CONSTRAINT_DYNAMIC_A) != 0u {
-        velocities[body_slot(body_a)] = sim_velocity(a);
+    store_pass_impulses(s, c);
+    if (c.flags & CONSTRAINT_DYNAMIC_A) != 0u {
+        velocities[body_slot(c.body_a)] = sim_velocity(a);
     }
-    if ((*c).flags & CONSTRAINT_DYNAMIC_B) != 0u {
-        velocities[body_slot(body_b)] = sim_velocity(b);
+    if (c.flags & CONSTRAINT_DYNAMIC_B) != 0u {
+        velocities[body_slot(c.body_b)] = sim_velocity(b);
     }
 }

@@ -17,11 +17,6 @@
 // constraint_access.wgsl, prepare_constraint.wgsl), in the same order, so both paths compute
 // the same result.
 
-// Colors whose constraints a thread may keep in registers from prepare to finish (one per
-// color: kept_pass). A batch's column of 20 uses two.
-const KEPT_COLORS: u32 = 2u;
-alias KeptConstraints = array<GpuConstraint, KEPT_COLORS>;
-
 // Constraints per color (overflow last).
 var<workgroup> color_counts: array<atomic<u32>, GRAPH_COLOR_COUNT + 1u>;
 
@@ -91,59 +86,6 @@ fn colored_pass(local: u32, used_colors: u32, kind: u32) {
     sync_bodies();
 }
 
-// Whether this workgroup's constraints can be kept (to every thread, uniform): at most
-// KEPT_COLORS colors in use, none with more constraints than threads, the overflow set
-// empty. colored_pass then gives each thread at most one slot per color, the same slot in
-// every pass, and nothing but that thread writes the slot's impulses from prepare to finish:
-// the thread's copy is what a load would read.
-fn keeps_constraints(local: u32, used_colors: u32) -> bool {
-    var fits = used_colors <= KEPT_COLORS
-        && color_offsets[OVERFLOW_COLOR + 1u] == color_offsets[OVERFLOW_COLOR];
-    for (var color = 0u; color < KEPT_COLORS; color++) {
-        if color < used_colors {
-            fits = fits && color_offsets[color + 1u] - color_offsets[color] <= WORKGROUP_SIZE;
-        }
-    }
-    return KEEP_CONSTRAINTS && publish(local, select(0u, 1u, fits)) != 0u;
-}
-
-// colored_pass over the constraints this thread keeps: the same slots, bodies and barriers,
-// no constraint load or store.
-fn kept_pass(
-    local: u32,
-    used_colors: u32,
-    kind: u32,
-    kept: ptr<function, KeptConstraints>,
-) {
-    for (var color = 0u; color < KEPT_COLORS; color++) {
-        if color < used_colors {
-            if color_offsets[color] + local < color_offsets[color + 1u] {
-                var c = (*kept)[color];
-                visit_in_place(kind, &c);
-                (*kept)[color] = c;
-            }
-            sync_bodies();
-        }
-    }
-    sync_bodies();
-}
-
-// One pass: over the kept constraints when `keep`, else colored_pass.
-fn fused_pass(
-    local: u32,
-    used_colors: u32,
-    kind: u32,
-    keep: bool,
-    kept: ptr<function, KeptConstraints>,
-) {
-    // KEEP_CONSTRAINTS first: off, the compiler drops the kept path and its registers.
-    if KEEP_CONSTRAINTS && keep {
-        kept_pass(local, used_colors, kind, kept);
-    } else {
-        colored_pass(local, used_colors, kind);
-    }
-}
-
 // The whole stage, run by every thread of the workgroup.
 fn fused_solve(local: u32) {
     fused_solve_range(local, 0u, contact_work.count, 0u, params.body_count);
@@ -170,17 +112,6 @@ fn fused_solve_range(local: u32, base: u32, n: u32, first_body: u32, body_count:
         prepare_constraint(color_order[s], s);
     }
     sync_workgroup();
-    // Each thread's slots, loaded once when they can be kept (prepare's writes are visible).
-    let keep = keeps_constraints(local, used_colors);
-    var kept: KeptConstraints;
-    if KEEP_CONSTRAINTS && keep {
-        for (var color = 0u; color < KEPT_COLORS; color++) {
-            let k = color_offsets[color] + local;
-            if color < used_colors && k < color_offsets[color + 1u] {
-                kept[color] = load_constraint(k);
-            }
-        }
-    }
 
     // substeps
     for (var substep = 0u; substep < params.substeps; substep++) {
@@ -196,9 +127,9 @@ fn fused_solve_range(local: u32, base: u32, n: u32, first_body: u32, body_count:
             );
         }
         sync_bodies();
-        fused_pass(local, used_colors, PASS_WARM_START, keep, &kept);
+        colored_pass(local, used_colors, PASS_WARM_START);
         for (var k = 0u; k < params.iterations; k++) {
-            fused_pass(local, used_colors, PASS_SOLVE, keep, &kept);
+            colored_pass(local, used_colors, PASS_SOLVE);
         }
         for (var k = local; k < body_count; k += WORKGROUP_SIZE) {
             let b = first_body + k;
@@ -210,22 +141,13 @@ fn fused_solve_range(local: u32, base: u32, n: u32, first_body: u32, body_count:
         }
         sync_bodies();
         for (var k = 0u; k < params.relax_iterations; k++) {
-            fused_pass(local, used_colors, PASS_RELAX, keep, &kept);
+            colored_pass(local, used_colors, PASS_RELAX);
         }
     }
     if ENABLE_RESTITUTION && params.restitution != 0u {
-        fused_pass(local, used_colors, PASS_RESTITUTION, keep, &kept);
+        colored_pass(local, used_colors, PASS_RESTITUTION);
     }
 
-    // The kept constraints' impulses, where the passes would have stored them.
-    if KEEP_CONSTRAINTS && keep {
-        for (var color = 0u; color < KEPT_COLORS; color++) {
-            let k = color_offsets[color] + local;
-            if color < used_colors && k < color_offsets[color + 1u] {
-                store_pass_impulses(k, kept[color]);
-            }
-        }
-    }
     // finish: slots were last written by their pass's thread, and are stored by another.
     sync_workgroup();
     for (var s = base + local; s < base + n; s += WORKGROUP_SIZE) {

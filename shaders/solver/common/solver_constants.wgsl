@@ -55,8 +55,3 @@ override ENABLE_FRICTION: bool = true;
 override ENABLE_RESTITUTION: bool = true;
 override ENABLE_GRAVITY: bool = true;
 override ENABLE_ROTATION: bool = true;
-
-// Whether the fused paths keep each thread's constraints in registers where they fit
-// (fused_solve.wgsl, keeps_constraints); off on CPU adapters (solver::pipelines). The same
-// bits either way.
-override KEEP_CONSTRAINTS: bool = true;

@@ -123,32 +123,3 @@ fn worlds_on_the_wide_solver_path_end_bitwise_equal_to_each_stepped_alone() {
     };
     batch_matches_alone(12, 120, config);
 }
-
-#[test]
-fn worlds_whose_constraints_stay_in_registers_end_bitwise_equal_to_each_stepped_alone() {
-    // Columns and sliders use at most two colors with fewer constraints than a workgroup's
-    // threads, so the worlds path keeps each thread's constraints in registers from prepare
-    // to finish (`keep_constraints`, forced on here: a CPU adapter defaults to off) instead
-    // of loading and storing them at every pass. The same bits as each world alone with the
-    // default: an impulse left out of the kept copy's final store, a stale copy after a pass,
-    // or a slot given to another thread would change the next step's warm start and show
-    // within these 60 steps (1 s of columns settling and boxes sliding into a wall).
-    let scenes: Vec<_> = (0..8u64)
-        .map(|w| small_world(if w % 2 == 0 { w * 2 } else { w * 2 + 1 }))
-        .inspect(|scene| assert!(scene.0.len() <= 10, "a column of at most 8 or a slider"))
-        .collect();
-    // Packed groups in storage, and one world per workgroup with the bodies in workgroup
-    // memory: the two kernels that take the kept path.
-    for (world_grouping, fused_memory) in [
-        (WorldGrouping::Packed, FusedMemory::Storage),
-        (WorldGrouping::Alone, FusedMemory::Workgroup),
-    ] {
-        let kept = GpuWorldConfig {
-            world_grouping,
-            fused_memory,
-            keep_constraints: Some(true),
-            ..GpuWorldConfig::default()
-        };
-        scenes_match_alone(&scenes, 60, kept);
-    }
-}

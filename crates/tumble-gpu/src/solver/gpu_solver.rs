@@ -21,7 +21,7 @@ use super::constraint_store::{constraints_by_manifold, store_stride};
 use super::effects::{Effects, effect_overrides};
 use super::layout::{ColorSlot, GpuConstraint, GpuSolverBody, GpuTilt, SolverParams};
 use super::path::{FusedMemory, SolvePath, WarmStartSweep, WorldGrouping};
-use super::pipelines::{SolverPipelines, keep_constraints, pass_kernels, solve_step_kernel};
+use super::pipelines::{SolverPipelines, pass_kernels, solve_step_kernel};
 use super::solve_color::PassKind;
 use super::solve_step::SubstepDispatch;
 
@@ -157,9 +157,6 @@ pub struct GpuSolver {
     /// ([`Self::rebind`]).
     bind: Vec<(BindKey, BindGroups)>,
     fused_memory: FusedMemory,
-    /// Whether the fused paths keep each thread's constraints in registers where they fit
-    /// ([`Self::set_keep_constraints`]).
-    keep_constraints: bool,
 }
 
 impl GpuSolver {
@@ -169,8 +166,7 @@ impl GpuSolver {
             sleep: false,
             ..effects
         };
-        let keep = keep_constraints(ctx, None);
-        let pipelines = SolverPipelines::new(ctx, &effects, keep)?;
+        let pipelines = SolverPipelines::new(ctx, &effects)?;
         let passes = pass_kernels(ctx, &effects)?;
         let substep_dispatch = SubstepDispatch::default();
         let solve_step = solve_step_kernel(
@@ -228,24 +224,7 @@ impl GpuSolver {
             parity: 0,
             bind: Vec::with_capacity(2),
             fused_memory: FusedMemory::default(),
-            keep_constraints: keep,
         })
-    }
-
-    /// Whether the fused and worlds paths keep each thread's constraints in registers from
-    /// prepare to finish where a workgroup's colors allow it (at most two in use, none wider
-    /// than the workgroup, no overflow), or load and store them at every pass; `None`: by
-    /// device ([`keep_constraints`]). The same bits either way
-    /// (`shaders/solver/common/fused_solve.wgsl`, `keeps_constraints`). Rebuilds the
-    /// pipelines when it changes.
-    pub fn set_keep_constraints(&mut self, wanted: Option<bool>) -> Result<(), GpuError> {
-        let keep = keep_constraints(&self.ctx, wanted);
-        if keep != self.keep_constraints {
-            self.pipelines = SolverPipelines::new(&self.ctx, &self.effects, keep)?;
-            self.bind.clear();
-            self.keep_constraints = keep;
-        }
-        Ok(())
     }
 
     /// Where the fused path keeps the bodies from the next step on ([`FusedMemory`]; both
@@ -343,7 +322,7 @@ impl GpuSolver {
             ..effects
         };
         if effect_overrides(&effects) != effect_overrides(&self.effects) {
-            self.pipelines = SolverPipelines::new(&self.ctx, &effects, self.keep_constraints)?;
+            self.pipelines = SolverPipelines::new(&self.ctx, &effects)?;
             self.passes = pass_kernels(&self.ctx, &effects)?;
             self.solve_step = solve_step_kernel(
                 &self.ctx,

@@ -78,40 +78,19 @@ fn with_effects(
 }
 
 impl SolverPipelines {
-    /// Every pipeline for `effects`, built on first use on this device and shared after;
-    /// the fused paths keep each thread's constraints in registers where they fit when `keep`
-    /// ([`keep_constraints`] chooses by device; the same bits either way).
-    pub fn new(ctx: &GpuContext, effects: &Effects, keep: bool) -> Result<Self, GpuError> {
+    /// Every pipeline for `effects`, built on first use on this device and shared after.
+    pub fn new(ctx: &GpuContext, effects: &Effects) -> Result<Self, GpuError> {
         Self::build(|spec| {
-            let mut extra: Vec<(&'static str, f64)> = if std::ptr::eq(spec, &SOLVE_WORLDS) {
-                WORLDS_OVERRIDES.to_vec()
+            let extra: &[(&'static str, f64)] = if std::ptr::eq(spec, &SOLVE_WORLDS) {
+                &WORLDS_OVERRIDES
             } else if std::ptr::eq(spec, &SOLVE_WORLDS_SHARED) {
-                WORLDS_SHARED_OVERRIDES.to_vec()
+                &WORLDS_SHARED_OVERRIDES
             } else {
-                Vec::new()
+                &[]
             };
-            // Only the fused kernels read it: the others keep their one pipeline.
-            let fused = [
-                &SOLVE_FUSED,
-                &SOLVE_FUSED_SHARED,
-                &SOLVE_WORLDS,
-                &SOLVE_WORLDS_SHARED,
-            ];
-            if !keep && fused.iter().any(|f| std::ptr::eq(spec, *f)) {
-                extra.push(("KEEP_CONSTRAINTS", 0.0));
-            }
-            with_effects(ctx, effects, spec, &extra)
+            with_effects(ctx, effects, spec, extra)
         })
     }
-}
-
-/// Whether the fused paths keep each thread's constraints in registers where they fit
-/// (`KEEP_CONSTRAINTS`, `shaders/solver/common/fused_solve.wgsl`) unless told: not on a CPU
-/// adapter. On lavapipe the kept copies cost more than the loads they save: the column of
-/// 20's fused solve took 7.4-7.9 ms per step with them against 4.2-4.6 ms without
-/// (`step_table --scenes stack20 --backends gpu --steps 30` on the 2-core build machine).
-pub fn keep_constraints(ctx: &GpuContext, wanted: Option<bool>) -> bool {
-    wanted.unwrap_or(ctx.info.device_type != wgpu::DeviceType::Cpu)
 }
 
 /// The per-color pass kernels for `effects`, one per [`PassKind`] in [`PassKind::ALL`] order:

@@ -72,11 +72,6 @@ pub struct GpuWorldConfig {
     /// How the wide path dispatches its substeps: per color and pass, or all in one dispatch
     /// ([`SubstepDispatch`]; the same bits either way).
     pub substep_dispatch: SubstepDispatch,
-    /// Whether the fused and worlds solve paths keep each thread's constraints in registers
-    /// from prepare to finish where a workgroup's colors allow it, instead of loading and
-    /// storing them at every pass; `None`: on every adapter but a CPU one
-    /// ([`crate::solver::GpuSolver::set_keep_constraints`]; the same bits either way).
-    pub keep_constraints: Option<bool>,
 }
 
 impl Default for GpuWorldConfig {
@@ -100,7 +95,6 @@ impl Default for GpuWorldConfig {
             color_dispatch: ColorDispatch::InUse,
             warm_start_sweep: WarmStartSweep::Auto,
             substep_dispatch: SubstepDispatch::Auto,
-            keep_constraints: None,
         }
     }
 }

@@ -118,7 +118,6 @@ impl GpuWorld {
         solver.set_world_grouping(config.world_grouping);
         solver.set_warm_start_sweep(config.warm_start_sweep);
         solver.set_substep_dispatch(config.substep_dispatch)?;
-        solver.set_keep_constraints(config.keep_constraints)?;
         Ok(Self {
             ctx: ctx.clone(),
             config,

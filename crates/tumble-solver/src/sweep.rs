@@ -161,22 +161,25 @@ pub(crate) fn sweep<P: Pass>(set: &mut SweepSet<'_>, states: &mut [BodyState], p
                 (true, false) => BLOCK / LANES,
                 (false, _) => items.max(1),
             };
+            let blocks = items.div_ceil(per_block);
             Stage {
                 items,
                 block: per_block,
-                next: AtomicUsize::new(0),
+                blocks,
+                next: (0..threads)
+                    .map(|s| AtomicUsize::new(share_start(blocks, threads, s)))
+                    .collect(),
                 done: AtomicUsize::new(0),
             }
         })
         .collect();
-    let work = || {
+    // Worker `w` starts each stage in its own share: a color's constraints come in pair order,
+    // so a worker keeps to about the same bodies from color to color and finds their states
+    // in its own cache.
+    let work = |w: usize| {
         for (stage, batch) in stages.iter().zip(batches) {
-            let blocks = stage.items.div_ceil(stage.block);
-            loop {
-                let k = stage.next.fetch_add(1, Ordering::Relaxed);
-                if k >= blocks {
-                    break;
-                }
+            let blocks = stage.blocks;
+            while let Some(k) = stage.claim(w) {
                 let from = k * stage.block;
                 let to = (from + stage.block).min(stage.items);
                 // SAFETY: blocks of a stage are disjoint runs of the batch (in range, checked
@@ -200,11 +203,12 @@ pub(crate) fn sweep<P: Pass>(set: &mut SweepSet<'_>, states: &mut [BodyState], p
             }
         }
     };
+    let work = &work;
     rayon::scope(|scope| {
-        for _ in 1..threads {
-            scope.spawn(|_| work());
+        for w in 1..threads {
+            scope.spawn(move |_| work(w));
         }
-        work();
+        work(0);
     });
 }
 
@@ -218,13 +222,49 @@ fn batch_items(batch: &Batch) -> usize {
     }
 }
 
+/// First block of share `s` when `blocks` blocks are cut into `shares` contiguous shares.
+fn share_start(blocks: usize, shares: usize, s: usize) -> usize {
+    s * blocks / shares
+}
+
 /// One stage of a staged sweep: a batch cut into blocks of `block` items (constraints or lane
-/// blocks), with its claim and done counters.
+/// blocks), the blocks cut into one contiguous share per worker, with a claim counter per
+/// share and the stage's done counter.
 struct Stage {
     items: usize,
     block: usize,
-    next: AtomicUsize,
+    /// Blocks of the stage.
+    blocks: usize,
+    /// Per share, the next block to claim (share `s` holds blocks `share_start(s)..share_start(s
+    /// + 1)`).
+    next: Vec<AtomicUsize>,
     done: AtomicUsize,
+}
+
+impl Stage {
+    /// First block of share `s` (of `self.next.len()`).
+    fn share_start(&self, s: usize) -> usize {
+        share_start(self.blocks, self.next.len(), s)
+    }
+
+    /// Claims a block for worker `w`: the next of its own share, then of the shares after
+    /// it in turn (a worker that finished its share helps the others, and one that started
+    /// late finds its share taken). `None` once every block is claimed.
+    fn claim(&self, w: usize) -> Option<usize> {
+        let shares = self.next.len();
+        for k in 0..shares {
+            let s = (w + k) % shares;
+            let end = self.share_start(s + 1);
+            if self.next[s].load(Ordering::Relaxed) >= end {
+                continue;
+            }
+            let b = self.next[s].fetch_add(1, Ordering::Relaxed);
+            if b < end {
+                return Some(b);
+            }
+        }
+        None
+    }
 }
 
 /// The constraint, lane block and state arrays shared by the workers of a staged sweep.
@@ -435,5 +475,48 @@ mod tests {
             &mut stamps,
             2
         ));
+    }
+
+    /// A stage of `blocks` blocks for `workers` workers, as `sweep` builds it.
+    fn stage(blocks: usize, workers: usize) -> Stage {
+        Stage {
+            items: blocks,
+            block: 1,
+            blocks,
+            next: (0..workers)
+                .map(|s| AtomicUsize::new(share_start(blocks, workers, s)))
+                .collect(),
+            done: AtomicUsize::new(0),
+        }
+    }
+
+    #[test]
+    fn each_worker_starts_in_its_own_share_and_every_block_is_claimed_once() {
+        // 10 blocks for 3 workers: shares 0..3, 3..6, 6..10.
+        let s = stage(10, 3);
+        assert_eq!(
+            s.claim(1),
+            Some(3),
+            "worker 1 starts at its share's first block"
+        );
+        assert_eq!(s.claim(2), Some(6));
+        assert_eq!(s.claim(0), Some(0));
+        assert_eq!(s.claim(1), Some(4), "and keeps to its share");
+        // Worker 2 alone now takes what is left: its share first, then the others' in turn
+        // (a worker that finished, or the calling thread when the others start late).
+        let mut rest = Vec::new();
+        while let Some(b) = s.claim(2) {
+            rest.push(b);
+        }
+        assert_eq!(rest, vec![7, 8, 9, 1, 2, 5]);
+        assert_eq!(s.claim(0), None, "every block was claimed");
+        // Blocks fewer than workers: empty shares are skipped, each block once.
+        let s = stage(2, 4);
+        let mut got: Vec<usize> = (0..4).filter_map(|w| s.claim(w)).collect();
+        got.sort_unstable();
+        assert_eq!(got, vec![0, 1]);
+        assert!((0..4).all(|w| s.claim(w).is_none()));
+        // No block: nothing to claim.
+        assert_eq!(stage(0, 2).claim(1), None);
     }
 }

@@ -55,6 +55,12 @@ struct Args {
     /// Steps before timing starts.
     #[arg(long, default_value_t = 10)]
     warmup: usize,
+    /// GPU rows keep stepping after the warm-up steps until this many milliseconds have
+    /// passed since the batch was built (0: the warm-up steps only), so that the GPU has left
+    /// its idle clocks when timing starts: an H100 idles at 345 of its 1,980 MHz, and a first
+    /// row timed from there measured 1.28 against 0.53 ms at 1,024 columns.
+    #[arg(long, default_value_t = 500)]
+    gpu_warmup_ms: u64,
     /// Substeps per step (rapier3d: solver iterations).
     #[arg(long, default_value_t = 4)]
     substeps: u32,
@@ -158,8 +164,14 @@ fn run_tumble(
         );
     }
     let mut poses = vec![0.0f32; batch.all_poses_len()];
+    let warming = Instant::now();
     for _ in 0..args.warmup {
         batch.step()?;
+    }
+    if backend == Backend::Gpu {
+        while warming.elapsed().as_millis() < u128::from(args.gpu_warmup_ms) {
+            batch.step()?;
+        }
     }
     batch.read_all_poses(&mut poses)?;
     let mut samples = Vec::new();

@@ -8,6 +8,8 @@
 //! `--help` lists the flags and their defaults; an unknown flag or value is an error.
 //!
 //! Every engine runs the same `tumble-scenes` scene at the same time step and substep count.
+//! A GPU or Hybrid row first steps a throwaway world of its scene for `--gpu-warmup-ms`, so
+//! that the GPU is out of its idle clocks when the row's own world starts.
 //! Each row reports the median and the 90th percentile of the wall time of `step()` after a
 //! warm-up, and the largest horizontal drift of any dynamic body at the end, so that a faster
 //! row can be checked for holding its stack just as well. GPU rows include the GPU work: a
@@ -56,6 +58,13 @@ struct Args {
     /// `SolveOrder::ColoredInRounds`).
     #[arg(long, value_enum, default_value_t = Order::Colored)]
     order: Order,
+    /// Before each GPU or Hybrid row, a separate world of the same scene steps for this many
+    /// milliseconds (0: none), so that the GPU has left its idle clocks when the row starts:
+    /// an H100 idles at 345 of its 1,980 MHz, and rows that started there measured up to
+    /// three times their later time. The measured world, its steps and its pose hash are the
+    /// same either way.
+    #[arg(long, default_value_t = 500)]
+    gpu_warmup_ms: u64,
 }
 
 /// Tumble's CPU solve order.
@@ -175,6 +184,7 @@ fn run_tumble(
     substeps: u32,
     order: Order,
     steps: usize,
+    gpu_warmup_ms: u64,
 ) -> Result<Run, Error> {
     let solver = SolverConfig {
         substeps,
@@ -194,6 +204,15 @@ fn run_tumble(
         recycle_distance: engine.recycle_distance(),
         ..WorldConfig::default()
     };
+    if backend != Backend::Cpu && gpu_warmup_ms > 0 {
+        // A throwaway world: the clocks come up, the measured world's steps stay the same.
+        let (mut warm, handles) = World::from_scene(scene, config)?;
+        let start = Instant::now();
+        while start.elapsed().as_millis() < u128::from(gpu_warmup_ms) {
+            warm.step()?;
+            warm.pose(handles[handles.len() - 1])?;
+        }
+    }
     let (mut world, handles) = World::from_scene(scene, config)?;
     let mut ms = Vec::with_capacity(steps);
     // Each stage's time summed over the timed steps (one step's reading is noisy).
@@ -322,6 +341,7 @@ fn main() {
                     args.substeps,
                     args.order,
                     args.steps,
+                    args.gpu_warmup_ms,
                 ),
                 None => Ok(run_rapier(&scene, args.substeps, args.steps)),
             };

@@ -2,17 +2,17 @@
 //! graph color) spreads its constraints over the rayon pool's workers, a sequential batch (the
 //! reference order, or the overflow set) runs one constraint at a time.
 //!
-//! The workers start once per sweep (one pass over every batch) and take blocks of
-//! [`BLOCK`] constraints of the current batch by atomic counters, as Box2D v3's solver
-//! stages do; each worker takes the blocks of its own contiguous share of the batch first,
-//! then helps with the others' ([`Stage::claim`]). A color solved by the lane kernels is taken as `BLOCK / LANES` lane blocks at a
-//! time: a block gathers its lanes' body states, solves them side by side and scatters the
-//! dynamic ones back; a scalar constraint copies its two body states and writes the dynamic
-//! ones back. Either way the writes go straight into the shared state array, with no scratch
-//! copy and no serial write-back. Inside a color no dynamic body appears twice ([`Batch::parallel`] promises it
+//! The workers start once per sweep (one pass over every batch) and take blocks of [`BLOCK`]
+//! constraints of the current batch by atomic counters, as Box2D v3's solver stages do; each worker
+//! takes the blocks of its own contiguous share of the batch first, then helps with the others'
+//! ([`Stage::claim`]). A color solved by the lane kernels is taken as `BLOCK / LANES` lane blocks
+//! at a time: a block gathers its lanes' body states, solves them side by side and scatters the
+//! dynamic ones back; a scalar constraint copies its two body states and writes the dynamic ones
+//! back. Either way the writes go straight into the shared state array, with no scratch copy and no
+//! serial write-back. Inside a color no dynamic body appears twice ([`Batch::parallel`] promises it
 //! and [`check_disjoint`] checks it once per step), so a constraint reads exactly the state a
-//! sequential visit would read and writes bodies no other constraint of the color reads or
-//! writes: the result is the same bits on any number of threads and under any scheduling.
+//! sequential visit would read and writes bodies no other constraint of the color reads or writes:
+//! the result is the same bits on any number of threads and under any scheduling.
 
 use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -108,14 +108,14 @@ pub(crate) struct SweepSet<'a> {
 /// lane kernel, block by block, any other through the scalar kernel, constraint by constraint.
 ///
 /// Every batch marked parallel or packed into lanes must have no dynamic body twice (as
-/// [`check_disjoint`] says). With one thread, or no parallel batch, the batches run in order
-/// on the calling thread. Otherwise the pool's workers start once for the whole sweep: each
-/// batch is a stage of blocks (a parallel batch [`BLOCK`] constraints per block, a sequential
-/// one a single block), a worker claims a block of the current stage (from its own share
-/// first: [`Stage::claim`]) and solves it in place, and moves to the next stage once every
-/// block of this one is done. A worker that starts late finds the finished stages' blocks all claimed and
-/// catches up, so the sweep never waits for a worker that the pool has not started, and the
-/// calling thread alone can finish it.
+/// [`check_disjoint`] says). With one thread, or no parallel batch, the batches run in order on the
+/// calling thread. Otherwise the pool's workers start once for the whole sweep: each batch is a
+/// stage of blocks (a parallel batch [`BLOCK`] constraints per block, a sequential one a single
+/// block), a worker claims a block of the current stage (from its own share first:
+/// [`Stage::claim`]) and solves it in place, and moves to the next stage once every block of this
+/// one is done. A worker that starts late finds the finished stages' blocks all claimed and catches
+/// up, so the sweep never waits for a worker that the pool has not started, and the calling thread
+/// alone can finish it.
 pub(crate) fn sweep<P: Pass>(set: &mut SweepSet<'_>, states: &mut [BodyState], pass: &P) {
     let SweepSet {
         constraints,

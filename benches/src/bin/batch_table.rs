@@ -1,7 +1,7 @@
 //! World-steps per second for batches of small worlds: Tumble's `WorldBatch` on the GPU (one
 //! device world for all worlds of one config) and on the CPU (one rayon task per world), and
-//! rapier3d stepping the same worlds one per rayon task on all cores, measured side by side in
-//! one run.
+//! rapier3d stepping the same worlds on all cores (one share of the worlds per thread), measured
+//! side by side in one run.
 //!
 //! ```sh
 //! cargo run --release -p tumble-benches --bin batch_table -- \
@@ -230,16 +230,12 @@ fn run_rapier(args: &Args, scene: &Scene, worlds: usize) -> (Vec<f64>, f64, Stri
             .collect();
         worlds
     ];
-    let step = |all: &mut Vec<RapierWorld>| all.par_iter_mut().for_each(|w| w.step());
-    for _ in 0..args.warmup {
-        step(&mut all);
-    }
+    let threads = rayon::current_num_threads();
+    step_rapier_worlds(&mut all, args.warmup, threads);
     let mut samples = Vec::new();
     for _ in 0..args.repeats {
         let t0 = Instant::now();
-        for _ in 0..args.steps {
-            step(&mut all);
-        }
+        step_rapier_worlds(&mut all, args.steps, threads);
         samples.push(t0.elapsed().as_secs_f64() * 1e3 / args.steps as f64);
     }
     let mut poses = Vec::with_capacity(worlds * scene.bodies.len() * POSE_FLOATS);
@@ -249,11 +245,33 @@ fn run_rapier(args: &Args, scene: &Scene, worlds: usize) -> (Vec<f64>, f64, Stri
             poses.extend_from_slice(&q);
         }
     }
-    let note = format!(
-        "one world per rayon task on {} threads",
-        rayon::current_num_threads()
-    );
+    let note = format!("the worlds in {threads} shares, a thread each");
     (samples, drift(&starts, &poses), note)
+}
+
+/// `steps` steps of every world in `worlds`, the worlds cut into `threads` contiguous shares,
+/// each stepped by a thread of its own (not a rayon task).
+///
+/// rapier3d built with its `parallel` feature waits inside its step for a rayon task of its
+/// own (the deferred BVH optimisation, received from a channel; rapier issue #1008): with one
+/// world per rayon task, every worker of a small pool can wait so at once, with nobody left
+/// to run the tasks they wait for, and the run never ends (it hung on the 2-core build
+/// machine and on a 16-core host). On threads outside the pool, a world's step hands its own
+/// rayon work to the pool's idle workers. Without the feature this is the same spread as one
+/// task per world.
+fn step_rapier_worlds(worlds: &mut [RapierWorld], steps: usize, threads: usize) {
+    let share = worlds.len().div_ceil(threads.max(1)).max(1);
+    std::thread::scope(|s| {
+        for part in worlds.chunks_mut(share) {
+            s.spawn(move || {
+                for _ in 0..steps {
+                    for w in part.iter_mut() {
+                        w.step();
+                    }
+                }
+            });
+        }
+    });
 }
 
 fn main() {

@@ -11,13 +11,19 @@ use std::mem::MaybeUninit;
 
 use rayon::prelude::*;
 
-/// The concatenation of `parts`, in order, copied on the rayon pool.
-pub(crate) fn concat<T: Copy + Send + Sync>(parts: &[Vec<T>]) -> Vec<T> {
-    let total = parts.iter().map(Vec::len).sum();
-    let mut out: Vec<T> = Vec::with_capacity(total);
+/// `out` becomes the concatenation of `parts`, in order, copied on the rayon pool; `out`'s
+/// allocation is kept when it is large enough (its old contents are dropped first).
+pub(crate) fn concat_into<'a, T: Copy + Send + Sync + 'a>(
+    parts: impl IntoIterator<Item = &'a [T]>,
+    out: &mut Vec<T>,
+) {
+    let parts: Vec<&[T]> = parts.into_iter().collect();
+    let total = parts.iter().map(|p| p.len()).sum();
+    out.clear();
+    out.reserve(total);
     let mut rest: &mut [MaybeUninit<T>] = &mut out.spare_capacity_mut()[..total];
     let mut targets = Vec::with_capacity(parts.len());
-    for part in parts {
+    for part in &parts {
         let (target, tail) = rest.split_at_mut(part.len());
         targets.push(target);
         rest = tail;
@@ -26,14 +32,13 @@ pub(crate) fn concat<T: Copy + Send + Sync>(parts: &[Vec<T>]) -> Vec<T> {
         .into_par_iter()
         .zip(parts.par_iter())
         .for_each(|(target, part)| {
-            for (slot, value) in target.iter_mut().zip(part) {
+            for (slot, value) in target.iter_mut().zip(part.iter()) {
                 slot.write(*value);
             }
         });
     // SAFETY: the targets split the first `total` spare elements into one part per piece,
     // each exactly as long as its piece, and every element of each was written above.
     unsafe { out.set_len(total) };
-    out
 }
 
 #[cfg(test)]
@@ -51,8 +56,19 @@ mod tests {
                 .num_threads(threads)
                 .build()
                 .unwrap();
-            assert_eq!(pool.install(|| concat(&parts)), expected);
+            // Into a fresh array, and into one that holds more than the result already
+            // (its allocation is reused, its old contents gone).
+            let mut fresh = Vec::new();
+            pool.install(|| concat_into(parts.iter().map(|p| &p[..]), &mut fresh));
+            assert_eq!(fresh, expected);
+            let mut used: Vec<u64> = vec![7; expected.len() + 100];
+            let capacity = used.capacity();
+            pool.install(|| concat_into(parts.iter().map(|p| &p[..]), &mut used));
+            assert_eq!(used, expected);
+            assert_eq!(used.capacity(), capacity, "the larger array is reused");
         }
-        assert_eq!(concat::<u64>(&[]), Vec::<u64>::new());
+        let mut none = vec![1u64, 2];
+        concat_into(std::iter::empty::<&[u64]>(), &mut none);
+        assert!(none.is_empty());
     }
 }

@@ -1,7 +1,8 @@
 //! `Backend::Cpu`: every stage on the CPU, the reference.
 
 use tumble_broad::KeptPairs;
-use tumble_solver::{Body, Contact, ContactCache, PairKey, SolveBuffers, Stage, stages};
+use tumble_solver::stages::{self, NarrowBuffers};
+use tumble_solver::{Body, Contact, ContactCache, PairKey, SolveBuffers, Stage};
 
 use super::pipeline::{self, Collided, Collision, StepBodies};
 use super::{Host, StepArgs, StepBackend};
@@ -18,6 +19,8 @@ pub(crate) struct CpuCollision {
     cache: ContactCache,
     /// The solve stage's buffers, kept between steps.
     solve: SolveBuffers,
+    /// The narrow phase's buffers, kept between steps.
+    narrow: NarrowBuffers,
     /// Last step's candidate pairs from the broad phase, by handle.
     pairs: Vec<(BodyHandle, BodyHandle)>,
 }
@@ -34,7 +37,7 @@ impl Collision for CpuCollision {
         let pairs = stages::broad_phase(&mut self.grid, &aabbs, step.bodies);
         self.pairs = pipeline::pair_handles(step, pairs.iter().copied());
         clock.lap(Stage::BroadPhase);
-        let found = stages::narrow_phase(
+        let found = stages::narrow_phase_with(
             step.bodies,
             step.states,
             &pairs,
@@ -43,6 +46,7 @@ impl Collision for CpuCollision {
             margin,
             dt,
             step.recycle_distance,
+            &mut self.narrow,
         );
         clock.lap(Stage::NarrowPhase);
         Ok(Collided {
@@ -65,6 +69,10 @@ impl Collision for CpuCollision {
 
     fn solve_buffers(&mut self) -> Option<&mut SolveBuffers> {
         Some(&mut self.solve)
+    }
+
+    fn give_back(&mut self, contacts: Vec<Contact>, keys: Vec<PairKey>) {
+        self.narrow.give_back(contacts, keys);
     }
 }
 

@@ -101,6 +101,12 @@ pub(crate) trait Collision {
     fn solve_buffers(&mut self) -> Option<&mut SolveBuffers> {
         None
     }
+
+    /// Takes back the arrays of an earlier step's manifolds and pair keys, done with, for the
+    /// next narrow phase to write over; dropped by default.
+    fn give_back(&mut self, contacts: Vec<Contact>, keys: Vec<PairKey>) {
+        drop((contacts, keys));
+    }
 }
 
 /// One step of `host` on the CPU stages, collision by `collision`.
@@ -127,7 +133,8 @@ pub(crate) fn step(
             // Nothing can move or touch: the step is empty, the sleepers' manifolds stay.
             let (contacts, _): (Vec<Contact>, Vec<PairKey>) =
                 host.sleep.sleeping_contacts(dense).unzip();
-            set_contacts(host, contacts, all_handles);
+            let replaced = set_contacts(host, contacts, all_handles);
+            collision.give_back(replaced, Vec::new());
             host.contact_colors.clear();
             host.stats = StepStats {
                 bodies: host.bodies.len(),
@@ -228,7 +235,7 @@ pub(crate) fn step(
     clock.lap(Stage::Finish);
 
     let max_penetration = max_penetration(&contacts);
-    set_contacts(host, contacts, all_handles);
+    let replaced = set_contacts(host, contacts, all_handles);
     // The solved manifolds come first, in the coloring's order; the kept ones have none.
     host.contact_colors.clone_from(&coloring.colors);
     if !host.contact_colors.is_empty() {
@@ -266,6 +273,9 @@ pub(crate) fn step(
         max_penetration,
         timings: clock.timings(),
     };
+    // Last step's manifolds and this step's keys are done with: their arrays go back to the
+    // collision stages to be written over (megabytes on a large pile, allocated once).
+    collision.give_back(replaced, keys);
     Ok(())
 }
 
@@ -297,8 +307,9 @@ fn check_solved(
     })
 }
 
-/// Last step's manifolds become `contacts` (dense indices), with their bodies' handles.
-fn set_contacts(host: &mut Host, contacts: Vec<Contact>, handles: &[BodyHandle]) {
+/// Last step's manifolds become `contacts` (dense indices), with their bodies' handles;
+/// returns the manifolds they replace.
+fn set_contacts(host: &mut Host, contacts: Vec<Contact>, handles: &[BodyHandle]) -> Vec<Contact> {
     let pair = |c: &Contact| (handles[c.body_a as usize], handles[c.body_b as usize]);
     if contacts.len() >= PARALLEL_MIN_CONTACTS && rayon::current_num_threads() > 1 {
         contacts
@@ -310,7 +321,7 @@ fn set_contacts(host: &mut Host, contacts: Vec<Contact>, handles: &[BodyHandle])
         host.contact_handles.clear();
         host.contact_handles.extend(contacts.iter().map(pair));
     }
-    host.contacts = contacts;
+    std::mem::replace(&mut host.contacts, contacts)
 }
 
 /// The broad phase's candidate pairs `pairs` (indices into [`StepBodies::bodies`]) by

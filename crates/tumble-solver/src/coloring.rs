@@ -131,6 +131,17 @@ pub fn color_constraints_in_order(
     dynamic: &[bool],
     visit: impl IntoIterator<Item = usize>,
 ) -> Coloring {
+    let visits: Vec<(usize, (u32, u32))> = visit.into_iter().map(|i| (i, pairs[i])).collect();
+    color_visits(&visits, dynamic, pairs.len())
+}
+
+/// [`color_constraints_in_order`] on `count` constraints given as `(constraint, its body
+/// pair)` in visiting order (each constraint at most once; those never visited overflow).
+pub(crate) fn color_visits(
+    visits: &[(usize, (u32, u32))],
+    dynamic: &[bool],
+    count: usize,
+) -> Coloring {
     // Bit c of used[b]: body b already has a constraint of color c.
     let mut used = vec![0u32; dynamic.len()];
     let all = if GRAPH_COLOR_COUNT == 32 {
@@ -138,9 +149,8 @@ pub fn color_constraints_in_order(
     } else {
         (1u32 << GRAPH_COLOR_COUNT) - 1
     };
-    let mut colors = vec![OVERFLOW_COLOR; pairs.len()];
-    for i in visit {
-        let (a, b) = pairs[i];
+    let mut colors = vec![OVERFLOW_COLOR; count];
+    for &(i, (a, b)) in visits {
         let (da, db) = (dynamic[a as usize], dynamic[b as usize]);
         let mut taken = 0u32;
         if da {

@@ -35,6 +35,7 @@
 //! something always moves pays about the plain search plus the containment test, and one that
 //! comes to rest is kept again within that many steps.
 
+use rayon::prelude::*;
 use tumble_geometry::{Aabb, Real};
 
 use crate::BroadPhaseError;
@@ -51,6 +52,11 @@ pub const FAT_FRACTION: Real = 0.1;
 /// While the kept lists are not being reused, one search in this many runs on fat boxes (to
 /// find out whether the scene has come to rest); the others run on the exact boxes.
 pub const RETRY_EVERY: u32 = 8;
+
+/// Kept pairs (and boxes) from which the exact-box filter (and the containment check) runs on
+/// the rayon pool, when it has more than one thread: below it a task's hand-off costs more
+/// than the test of the pairs it would take (a few nanoseconds each).
+const PARALLEL_MIN: usize = 16_384;
 
 /// The grid broad phase with its pair list kept between calls (see the module
 /// documentation of `kept.rs`). Its result is exactly [`BroadPhase`]'s on the same input.
@@ -136,12 +142,19 @@ impl KeptPairs {
             }
             self.search(aabbs, is_static, groups)?;
         }
-        out.extend(
-            self.pairs
-                .iter()
-                .copied()
-                .filter(|&(i, j)| aabbs[i as usize].intersects(&aabbs[j as usize])),
-        );
+        let touching = |&(i, j): &(u32, u32)| aabbs[i as usize].intersects(&aabbs[j as usize]);
+        if self.pairs.len() >= PARALLEL_MIN && rayon::current_num_threads() > 1 {
+            // Rayon's extend of a filtered iterator keeps the order: the same list.
+            out.par_extend(
+                self.pairs
+                    .par_iter()
+                    .with_min_len(PARALLEL_MIN / 4)
+                    .copied()
+                    .filter(touching),
+            );
+        } else {
+            out.extend(self.pairs.iter().copied().filter(touching));
+        }
         Ok(())
     }
 
@@ -157,7 +170,15 @@ impl KeptPairs {
             && self.fat.len() == aabbs.len()
             && self.is_static.as_slice() == is_static
             && self.groups.as_slice() == groups.unwrap_or(&[])
-            && aabbs.iter().zip(&self.fat).all(|(a, f)| inside(a, f))
+            && if aabbs.len() >= PARALLEL_MIN && rayon::current_num_threads() > 1 {
+                aabbs
+                    .par_iter()
+                    .with_min_len(PARALLEL_MIN / 4)
+                    .zip(&self.fat)
+                    .all(|(a, f)| inside(a, f))
+            } else {
+                aabbs.iter().zip(&self.fat).all(|(a, f)| inside(a, f))
+            }
     }
 
     /// Grows every box into its fat box and runs the grid search on those.
@@ -351,5 +372,56 @@ mod tests {
         kept.find_pairs(&moved, &flags, None, &mut out).unwrap();
         assert!(!kept.reused_last());
         assert_eq!(out, brute_force_pairs_filtered(&moved, &flags).unwrap());
+    }
+
+    /// A kept list past [`PARALLEL_MIN`] pairs, reused on pools of one and four threads: the
+    /// filter and the containment check then run on the pool, and the pairs must still be
+    /// brute force's, in its order, with some kept pairs filtered out (so the filter's order
+    /// is tested, not only its count). A filter that lost rayon's order, or kept a pair whose
+    /// exact boxes part, fails here.
+    #[test]
+    fn a_large_kept_list_is_filtered_on_the_pool_in_order() {
+        // 28 x 28 x 28 cubes of 1 m, 5 cm apart: each touches none of its neighbours, but every
+        // fat box (grown 10 cm) overlaps its 26 neighbours' fat boxes, so the kept list holds
+        // 264,708 pairs and the exact filter keeps those moved into contact below.
+        let n = 28;
+        let mut boxes = Vec::new();
+        for i in 0..n {
+            for j in 0..n {
+                for k in 0..n {
+                    let p = Point3::new(i as Real * 1.05, j as Real * 1.05, k as Real * 1.05);
+                    boxes.push(Aabb::new(p, p + tumble_geometry::Vec3::repeat(1.0)));
+                }
+            }
+        }
+        let flags = vec![false; boxes.len()];
+        // Every seventh box grown by 6 cm along x (inside its fat box): it touches its +x
+        // neighbour.
+        let mut moved = boxes.clone();
+        for b in moved.iter_mut().step_by(7) {
+            b.max.x += 0.06;
+        }
+        let expected = brute_force_pairs_filtered(&moved, &flags).unwrap();
+        assert!(!expected.is_empty());
+        for threads in [1, 4] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut kept = KeptPairs::new();
+            let mut out = Vec::new();
+            pool.install(|| kept.find_pairs(&boxes, &flags, None, &mut out))
+                .unwrap();
+            assert!(out.is_empty(), "the cubes stand apart: {} pairs", out.len());
+            assert!(
+                kept.pairs.len() > PARALLEL_MIN,
+                "{} kept pairs",
+                kept.pairs.len()
+            );
+            pool.install(|| kept.find_pairs(&moved, &flags, None, &mut out))
+                .unwrap();
+            assert!(kept.reused_last(), "{threads} threads");
+            assert_eq!(out, expected, "{threads} threads");
+        }
     }
 }

@@ -77,24 +77,35 @@ pub fn immovable(bodies: &[Body]) -> Vec<bool> {
 /// between steps and searches the grid again only when some box left the enlarged box it was
 /// searched with ([`KeptPairs`]); the pairs are the same either way.
 pub fn broad_phase(grid: &mut KeptPairs, aabbs: &[Aabb], bodies: &[Body]) -> Vec<(u32, u32)> {
+    let mut pairs = Vec::new();
+    broad_phase_into(grid, aabbs, bodies, &mut pairs);
+    pairs
+}
+
+/// [`broad_phase`] into `pairs` (its old contents replaced, its allocation kept: the pair list
+/// of a large pile is megabytes, written every step).
+pub fn broad_phase_into(
+    grid: &mut KeptPairs,
+    aabbs: &[Aabb],
+    bodies: &[Body],
+    pairs: &mut Vec<(u32, u32)>,
+) {
     let flags: Vec<bool> = (0..aabbs.len())
         .map(|i| bodies.get(i).is_none_or(|b| !b.is_dynamic()))
         .collect();
-    let mut pairs = Vec::new();
     // One flag (and one groups entry) per box by construction: the length checks cannot fail.
     let grouped = bodies.iter().any(|b| b.groups != CollisionGroups::ALL);
     let found = if grouped {
         let groups: Vec<CollisionGroups> = (0..aabbs.len())
             .map(|i| bodies.get(i).map_or(CollisionGroups::ALL, |b| b.groups))
             .collect();
-        grid.find_pairs(aabbs, &flags, Some(&groups), &mut pairs)
+        grid.find_pairs(aabbs, &flags, Some(&groups), pairs)
     } else {
-        grid.find_pairs(aabbs, &flags, None, &mut pairs)
+        grid.find_pairs(aabbs, &flags, None, pairs)
     };
     if found.is_err() {
         pairs.clear();
     }
-    pairs
 }
 
 /// What the pair margin needs of a body ([`tumble_narrow::pair_margin`]).

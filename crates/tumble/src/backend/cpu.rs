@@ -23,6 +23,10 @@ pub(crate) struct CpuCollision {
     narrow: NarrowBuffers,
     /// Last step's candidate pairs from the broad phase, by handle.
     pairs: Vec<(BodyHandle, BodyHandle)>,
+    /// The array of the list before last step's, written over by the next step.
+    spare_pairs: Vec<(BodyHandle, BodyHandle)>,
+    /// The broad phase's pairs by step index, an array kept between steps.
+    broad_pairs: Vec<(u32, u32)>,
 }
 
 impl Collision for CpuCollision {
@@ -34,8 +38,9 @@ impl Collision for CpuCollision {
         let (margin, dt) = (step.margin, step.dt);
         let aabbs = stages::update_aabbs(step.bodies, step.states, margin, dt);
         clock.lap(Stage::UpdateAabbs);
-        let pairs = stages::broad_phase(&mut self.grid, &aabbs, step.bodies);
-        self.pairs = pipeline::pair_handles(step, pairs.iter().copied());
+        let mut pairs = std::mem::take(&mut self.broad_pairs);
+        stages::broad_phase_into(&mut self.grid, &aabbs, step.bodies, &mut pairs);
+        pipeline::pair_handles(step, &pairs, &mut self.pairs);
         clock.lap(Stage::BroadPhase);
         let found = stages::narrow_phase_with(
             step.bodies,
@@ -49,10 +54,12 @@ impl Collision for CpuCollision {
             &mut self.narrow,
         );
         clock.lap(Stage::NarrowPhase);
+        let count = pairs.len();
+        self.broad_pairs = pairs;
         Ok(Collided {
             contacts: found.contacts,
             keys: found.keys,
-            pairs: pairs.len(),
+            pairs: count,
         })
     }
 
@@ -86,7 +93,10 @@ pub(crate) struct CpuBackend {
 
 impl StepBackend for CpuBackend {
     fn step(&mut self, host: &mut Host, args: StepArgs<'_>) -> Result<(), Error> {
-        let before = std::mem::take(&mut self.collision.pairs);
+        // Last step's pair list, kept for a refused step; this step writes into the array of
+        // the list before it (two arrays in turn, so a large list is not allocated anew).
+        let spare = std::mem::take(&mut self.collision.spare_pairs);
+        let before = std::mem::replace(&mut self.collision.pairs, spare);
         // The whole step on a worker of the pool: every stage's parallel loop then starts
         // from inside the pool, where the calling worker takes part, instead of handing each
         // loop to the pool from outside and sleeping until it is done (a wake-up and a sleep
@@ -106,8 +116,9 @@ impl StepBackend for CpuBackend {
             rayon::scope(|_| pipeline::step(host, args, collision))
         };
         if stepped.is_err() {
-            self.collision.pairs = before;
+            self.collision.spare_pairs = std::mem::replace(&mut self.collision.pairs, before);
         } else {
+            self.collision.spare_pairs = before;
             self.last_pairs = Some(self.collision.pairs.len());
         }
         stepped

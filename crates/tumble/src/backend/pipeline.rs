@@ -325,26 +325,41 @@ fn set_contacts(host: &mut Host, contacts: Vec<Contact>, handles: &[BodyHandle])
 }
 
 /// The broad phase's candidate pairs `pairs` (indices into [`StepBodies::bodies`]) by
-/// handle, the body of the lower dense index first, sorted by dense indices.
+/// handle, the body of the lower dense index first, sorted by dense indices, into `out`
+/// (its old contents replaced, its allocation kept). On the pool from
+/// [`PARALLEL_MIN_CONTACTS`] pairs: the same list (the sort's keys are distinct pairs).
 pub(crate) fn pair_handles(
     step: &StepBodies<'_>,
-    pairs: impl Iterator<Item = (u32, u32)>,
-) -> Vec<(BodyHandle, BodyHandle)> {
-    let dense = |i: u32| match step.gathered {
-        Some(g) => g.order[i as usize],
-        None => i as usize,
+    pairs: &[(u32, u32)],
+    out: &mut Vec<(BodyHandle, BodyHandle)>,
+) {
+    let dense = |&(a, b): &(u32, u32)| {
+        let (a, b) = match step.gathered {
+            Some(g) => (g.order[a as usize], g.order[b as usize]),
+            None => (a as usize, b as usize),
+        };
+        (a.min(b), a.max(b))
     };
-    let mut dense_pairs: Vec<(usize, usize)> = pairs
-        .map(|(a, b)| {
-            let (a, b) = (dense(a), dense(b));
-            (a.min(b), a.max(b))
-        })
-        .collect();
-    dense_pairs.sort_unstable();
-    dense_pairs
-        .into_iter()
-        .map(|(a, b)| (step.handles[a], step.handles[b]))
-        .collect()
+    let handles = |&(a, b): &(usize, usize)| (step.handles[a], step.handles[b]);
+    if pairs.len() >= PARALLEL_MIN_CONTACTS && rayon::current_num_threads() > 1 {
+        let mut dense_pairs = Vec::with_capacity(pairs.len());
+        pairs
+            .par_iter()
+            .with_min_len(CONTACTS_PER_TASK)
+            .map(dense)
+            .collect_into_vec(&mut dense_pairs);
+        dense_pairs.par_sort_unstable();
+        dense_pairs
+            .par_iter()
+            .with_min_len(CONTACTS_PER_TASK)
+            .map(handles)
+            .collect_into_vec(out);
+    } else {
+        let mut dense_pairs: Vec<(usize, usize)> = pairs.iter().map(dense).collect();
+        dense_pairs.sort_unstable();
+        out.clear();
+        out.extend(dense_pairs.iter().map(handles));
+    }
 }
 
 /// The deepest overlap among `contacts`, m (0 when none overlaps).

@@ -257,8 +257,9 @@ fn run_rapier(args: &Args, scene: &Scene, worlds: usize) -> (Vec<f64>, f64, Stri
 /// world per rayon task, every worker of a small pool can wait so at once, with nobody left
 /// to run the tasks they wait for, and the run never ends (it hung on the 2-core build
 /// machine and on a 16-core host). On threads outside the pool, a world's step hands its own
-/// rayon work to the pool's idle workers. Without the feature this is the same spread as one
-/// task per world.
+/// rayon work to the pool's idle workers. Without the feature each thread steps its own share
+/// of the worlds, where rayon tasks would balance the shares by stealing: the same for a batch
+/// of one scene, whose worlds cost alike.
 fn step_rapier_worlds(worlds: &mut [RapierWorld], steps: usize, threads: usize) {
     let share = worlds.len().div_ceil(threads.max(1)).max(1);
     std::thread::scope(|s| {

@@ -422,6 +422,20 @@ mod tests {
                 .unwrap();
             assert!(kept.reused_last(), "{threads} threads");
             assert_eq!(out, expected, "{threads} threads");
+            // The last box moved 15 cm (out of its fat box): the containment check, on the
+            // pool too, must refuse the kept list and search again.
+            let mut out_of_fat = moved.clone();
+            let last = out_of_fat.len() - 1;
+            out_of_fat[last].min.y += 0.15;
+            out_of_fat[last].max.y += 0.15;
+            pool.install(|| kept.find_pairs(&out_of_fat, &flags, None, &mut out))
+                .unwrap();
+            assert!(!kept.reused_last(), "{threads} threads");
+            assert_eq!(
+                out,
+                brute_force_pairs_filtered(&out_of_fat, &flags).unwrap(),
+                "{threads} threads"
+            );
         }
     }
 }

@@ -168,7 +168,9 @@ pub fn narrow_phase(
 /// 42,926-cube pyramid), above the size from which the allocator maps fresh pages for each
 /// allocation and unmaps them on free. Allocated every step, the tasks' arrays and the output
 /// were faulted in page by page every step (some 20,000 faults a step there, and twice as many
-/// on two threads); kept, they are faulted in once.
+/// on two threads); kept, they are faulted in once. They stay at their largest size (about
+/// three times the largest output: the tasks' arrays and two output arrays) for the life of
+/// the buffers.
 #[derive(Debug, Default)]
 pub struct NarrowBuffers {
     /// One pair of arrays per pool task of the last parallel run.
@@ -452,7 +454,7 @@ pub fn finish(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{BodyKind, Material, SolverConfig};
+    use crate::{BodyKind, Material, SolverConfig, color_constraints_in_order};
     use tumble_geometry::{Cuboid, Point3, Pose};
 
     fn cube(kind: BodyKind, x: Real, y: Real) -> Body {
@@ -535,16 +537,17 @@ mod tests {
     fn the_narrow_phase_with_kept_buffers_gives_the_fresh_output_on_any_pool() {
         // A 24 x 24 layer of cubes 1 mm apart on a floor, each turned a little: about 1,700
         // pairs, past PARALLEL_MIN_PAIRS, so pools of more than one thread split them into
-        // tasks. The kept buffers first hold another scene's output (the layer raised 5 cm,
-        // its side contacts only) and a larger array given back, so stale contents or a wrong
+        // tasks. The kept buffers first hold another scene's output (a 40 x 40 layer raised
+        // 5 cm, its side contacts only: more pairs, so more tasks, found on eight threads)
+        // and a larger array given back, so stale contents, a stale task's array or a wrong
         // length would show; the output must equal the fresh one in every bit, in order.
-        let layer = |lift: Real| {
+        let layer = |n: usize, lift: Real| {
             let mut floor = cube(BodyKind::Fixed, 0.0, -0.5);
             floor.shape = Cuboid::new(Vec3::new(20.0, 0.5, 20.0));
             let mut bodies = vec![floor];
-            for i in 0..24 {
-                for j in 0..24 {
-                    let turn = 0.001 * ((i * 24 + j) % 7) as Real;
+            for i in 0..n {
+                for j in 0..n {
+                    let turn = 0.001 * ((i * n + j) % 7) as Real;
                     let pose = Pose::from_parts(
                         Point3::new(i as Real * 1.001, 0.5 + lift, j as Real * 1.001).into(),
                         tumble_geometry::Rot::from_euler_angles(0.0, turn, 0.0),
@@ -559,8 +562,8 @@ mod tests {
             let states = vec![BodyState::default(); bodies.len()];
             (bodies, states)
         };
-        let run = |lift: Real, buffers: Option<&mut NarrowBuffers>| {
-            let (bodies, states) = layer(lift);
+        let run = |n: usize, lift: Real, buffers: Option<&mut NarrowBuffers>| {
+            let (bodies, states) = layer(n, lift);
             let aabbs = update_aabbs(&bodies, &states, 0.02, 1.0 / 60.0);
             let pairs = broad_phase(&mut KeptPairs::new(), &aabbs, &bodies);
             let ids: Vec<u64> = (0..bodies.len() as u64).rev().collect();
@@ -578,19 +581,25 @@ mod tests {
                 .num_threads(threads)
                 .build()
                 .unwrap();
-            let fresh = pool.install(|| run(0.0, None));
+            let fresh = pool.install(|| run(24, 0.0, None));
             assert!(
                 fresh.contacts.len() > 1000,
                 "{} manifolds",
                 fresh.contacts.len()
             );
             let mut buffers = NarrowBuffers::default();
-            let other = pool.install(|| run(0.05, Some(&mut buffers)));
+            // First on eight threads (more tasks than the pool below has), so the kept run
+            // must drop the extra tasks' arrays, not join them into its output.
+            let wide = rayon::ThreadPoolBuilder::new()
+                .num_threads(8)
+                .build()
+                .unwrap();
+            let other = wide.install(|| run(40, 0.05, Some(&mut buffers)));
             assert_ne!(other.contacts.len(), fresh.contacts.len());
             let junk = vec![Contact::new(9, 9, Default::default()); 3 * fresh.contacts.len()];
             buffers.give_back(junk, vec![(9, 9); 3 * fresh.keys.len()]);
             buffers.give_back(other.contacts, other.keys);
-            let kept = pool.install(|| run(0.0, Some(&mut buffers)));
+            let kept = pool.install(|| run(24, 0.0, Some(&mut buffers)));
             assert_eq!(kept.keys, fresh.keys, "{threads} threads");
             assert_eq!(kept.contacts.len(), fresh.contacts.len());
             for (k, f) in kept.contacts.iter().zip(&fresh.contacts) {
@@ -599,6 +608,55 @@ mod tests {
             }
             // The larger array given back was written over, not a new one allocated.
             assert!(kept.contacts.capacity() >= 3 * fresh.contacts.len());
+        }
+    }
+
+    #[test]
+    fn the_colored_order_on_the_pool_gives_the_greedy_colors() {
+        // 9,000 constraints (past PARALLEL_MIN_SORT) between 1,500 bodies, some fixed, at
+        // seeded heights: the pool's gather of the pairs in visiting order and its body flags
+        // must give exactly the colors of the greedy reference on the same top-down order.
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let bodies: Vec<Body> = (0..1500)
+            .map(|i| {
+                let kind = if i % 37 == 0 {
+                    BodyKind::Fixed
+                } else {
+                    BodyKind::Dynamic
+                };
+                cube(kind, 0.0, 0.0)
+            })
+            .collect();
+        let contacts: Vec<Contact> = (0..9000)
+            .map(|_| {
+                let a = rng.random_range(0..1500u32);
+                let b = (a + rng.random_range(1..1500u32)) % 1500;
+                let mut m = tumble_geometry::Manifold {
+                    normal: Vec3::y(),
+                    ..Default::default()
+                };
+                m.push(tumble_geometry::ContactPoint {
+                    position: Point3::new(0.0, rng.random_range(-5.0..5.0), 0.0),
+                    depth: 0.0,
+                    id: 0,
+                });
+                Contact::new(a, b, m)
+            })
+            .collect();
+        let down = Vec3::new(0.0, -9.81, 0.0);
+        let pairs: Vec<(u32, u32)> = contacts.iter().map(|c| (c.body_a, c.body_b)).collect();
+        let dynamic: Vec<bool> = bodies.iter().map(Body::is_dynamic).collect();
+        let reference =
+            color_constraints_in_order(&pairs, &dynamic, top_down_order(&contacts, &down));
+        assert!(reference.used_colors() > 4, "a coloring worth the name");
+        for threads in [1, 4] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let colored = pool.install(|| color(&contacts, &bodies, SolveOrder::Colored, &down));
+            assert_eq!(colored, reference, "{threads} threads");
         }
     }
 

@@ -95,7 +95,10 @@ impl StepBackend for CpuBackend {
     fn step(&mut self, host: &mut Host, args: StepArgs<'_>) -> Result<(), Error> {
         // Last step's pair list, kept for a refused step; this step writes into the array of
         // the list before it (two arrays in turn, so a large list is not allocated anew).
-        let spare = std::mem::take(&mut self.collision.spare_pairs);
+        // Cleared here: a step in which nothing can move never reaches the broad phase, and
+        // its list must then be empty, not the one before last.
+        let mut spare = std::mem::take(&mut self.collision.spare_pairs);
+        spare.clear();
         let before = std::mem::replace(&mut self.collision.pairs, spare);
         // The whole step on a worker of the pool: every stage's parallel loop then starts
         // from inside the pool, where the calling worker takes part, instead of handing each

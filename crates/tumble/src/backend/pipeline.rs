@@ -212,6 +212,7 @@ pub(crate) fn step(
         if let Some(states) = before {
             host.states = states;
         }
+        collision.give_back(contacts, keys);
         return Err(e);
     }
 

@@ -22,10 +22,20 @@ fn pool(threads: usize) -> rayon::ThreadPool {
 /// `n` contacts between random bodies of `bodies`, one to four points each at random heights
 /// drawn from a few levels (so many manifold centres tie, at zero among others).
 fn contacts(rng: &mut ChaCha8Rng, n: usize, bodies: u32) -> Vec<Contact> {
+    contacts_at(rng, n, bodies, false)
+}
+
+/// [`contacts`], or with `spread` each manifold at a height drawn from -50 to 50 m (few ties,
+/// and heights across many binades, so that every byte of the sort key varies).
+fn contacts_at(rng: &mut ChaCha8Rng, n: usize, bodies: u32, spread: bool) -> Vec<Contact> {
     let levels = [-0.0, 0.0, 0.5, 1.0, 1.5, -2.0, 3.25];
     (0..n)
         .map(|_| {
-            let y = levels[rng.random_range(0..levels.len())];
+            let y = if spread {
+                rng.random_range(-50.0..50.0)
+            } else {
+                levels[rng.random_range(0..levels.len())]
+            };
             let count = rng.random_range(1..=4);
             let points: Vec<(Point3, Real, u32)> = (0..count)
                 .map(|k| {
@@ -49,9 +59,10 @@ fn contacts(rng: &mut ChaCha8Rng, n: usize, bodies: u32) -> Vec<Contact> {
 #[test]
 fn the_top_down_order_is_the_stable_sort_by_height_on_any_pool() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
-    // 20,000 contacts: past the parallel threshold; 500: below it.
-    for n in [20_000, 500] {
-        let contacts = contacts(&mut rng, n, 300);
+    // 20,000 contacts: past the parallel threshold; 500: below it; each with tied heights
+    // and with spread ones.
+    for (n, spread) in [(20_000, false), (500, false), (20_000, true), (500, true)] {
+        let contacts = contacts_at(&mut rng, n, 300, spread);
         for gravity in [Vec3::new(0.0, -9.81, 0.0), Vec3::new(0.0, 9.81, 0.0)] {
             // The order this replaced: indices stably sorted by height, highest first.
             let up = -gravity / gravity.norm();

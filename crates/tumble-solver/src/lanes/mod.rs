@@ -25,7 +25,7 @@ mod wide;
 
 pub(crate) use block::{LaneBlock, LaneBodies};
 pub(crate) use kernels::{restitution, solve, warm_start};
-pub(crate) use prepare::PrepareSource;
+pub(crate) use prepare::{PrepareSource, prefetch, prefetch_block};
 
 /// Constraints per block: 8 lanes of `f32` fill one 256-bit AVX register (x86-64 processors
 /// with AVX2 run the kernels so, detected at run time); elsewhere each step takes two 128-bit

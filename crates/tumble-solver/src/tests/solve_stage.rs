@@ -3,7 +3,7 @@
 
 use crate::tests::{DT, G as GRAVITY, floor, floor_corners, gravity, solve_copy, step, unit_cube};
 use crate::{Body, BodyState, Contact, Effects, SolverConfig};
-use crate::{Material, color_contacts};
+use crate::{Coloring, Material, SolveKernel, color_contacts};
 use tumble_geometry::Pose;
 use tumble_geometry::{Real, Vec3};
 
@@ -145,4 +145,52 @@ fn colored_parallel_solve_does_not_depend_on_threads() {
     // order on any number of threads computes the same floats.
     assert_eq!(serial_states, wide_states);
     assert_eq!(serial_contacts, wide_contacts);
+}
+
+#[test]
+fn a_color_that_shares_a_body_is_solved_in_order_on_any_pool() {
+    // 8,200 columns: 16,400 constraints, past the count from which the colors are checked on
+    // the pool. The greedy coloring gives two colors (floor-bottom, bottom-top); the first
+    // column's bottom-top contact is moved into the first color, which then holds two
+    // constraints on the same dynamic cube. That color must be visited in order by the
+    // scalar kernel (a lane block or a parallel sweep would let one write of the shared
+    // cube's velocity overwrite the other), so every kernel on every pool must give the bits
+    // of the scalar kernel on one thread.
+    let (bodies, states0, contacts0) = columns(8200);
+    let valid = color_contacts(&contacts0, &bodies);
+    assert_eq!(valid.used_colors(), 2);
+    let mut colors = valid.colors.clone();
+    assert_ne!(
+        colors[0], colors[1],
+        "one column's two contacts share its bottom cube"
+    );
+    colors[1] = colors[0];
+    let broken = Coloring::from_colors(colors);
+    let run = |coloring: &Coloring, kernel: SolveKernel, threads: usize| {
+        let config = SolverConfig {
+            parallel_threshold: 1,
+            kernel,
+            ..Default::default()
+        };
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| solve_copy(&bodies, &states0, &contacts0, coloring, &config, &gravity()))
+    };
+    let (reference_states, reference_contacts, reference) = run(&broken, SolveKernel::Scalar, 1);
+    // The broken color runs in order; the other one still spreads.
+    assert_eq!(reference.parallel_batches, 1, "{reference:?}");
+    assert_eq!(run(&valid, SolveKernel::Scalar, 1).2.parallel_batches, 2);
+    for kernel in [SolveKernel::Scalar, SolveKernel::Lanes] {
+        for threads in [1, 4] {
+            let (states, contacts, stats) = run(&broken, kernel, threads);
+            assert_eq!(stats.parallel_batches, 1, "{kernel:?}, {threads} threads");
+            assert_eq!(states, reference_states, "{kernel:?}, {threads} threads");
+            assert_eq!(
+                contacts, reference_contacts,
+                "{kernel:?}, {threads} threads"
+            );
+        }
+    }
 }

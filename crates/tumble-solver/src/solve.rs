@@ -484,16 +484,29 @@ pub fn solve_with_buffers(
         // Each contact's impulses come from exactly one constraint or lane, found through
         // `source`, so every contact is written by one task, with the same operations as
         // the serial stores below.
+        // Found from the visiting order, which the prepare filled the constraints and the
+        // lanes from (a batch's lanes take its first members, eight to a block; its scalar
+        // constraints the rest), rather than from each block's contact field (a line of
+        // every block, 2.6 to 2.9 ms on one thread on the pyramid of 50). The scalar
+        // constraints first, then the lanes, as the serial stores below write them.
         source.clear();
         source.resize(contacts.len(), NO_SOURCE);
-        for (k, c) in constraints.iter().enumerate() {
-            source[c.contact as usize] = SCALAR_SOURCE | k as u32;
-        }
-        for (k, b) in blocks.iter().enumerate() {
-            for l in 0..b.len() {
-                source[b.contact_of(l)] = (k * LANES + l) as u32;
+        for batch in batches.iter() {
+            let members = &order[batch.range.clone()];
+            let tail = &members[members.len() - batch.scalar.len()..];
+            for (k, &i) in batch.scalar.clone().zip(tail) {
+                source[i as usize] = SCALAR_SOURCE | k as u32;
             }
         }
+        for batch in batches.iter() {
+            let members = &order[batch.range.clone()];
+            let lanes = &members[..members.len() - batch.scalar.len()];
+            let first = batch.lanes.start * LANES;
+            for (j, &i) in lanes.iter().enumerate() {
+                source[i as usize] = (first + j) as u32;
+            }
+        }
+
         let (constraints, blocks): (&[ContactConstraint], &[LaneBlock]) = (constraints, blocks);
         contacts
             .par_iter_mut()

@@ -220,10 +220,12 @@ fn check_batches(
     };
     // Each color is checked against its own stamp (its index), so the colors may be checked
     // side by side, each task with its own stamp array (a stamp written by another color
-    // never equals this one's).
-    let checked: Vec<bool> = if order.len() >= PARALLEL_CHECK_MIN
-        && rayon::current_num_threads() > 1
-    {
+    // never equals this one's). Each task fills an array as long as the body list, so a
+    // scene of far more bodies than constraints (a sparse field of boxes) keeps to one.
+    let side_by_side = order.len() >= PARALLEL_CHECK_MIN
+        && bodies.len() <= 2 * order.len()
+        && rayon::current_num_threads() > 1;
+    let checked: Vec<bool> = if side_by_side {
         batches
             .par_iter()
             .enumerate()

@@ -485,12 +485,11 @@ pub fn solve_with_buffers(
     if order.len() >= PARALLEL_PREPARE_MIN && rayon::current_num_threads() > 1 {
         // Each contact's impulses come from exactly one constraint or lane, found through
         // `source`, so every contact is written by one task, with the same operations as
-        // the serial stores below.
-        // Found from the visiting order, which the prepare filled the constraints and the
-        // lanes from (a batch's lanes take its first members, eight to a block; its scalar
-        // constraints the rest), rather than from each block's contact field (a line of
-        // every block, 2.6 to 2.9 ms on one thread on the pyramid of 50). The scalar
-        // constraints first, then the lanes, as the serial stores below write them.
+        // the serial stores below. `source` is filled from the visiting order, which the
+        // prepare filled the constraints and the lanes from (a batch's lanes take its first
+        // members, eight to a block; its scalar constraints the rest), rather than from each
+        // block's contact field (a line of every block, 2.6 to 2.9 ms on the pyramid of 50):
+        // the scalar constraints first, then the lanes, as the serial stores write them.
         source.clear();
         source.resize(contacts.len(), NO_SOURCE);
         for batch in batches.iter() {
@@ -508,7 +507,6 @@ pub fn solve_with_buffers(
                 source[i as usize] = (first + j) as u32;
             }
         }
-
         let (constraints, blocks): (&[ContactConstraint], &[LaneBlock]) = (constraints, blocks);
         contacts
             .par_iter_mut()

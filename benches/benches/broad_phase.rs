@@ -9,7 +9,9 @@
 //! Rows: `grid` is [`BroadPhase`] (the grid search, buffers reused); `kept_at_rest` and
 //! `kept_all_moved` are [`KeptPairs`], the step's broad phase (the grid search on enlarged
 //! boxes, its pair list kept while every box stays inside its enlarged box), on the same boxes
-//! every call and on boxes that all left their enlarged boxes every call; `sweep` the
+//! every call and on boxes that all left their enlarged boxes every call; `kept_1_moved` and
+//! `kept_16_moved` on boxes of which 1 or 16 left their enlarged boxes every call (the kept
+//! list repaired, not searched); `sweep` the
 //! one-axis [`SweepAndPrune`] it replaced (buffers reused); both return the sorted pair list.
 //! `parry_bvh_build` builds a parry3d `Bvh` (binned SAH) over the boxes and traverses it
 //! against itself; `parry_bvh_refit` keeps a tree built once, refits it to the boxes and
@@ -24,7 +26,7 @@ use criterion::{criterion_main, measurement::WallTime};
 use parry3d::bounding_volume::Aabb as PAabb;
 use parry3d::math::Vector as PVec;
 use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
-use tumble_broad::{BroadPhase, KeptPairs, SweepAndPrune, brute_force_pairs};
+use tumble_broad::{BroadPhase, KeptPairs, REPAIR_MAX, SweepAndPrune, brute_force_pairs};
 use tumble_geometry::Aabb;
 use tumble_scenes::pyramid;
 use tumble_tests::scene_support::{resting_aabbs, sparse_boxes};
@@ -85,6 +87,31 @@ fn rows(group: &mut BenchmarkGroup<'_, WallTime>, n: usize, boxes: &[Aabb], flag
         kept.find_pairs(input, flags, None, &mut pairs).unwrap();
         pairs.len()
     });
+    // A few boxes moving among many at rest (a ball rolling over a resting pile): on every
+    // call 1 or 16 boxes, spread over the index range, leave their enlarged boxes (1 m along
+    // x and back, alternately), so the kept list is repaired (their pairs found again alone)
+    // instead of searched.
+    for movers in [1, REPAIR_MAX] {
+        let stride = boxes.len() / movers;
+        let shifted: Vec<Aabb> = boxes
+            .iter()
+            .enumerate()
+            .map(|(i, b)| {
+                let moves = i % stride == stride / 2 && i / stride < movers;
+                let d = tumble_geometry::Vec3::new(if moves { 1.0 } else { 0.0 }, 0.0, 0.0);
+                Aabb::new(b.min + d, b.max + d)
+            })
+            .collect();
+        let mut kept = KeptPairs::new();
+        let mut flip = false;
+        let name = format!("kept_{movers}_moved");
+        row(group, &name, n, boxes, |boxes| {
+            flip = !flip;
+            let input = if flip { &shifted[..] } else { boxes };
+            kept.find_pairs(input, flags, None, &mut pairs).unwrap();
+            pairs.len()
+        });
+    }
     let mut sap = SweepAndPrune::new();
     row(group, "sweep", n, boxes, |boxes| {
         sap.find_pairs_filtered(boxes, flags, &mut pairs).unwrap();

@@ -26,14 +26,22 @@
 //! with one searches every call (and such a box pairs with nothing, as in the search). So
 //! the pairs, and every step built on them, are the same bits as without keeping.
 //!
-//! What it saves: the search, when nothing left its fat box. What it does not: one box that
-//! leaves its fat box makes the whole search run again (Box2D re-inserts that box alone). A
-//! search on fat boxes costs more than one on the exact boxes (more pairs, then the filter:
+//! What it saves: the search, when nothing left its fat box. When a few boxes left theirs (at
+//! most [`REPAIR_MAX`]: a ball rolling over a resting pile, a few boxes settling), the list is
+//! repaired instead of searched again, as Box2D v3 re-inserts only the proxies that left their
+//! fat boxes: each such box gets a new fat box, its pairs are dropped from the list, and the
+//! pairs of its new fat box with every other fat box are found by one pass over the fat boxes
+//! (module `repair`). The other boxes' fat boxes did not change, so the repaired list holds
+//! every pair of intersecting fat boxes, as a search on the new fat boxes would, and the exact
+//! filter gives the same pairs. More boxes than that make the whole search run again. A search
+//! on fat boxes costs more than one on the exact boxes (more pairs, then the filter:
 //! about 1.2 to 1.4 times, docs/benchmarks.md), so when a kept list was not reused even once
 //! before the next search was needed, the searches that follow run on the exact boxes and
 //! keep nothing, and only every [`RETRY_EVERY`]th one tries fat boxes again: a scene where
 //! something always moves pays about the plain search plus the containment test, and one that
 //! comes to rest is kept again within that many steps.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 use tumble_geometry::{Aabb, Real};
@@ -41,6 +49,8 @@ use tumble_geometry::{Aabb, Real};
 use crate::BroadPhaseError;
 use crate::filter::{CollisionGroups, check_flags, check_groups};
 use crate::grid::BroadPhase;
+
+mod repair;
 
 /// How much a fat box is grown on every side: this fraction of the exact box's smallest side.
 /// A unit cube's box (1.04 m with the step's 2 cm margin) grows by 10 cm, Box2D's
@@ -58,6 +68,23 @@ pub const RETRY_EVERY: u32 = 8;
 /// than the test of the pairs it would take (a few nanoseconds each).
 const PARALLEL_MIN: usize = 16_384;
 
+/// At most this many boxes may leave their fat boxes for the kept list to be repaired (module
+/// `repair`) instead of searched again. The repair tests every fat box against the movers'
+/// joint bounds and, where that hits, against each mover (a few nanoseconds a test), where the
+/// search costs about 50 ns a box (docs/benchmarks.md): with 16 movers spread over the whole
+/// scene it stays below the search, and movers close together cost about one test a box.
+pub const REPAIR_MAX: usize = 16;
+
+/// What the last call did with the kept list.
+enum Kept {
+    /// Every box inside its fat box: the list answers as it is.
+    Reuse,
+    /// At most [`REPAIR_MAX`] boxes left their fat boxes (`KeptPairs::movers`): repair.
+    Repair,
+    /// No list, or it does not belong to these boxes, or too many left: search.
+    Search,
+}
+
 /// The grid broad phase with its pair list kept between calls (see the module
 /// documentation of `kept.rs`). Its result is exactly [`BroadPhase`]'s on the same input.
 #[derive(Clone, Debug, Default)]
@@ -74,13 +101,25 @@ pub struct KeptPairs {
     pairs: Vec<(u32, u32)>,
     /// Whether `fat` and `pairs` belong together (false before the first search).
     valid: bool,
-    /// Whether the last call reused the kept list.
+    /// Whether the last call reused the kept list (repaired or not).
     reused: bool,
+    /// Whether the last call repaired the kept list.
+    repaired: bool,
     /// Searches since the last call that reused a kept list.
     misses: u32,
-    /// Searches run and calls that reused the list, since creation.
+    /// Searches run, calls that reused the list and calls that repaired it, since creation.
     searches: u64,
     reuses: u64,
+    repairs: u64,
+    /// The boxes that left their fat boxes, ascending (at most `REPAIR_MAX + 1`).
+    movers: Vec<u32>,
+    /// Per box, whether it is among `movers` (all false between calls).
+    moved: Vec<bool>,
+    /// The movers' new fat boxes, sorted for the repair's tests.
+    mover_boxes: Vec<(Aabb, u32)>,
+    /// The movers' new pairs, then the repaired list before it replaces `pairs`.
+    fresh: Vec<(u32, u32)>,
+    merged: Vec<(u32, u32)>,
 }
 
 impl KeptPairs {
@@ -89,14 +128,27 @@ impl KeptPairs {
         Self::default()
     }
 
-    /// Whether the last call reused the kept pair list (no grid search).
+    /// Whether the last call answered from the kept pair list (no grid search), as it was or
+    /// repaired.
     pub fn reused_last(&self) -> bool {
         self.reused
     }
 
-    /// Grid searches run and calls answered from the kept list, since creation.
+    /// Whether the last call repaired the kept pair list: some boxes, at most [`REPAIR_MAX`],
+    /// had left their fat boxes, and only their pairs were found again.
+    pub fn repaired_last(&self) -> bool {
+        self.repaired
+    }
+
+    /// Grid searches run and calls answered from the kept list (repaired or not), since
+    /// creation.
     pub fn counts(&self) -> (u64, u64) {
         (self.searches, self.reuses)
+    }
+
+    /// Calls that repaired the kept list, since creation (also counted as reuses).
+    pub fn repairs(&self) -> u64 {
+        self.repairs
     }
 
     /// The grid of the last search (its cell size and side list describe the fat boxes).
@@ -125,10 +177,16 @@ impl KeptPairs {
             check_groups(aabbs, groups)?;
         }
         out.clear();
-        self.reused = self.can_reuse(aabbs, is_static, groups);
+        let kept = self.kept(aabbs, is_static, groups);
+        self.reused = !matches!(kept, Kept::Search);
+        self.repaired = matches!(kept, Kept::Repair);
         if self.reused {
             self.reuses += 1;
             self.misses = 0;
+            if self.repaired {
+                self.repairs += 1;
+                self.repair(aabbs, is_static, groups);
+            }
         } else {
             self.misses += 1;
             if self.misses > 1 && !self.misses.is_multiple_of(RETRY_EVERY) {
@@ -158,27 +216,72 @@ impl KeptPairs {
         Ok(())
     }
 
-    /// Whether the kept list answers this call: same boxes count, flags and groups, and
-    /// every box inside its fat box.
-    fn can_reuse(
-        &self,
+    /// Whether the kept list answers this call (same boxes count, flags and groups, every box
+    /// inside its fat box), can be repaired (the same, but at most [`REPAIR_MAX`] boxes left
+    /// their fat boxes: those are in `movers`), or a search must run.
+    fn kept(
+        &mut self,
         aabbs: &[Aabb],
         is_static: &[bool],
         groups: Option<&[CollisionGroups]>,
-    ) -> bool {
-        self.valid
+    ) -> Kept {
+        let same = self.valid
             && self.fat.len() == aabbs.len()
             && self.is_static.as_slice() == is_static
-            && self.groups.as_slice() == groups.unwrap_or(&[])
-            && if aabbs.len() >= PARALLEL_MIN && rayon::current_num_threads() > 1 {
-                aabbs
-                    .par_iter()
-                    .with_min_len(PARALLEL_MIN / 4)
-                    .zip(&self.fat)
-                    .all(|(a, f)| inside(a, f))
-            } else {
-                aabbs.iter().zip(&self.fat).all(|(a, f)| inside(a, f))
+            && self.groups.as_slice() == groups.unwrap_or(&[]);
+        if !same || !self.find_movers(aabbs) {
+            Kept::Search
+        } else if self.movers.is_empty() {
+            Kept::Reuse
+        } else {
+            Kept::Repair
+        }
+    }
+
+    /// Fills `movers` with the boxes outside their fat boxes, ascending; false (and `movers`
+    /// incomplete) when there are more than [`REPAIR_MAX`]. The scan stops soon after the
+    /// limit is passed, so a scene in motion pays little for it.
+    fn find_movers(&mut self, aabbs: &[Aabb]) -> bool {
+        self.movers.clear();
+        if aabbs.len() >= PARALLEL_MIN && rayon::current_num_threads() > 1 {
+            // Each chunk lists its own movers; a shared count stops every chunk once the
+            // limit is passed. The count passes the limit exactly when more than REPAIR_MAX
+            // boxes are outside, and otherwise every chunk ran to its end: the list is then
+            // complete and, chunk after chunk, ascending.
+            let count = AtomicUsize::new(0);
+            let chunk = PARALLEL_MIN / 4;
+            let found: Vec<Vec<u32>> = aabbs
+                .par_chunks(chunk)
+                .zip(self.fat.par_chunks(chunk))
+                .enumerate()
+                .map(|(c, (boxes, fat))| {
+                    let mut movers = Vec::new();
+                    for (k, (a, f)) in boxes.iter().zip(fat).enumerate() {
+                        if !inside(a, f) {
+                            if count.fetch_add(1, Ordering::Relaxed) >= REPAIR_MAX {
+                                break;
+                            }
+                            movers.push((c * chunk + k) as u32);
+                        }
+                    }
+                    movers
+                })
+                .collect();
+            if count.load(Ordering::Relaxed) > REPAIR_MAX {
+                return false;
             }
+            self.movers.extend(found.into_iter().flatten());
+        } else {
+            for (i, (a, f)) in aabbs.iter().zip(&self.fat).enumerate() {
+                if !inside(a, f) {
+                    if self.movers.len() == REPAIR_MAX {
+                        return false;
+                    }
+                    self.movers.push(i as u32);
+                }
+            }
+        }
+        true
     }
 
     /// Grows every box into its fat box and runs the grid search on those.
@@ -214,7 +317,7 @@ impl KeptPairs {
 
 /// `a` lies inside `f` (closed; false when a bound of either is NaN).
 #[inline]
-fn inside(a: &Aabb, f: &Aabb) -> bool {
+pub(crate) fn inside(a: &Aabb, f: &Aabb) -> bool {
     (0..3).all(|k| f.min[k] <= a.min[k] && a.max[k] <= f.max[k])
 }
 
@@ -222,7 +325,7 @@ fn inside(a: &Aabb, f: &Aabb) -> bool {
 /// infinite side keeps its bounds (an infinite box contains anything it becomes; a NaN one is
 /// never inside anything), as do a flat and an inverted one (no positive side to take a
 /// fraction of; either only makes the search run more often).
-fn fat_box(a: &Aabb) -> Aabb {
+pub(crate) fn fat_box(a: &Aabb) -> Aabb {
     let side = (0..3)
         .map(|k| a.max[k] - a.min[k])
         .fold(Real::INFINITY, Real::min);
@@ -324,7 +427,10 @@ mod tests {
             kept.find_pairs(&aabbs, &is_static, g, &mut out).unwrap();
             assert_eq!(out, exact(&aabbs, &is_static, g), "step {step}");
             if nan_step {
-                assert!(!kept.reused_last(), "a NaN box is never inside its fat box");
+                assert!(
+                    !kept.reused_last() || kept.repaired_last(),
+                    "a NaN box is never inside its fat box"
+                );
                 aabbs[0] = saved;
             }
             if (101..120).contains(&step) {
@@ -333,7 +439,10 @@ mod tests {
             if kept.reused_last() {
                 last_reuse = step;
             }
-            if step == 120 + RETRY_EVERY as usize + 1 {
+            // Within RETRY_EVERY calls of a search on the exact boxes comes one on fat boxes,
+            // and the list is reused after it; the flag change of step 122 and the jump of
+            // step 124 each drop a list, so allow two such waits.
+            if step == 120 + 2 * RETRY_EVERY as usize + 1 {
                 assert!(last_reuse > 120, "at rest again, reused by step {step}");
             }
         }
@@ -344,10 +453,12 @@ mod tests {
         );
     }
 
-    /// At rest the list is reused, and a box moved out of its fat box makes it search again.
+    /// At rest the list is reused; a box moved out of its fat box has its pairs found again
+    /// alone (the list repaired), and more than [`REPAIR_MAX`] such boxes make it search again.
     #[test]
-    fn a_box_leaving_its_fat_box_makes_it_search_again() {
-        let boxes: Vec<Aabb> = (0..10)
+    fn a_box_leaving_its_fat_box_is_repaired_and_many_make_it_search_again() {
+        let n = 40;
+        let boxes: Vec<Aabb> = (0..n)
             .map(|i| {
                 let x = i as Real * 1.0;
                 Aabb::new(Point3::new(x, 0.0, 0.0), Point3::new(x + 1.0, 1.0, 1.0))
@@ -359,19 +470,41 @@ mod tests {
         kept.find_pairs(&boxes, &flags, None, &mut out).unwrap();
         assert!(!kept.reused_last());
         kept.find_pairs(&boxes, &flags, None, &mut out).unwrap();
-        assert!(kept.reused_last());
-        assert_eq!(out.len(), 9, "touching neighbours pair: {out:?}");
+        assert!(kept.reused_last() && !kept.repaired_last());
+        assert_eq!(out.len(), n - 1, "touching neighbours pair: {out:?}");
         // 9 cm is inside the 10 cm fat margin of a 1 m box; 11 cm is not.
         let mut moved = boxes.clone();
         moved[4].min.y += 0.09;
         moved[4].max.y += 0.09;
         kept.find_pairs(&moved, &flags, None, &mut out).unwrap();
-        assert!(kept.reused_last());
+        assert!(kept.reused_last() && !kept.repaired_last());
         moved[4].min.y += 0.02;
         moved[4].max.y += 0.02;
         kept.find_pairs(&moved, &flags, None, &mut out).unwrap();
-        assert!(!kept.reused_last());
+        assert!(kept.reused_last() && kept.repaired_last());
         assert_eq!(out, brute_force_pairs_filtered(&moved, &flags).unwrap());
+        // Box 4 lifted clear of its neighbours (1.2 m up), box 30 put on top of box 10: their
+        // old pairs go, the new one comes.
+        for (k, dx, dy) in [(4, 0.0, 1.09), (30, -20.0, 1.0)] {
+            moved[k].min.x += dx;
+            moved[k].max.x += dx;
+            moved[k].min.y += dy;
+            moved[k].max.y += dy;
+        }
+        kept.find_pairs(&moved, &flags, None, &mut out).unwrap();
+        assert!(kept.repaired_last());
+        let expected = brute_force_pairs_filtered(&moved, &flags).unwrap();
+        assert!(expected.contains(&(10, 30)) && !expected.contains(&(3, 4)));
+        assert_eq!(out, expected);
+        // REPAIR_MAX + 1 boxes out of their fat boxes: the search runs again.
+        for b in moved.iter_mut().skip(20).take(REPAIR_MAX + 1) {
+            b.min.z += 0.5;
+            b.max.z += 0.5;
+        }
+        kept.find_pairs(&moved, &flags, None, &mut out).unwrap();
+        assert!(!kept.reused_last() && !kept.repaired_last());
+        assert_eq!(out, brute_force_pairs_filtered(&moved, &flags).unwrap());
+        assert_eq!(kept.repairs(), 2);
     }
 
     /// A kept list past [`PARALLEL_MIN`] pairs, reused on pools of one and four threads: the
@@ -422,18 +555,37 @@ mod tests {
                 .unwrap();
             assert!(kept.reused_last(), "{threads} threads");
             assert_eq!(out, expected, "{threads} threads");
-            // The last box moved 15 cm (out of its fat box): the containment check, on the
-            // pool too, must refuse the kept list and search again.
+            // Five boxes, in different chunks of the containment check, moved 2.25 m up (out
+            // of their fat boxes, into the boxes two and three rows up, which were not in
+            // their kept pairs): the check, on the pool too, must find them all, and the
+            // repair their new pairs.
             let mut out_of_fat = moved.clone();
             let last = out_of_fat.len() - 1;
-            out_of_fat[last].min.y += 0.15;
-            out_of_fat[last].max.y += 0.15;
+            for k in [0, 5_000, 10_000, 15_000, last] {
+                out_of_fat[k].min.y += 2.25;
+                out_of_fat[k].max.y += 2.25;
+            }
+            let before = out.clone();
             pool.install(|| kept.find_pairs(&out_of_fat, &flags, None, &mut out))
+                .unwrap();
+            assert!(kept.repaired_last(), "{threads} threads");
+            let expected = brute_force_pairs_filtered(&out_of_fat, &flags).unwrap();
+            assert_ne!(expected, before, "the moved boxes touch new neighbours");
+            assert_eq!(out, expected, "{threads} threads");
+            // And every box moved: more than REPAIR_MAX, so the search runs.
+            let shifted: Vec<Aabb> = out_of_fat
+                .iter()
+                .map(|b| {
+                    let d = tumble_geometry::Vec3::new(0.0, 0.2, 0.0);
+                    Aabb::new(b.min + d, b.max + d)
+                })
+                .collect();
+            pool.install(|| kept.find_pairs(&shifted, &flags, None, &mut out))
                 .unwrap();
             assert!(!kept.reused_last(), "{threads} threads");
             assert_eq!(
                 out,
-                brute_force_pairs_filtered(&out_of_fat, &flags).unwrap(),
+                brute_force_pairs_filtered(&shifted, &flags).unwrap(),
                 "{threads} threads"
             );
         }

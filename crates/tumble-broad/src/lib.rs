@@ -51,7 +51,7 @@ pub use filter::{CollisionGroups, wanted as is_wanted_pair};
 pub use grid::{
     BroadPhase, broad_phase_pairs, broad_phase_pairs_filtered, broad_phase_pairs_grouped,
 };
-pub use kept::{FAT_FRACTION, KeptPairs, RETRY_EVERY};
+pub use kept::{FAT_FRACTION, KeptPairs, REPAIR_MAX, RETRY_EVERY};
 pub use motion::{motion_aabb, update_aabbs};
 pub use sweep_and_prune::{SweepAndPrune, sweep_and_prune, sweep_and_prune_filtered};
 pub use sweep_axis::sweep_axis;

@@ -34,6 +34,8 @@ impl Aabb {
 
     /// True when the boxes overlap or touch: closed intervals on all three axes
     /// (`a.min <= b.max && b.min <= a.max`), so exactly touching boxes form a pair.
+    /// Inlined across crates: the broad phase calls it for every kept pair of every step.
+    #[inline]
     pub fn intersects(&self, other: &Aabb) -> bool {
         (0..3).all(|i| self.min[i] <= other.max[i] && other.min[i] <= self.max[i])
     }

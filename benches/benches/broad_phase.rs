@@ -92,7 +92,7 @@ fn rows(group: &mut BenchmarkGroup<'_, WallTime>, n: usize, boxes: &[Aabb], flag
     // x and back, alternately), so the kept list is repaired (their pairs found again alone)
     // instead of searched.
     for movers in [1, REPAIR_MAX] {
-        let stride = boxes.len() / movers;
+        let stride = (boxes.len() / movers).max(1);
         let shifted: Vec<Aabb> = boxes
             .iter()
             .enumerate()

@@ -1,5 +1,6 @@
-//! Pairs kept from step to step: the grid searched on enlarged boxes only when some box left
-//! its enlarged box, the pair list filtered by the exact boxes every call.
+//! Pairs kept from step to step: the grid searched on enlarged boxes only when more than a few
+//! boxes left their enlarged boxes (fewer are repaired alone), the pair list filtered by the
+//! exact boxes every call.
 //!
 //! A resting pile moves by micrometres per step, yet the grid search of `grid.rs` finds its
 //! pairs anew every step (3 to 8 ms for the 42,926 boxes of the resting pyramid of 50 on one
@@ -12,8 +13,9 @@
 //! - The grid search runs on the boxes grown by [`FAT_FRACTION`] of their smallest side (the
 //!   "fat" boxes), and its pair list is kept with the fat boxes and the filter it ran under.
 //! - On the next call, if every box still lies inside its fat box (and the box count, the
-//!   static flags and the collision groups are unchanged), the kept list is reused;
-//!   otherwise the search runs again on new fat boxes.
+//!   static flags and the collision groups are unchanged), the kept list is reused; if at
+//!   most [`REPAIR_MAX`] boxes left theirs, it is repaired (below); otherwise the search runs
+//!   again on new fat boxes.
 //! - Either way the kept list is filtered by the exact boxes: a pair is written out when its
 //!   two boxes intersect.
 //!
@@ -22,8 +24,9 @@
 //! `b.min <= a.max` on each axis) can only turn true under that, so two boxes that intersect
 //! have fat boxes that intersect, and their pair is in the kept list (same filter); the
 //! exact test then keeps exactly the pairs that intersect. The kept list is sorted, and
-//! filtering keeps its order. A box with a NaN bound is never inside its fat box, so a scene
-//! with one searches every call (and such a box pairs with nothing, as in the search). So
+//! filtering keeps its order. A box with a NaN bound is never inside its fat box, so in a scene
+//! with one the list is repaired (or searched) every call (and such a box pairs with nothing,
+//! as in the search). So
 //! the pairs, and every step built on them, are the same bits as without keeping.
 //!
 //! What it saves: the search, when nothing left its fat box. When a few boxes left theirs (at
@@ -91,13 +94,14 @@ enum Kept {
 pub struct KeptPairs {
     /// The grid search, run on the fat boxes.
     grid: BroadPhase,
-    /// The fat boxes of the last search.
+    /// The fat boxes of the last search, with the repaired boxes' new ones.
     fat: Vec<Aabb>,
     /// The static flags of the last search.
     is_static: Vec<bool>,
     /// The collision groups of the last search; empty when it had none.
     groups: Vec<CollisionGroups>,
-    /// The last search's pairs of fat boxes, sorted.
+    /// Every pair of intersecting boxes of `fat` that the filter wants, sorted: the last
+    /// search's, as repaired since.
     pairs: Vec<(u32, u32)>,
     /// Whether `fat` and `pairs` belong together (false before the first search).
     valid: bool,
@@ -111,7 +115,7 @@ pub struct KeptPairs {
     searches: u64,
     reuses: u64,
     repairs: u64,
-    /// The boxes that left their fat boxes, ascending (at most `REPAIR_MAX + 1`).
+    /// The boxes that left their fat boxes, ascending (at most `REPAIR_MAX`).
     movers: Vec<u32>,
     /// Per box, whether it is among `movers` (all false between calls).
     moved: Vec<bool>,
@@ -151,7 +155,8 @@ impl KeptPairs {
         self.repairs
     }
 
-    /// The grid of the last search (its cell size and side list describe the fat boxes).
+    /// The grid of the last search (its cell size and side list describe the fat boxes that
+    /// search ran on; the boxes repaired since are not in it).
     pub fn grid(&self) -> &BroadPhase {
         &self.grid
     }
@@ -275,6 +280,7 @@ impl KeptPairs {
             for (i, (a, f)) in aabbs.iter().zip(&self.fat).enumerate() {
                 if !inside(a, f) {
                     if self.movers.len() == REPAIR_MAX {
+                        self.movers.clear();
                         return false;
                     }
                     self.movers.push(i as u32);
@@ -496,7 +502,15 @@ mod tests {
         let expected = brute_force_pairs_filtered(&moved, &flags).unwrap();
         assert!(expected.contains(&(10, 30)) && !expected.contains(&(3, 4)));
         assert_eq!(out, expected);
-        // REPAIR_MAX + 1 boxes out of their fat boxes: the search runs again.
+        // REPAIR_MAX boxes out of their fat boxes: still repaired; one more: the search runs
+        // again.
+        for b in moved.iter_mut().skip(20).take(REPAIR_MAX) {
+            b.min.z += 0.5;
+            b.max.z += 0.5;
+        }
+        kept.find_pairs(&moved, &flags, None, &mut out).unwrap();
+        assert!(kept.repaired_last());
+        assert_eq!(out, brute_force_pairs_filtered(&moved, &flags).unwrap());
         for b in moved.iter_mut().skip(20).take(REPAIR_MAX + 1) {
             b.min.z += 0.5;
             b.max.z += 0.5;
@@ -504,7 +518,7 @@ mod tests {
         kept.find_pairs(&moved, &flags, None, &mut out).unwrap();
         assert!(!kept.reused_last() && !kept.repaired_last());
         assert_eq!(out, brute_force_pairs_filtered(&moved, &flags).unwrap());
-        assert_eq!(kept.repairs(), 2);
+        assert_eq!(kept.repairs(), 3);
     }
 
     /// A kept list past [`PARALLEL_MIN`] pairs, reused on pools of one and four threads: the
@@ -572,6 +586,27 @@ mod tests {
             let expected = brute_force_pairs_filtered(&out_of_fat, &flags).unwrap();
             assert_ne!(expected, before, "the moved boxes touch new neighbours");
             assert_eq!(out, expected, "{threads} threads");
+            // REPAIR_MAX boxes, one per 1,300 (in every chunk of the check), moved 2.25 m
+            // down: repaired; from the same kept list, one more: the search runs.
+            let moved_down = |count: usize| {
+                let mut boxes = out_of_fat.clone();
+                for b in boxes.iter_mut().step_by(1_300).take(count) {
+                    b.min.y -= 2.25;
+                    b.max.y -= 2.25;
+                }
+                boxes
+            };
+            let mut one_more = kept.clone();
+            let limit = moved_down(REPAIR_MAX);
+            pool.install(|| kept.find_pairs(&limit, &flags, None, &mut out))
+                .unwrap();
+            assert!(kept.repaired_last(), "{threads} threads");
+            assert_eq!(out, brute_force_pairs_filtered(&limit, &flags).unwrap());
+            let past = moved_down(REPAIR_MAX + 1);
+            pool.install(|| one_more.find_pairs(&past, &flags, None, &mut out))
+                .unwrap();
+            assert!(!one_more.reused_last(), "{threads} threads");
+            assert_eq!(out, brute_force_pairs_filtered(&past, &flags).unwrap());
             // And every box moved: more than REPAIR_MAX, so the search runs.
             let shifted: Vec<Aabb> = out_of_fat
                 .iter()

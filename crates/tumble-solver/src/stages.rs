@@ -76,8 +76,9 @@ pub fn immovable(bodies: &[Body]) -> Vec<bool> {
 /// bodies that contacts cannot move (static-static is never formed) and pairs whose
 /// [`CollisionGroups`] do not interact. `aabbs[i]` belongs to
 /// `bodies[i]`; an AABB without a body counts as immovable. `grid` keeps its pair list
-/// between steps and searches the grid again only when some box left the enlarged box it was
-/// searched with ([`KeptPairs`]); the pairs are the same either way.
+/// between steps and searches the grid again only when more than a few boxes left the
+/// enlarged boxes they were searched with (fewer have their pairs found again alone:
+/// [`KeptPairs`]); the pairs are the same either way.
 pub fn broad_phase(grid: &mut KeptPairs, aabbs: &[Aabb], bodies: &[Body]) -> Vec<(u32, u32)> {
     let mut pairs = Vec::new();
     broad_phase_into(grid, aabbs, bodies, &mut pairs);

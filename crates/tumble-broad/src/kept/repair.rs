@@ -27,6 +27,8 @@ impl KeptPairs {
         groups: Option<&[CollisionGroups]>,
     ) {
         let filter = Filter { is_static, groups };
+        // Until the new list is in place, `fat` and `pairs` do not belong together.
+        self.valid = false;
         self.moved.resize(aabbs.len(), false);
         // `min` and `max` skip a NaN bound; a box with one meets nothing (every comparison
         // with NaN is false), so leaving it out of the joint bounds loses no pair.
@@ -114,6 +116,7 @@ impl KeptPairs {
             merge(pairs, fresh, moved, &mut self.merged);
         }
         std::mem::swap(&mut self.pairs, &mut self.merged);
+        self.valid = true;
         for &m in &self.movers {
             self.moved[m as usize] = false;
         }
@@ -146,8 +149,8 @@ mod tests {
     use tumble_geometry::Vec3;
 
     /// A resting field of boxes in which, step after step, 1 to [`REPAIR_MAX`] boxes jump up
-    /// to 3 m (out of their fat boxes, often onto each other and onto static boxes), with
-    /// collision groups on some of the run: every call's pairs equal brute force's, and the
+    /// to 3 m (out of their fat boxes, often onto each other and onto static boxes; some turned
+    /// inside out, two given an infinite side), with collision groups on some of the run: every call's pairs equal brute force's, and the
     /// list is repaired on every such step, never searched. A repair that kept a mover's old
     /// pairs (a pair twice), missed a pair of two movers or of a mover and a box far in the
     /// list, broke the order, or ignored the filter fails here.
@@ -200,10 +203,23 @@ mod tests {
                     );
                     aabbs[k] = Aabb::new(aabbs[k].min + d, aabbs[k].max + d);
                 }
+                // Now and then a mover turned inside out along y (min above max), or given
+                // an infinite side: the repair's joint bounds and its sort must still find
+                // every pair brute force does.
+                if step % 7 == 3 {
+                    let b = &mut aabbs[picked[0]];
+                    std::mem::swap(&mut b.min.y, &mut b.max.y);
+                }
+                if step == 30 || step == 150 {
+                    aabbs[picked[0]].max.x = Real::INFINITY;
+                }
                 if picked.len() > 1 {
                     let (a, b) = (picked[0], picked[1]);
                     let d = aabbs[b].center() - aabbs[a].center() + Vec3::new(0.0, 0.2, 0.0);
-                    aabbs[a] = Aabb::new(aabbs[a].min + d, aabbs[a].max + d);
+                    // (Not from or onto a box with an infinite side: its centre is not finite.)
+                    if d.iter().all(|x| x.is_finite()) {
+                        aabbs[a] = Aabb::new(aabbs[a].min + d, aabbs[a].max + d);
+                    }
                 }
             }
             kept.find_pairs(&aabbs, &is_static, g, &mut out).unwrap();
@@ -221,13 +237,14 @@ mod tests {
                     .count();
             }
             // The first call of each group setting searches (the groups changed), the next
-            // reuses the list as it is; every later call has movers and repairs it.
+            // reuses the list as it is; every later call has movers and repairs it, unless
+            // its one mover stayed inside its fat box (a box with an infinite side can).
             if step % 60 > 1 {
-                assert!(kept.repaired_last(), "step {step}");
+                assert!(kept.reused_last(), "step {step}");
             }
         }
         assert_eq!(kept.counts().0, 4, "one search per group setting");
-        assert!(kept.repairs() >= 230, "{} repairs", kept.repairs());
+        assert!(kept.repairs() >= 200, "{} repairs", kept.repairs());
         assert!(mover_pairs >= 20, "{mover_pairs} pairs of two movers");
     }
 }

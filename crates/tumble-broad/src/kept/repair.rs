@@ -64,24 +64,30 @@ impl KeptPairs {
         self.mover_boxes
             .sort_unstable_by(|a, b| a.0.min[axis].total_cmp(&b.0.min[axis]).then(a.1.cmp(&b.1)));
         self.fresh.clear();
-        for (j, fat_j) in self.fat.iter().enumerate() {
-            if !joint.intersects(fat_j) {
-                continue;
-            }
-            let j = j as u32;
-            for &(fat_m, m) in &self.mover_boxes {
-                if fat_m.min[axis] > fat_j.max[axis] {
-                    break;
-                }
-                // A pair of two movers is found once, from the higher index's side.
-                if m == j || (self.moved[j as usize] && j < m) {
-                    continue;
-                }
-                let (a, b) = (m.min(j), m.max(j));
-                if fat_m.intersects(fat_j) && filter.wants(a, b) {
-                    self.fresh.push((a, b));
-                }
-            }
+        let movers = Movers {
+            boxes: &self.mover_boxes,
+            moved: &self.moved,
+            joint,
+            axis,
+            filter,
+        };
+        if self.fat.len() >= PARALLEL_MIN && rayon::current_num_threads() > 1 {
+            // Each chunk of boxes finds its own pairs; the order does not matter (sorted
+            // below).
+            let chunk = PARALLEL_MIN / 4;
+            self.fresh
+                .par_extend(
+                    self.fat
+                        .par_chunks(chunk)
+                        .enumerate()
+                        .flat_map_iter(|(k, fat)| {
+                            let mut found = Vec::new();
+                            movers.pairs(fat, k * chunk, &mut found);
+                            found
+                        }),
+                );
+        } else {
+            movers.pairs(&self.fat, 0, &mut self.fresh);
         }
         // Every fresh pair has a mover and no kept one has, so the two lists are disjoint and
         // merge in order. On the pool, each chunk of the kept list merges with the fresh
@@ -119,6 +125,42 @@ impl KeptPairs {
         self.valid = true;
         for &m in &self.movers {
             self.moved[m as usize] = false;
+        }
+    }
+}
+
+/// What a repair tests every fat box against: the movers' new fat boxes sorted by their lower
+/// bound along `axis`, their joint bounds, which boxes are movers, and the pair filter.
+struct Movers<'a> {
+    boxes: &'a [(Aabb, u32)],
+    moved: &'a [bool],
+    joint: Aabb,
+    axis: usize,
+    filter: Filter<'a>,
+}
+
+impl Movers<'_> {
+    /// Appends to `out` every wanted pair of a mover's fat box with a box of `fat`, whose
+    /// first box is box `first`; a pair of two movers only from the higher index's side.
+    fn pairs(&self, fat: &[Aabb], first: usize, out: &mut Vec<(u32, u32)>) {
+        let axis = self.axis;
+        for (j, fat_j) in fat.iter().enumerate() {
+            if !self.joint.intersects(fat_j) {
+                continue;
+            }
+            let j = (first + j) as u32;
+            for &(fat_m, m) in self.boxes {
+                if fat_m.min[axis] > fat_j.max[axis] {
+                    break;
+                }
+                if m == j || (self.moved[j as usize] && j < m) {
+                    continue;
+                }
+                let (a, b) = (m.min(j), m.max(j));
+                if fat_m.intersects(fat_j) && self.filter.wants(a, b) {
+                    out.push((a, b));
+                }
+            }
         }
     }
 }

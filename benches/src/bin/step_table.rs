@@ -53,6 +53,10 @@ struct Args {
     /// Substeps of Tumble's soft step, and rapier's solver iterations.
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..))]
     substeps: u32,
+    /// Biased passes per substep of Tumble's soft step (`SolverConfig::iterations`; rapier3d
+    /// is not affected).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    iterations: u32,
     /// The order of Tumble's CPU solver (the CPU and Hybrid rows): `colored` (the greedy
     /// top-down coloring, the default) or `rounds` (the GPU's coloring algorithm,
     /// `SolveOrder::ColoredInRounds`).
@@ -177,17 +181,11 @@ fn horizontal_drift(scene: &Scene, poses: &[([f32; 3], bool)]) -> f32 {
         .fold(0.0, f32::max)
 }
 
-fn run_tumble(
-    scene: &Scene,
-    backend: Backend,
-    engine: Engine,
-    substeps: u32,
-    order: Order,
-    steps: usize,
-    gpu_warmup_ms: u64,
-) -> Result<Run, Error> {
+fn run_tumble(scene: &Scene, backend: Backend, engine: Engine, args: &Args) -> Result<Run, Error> {
+    let (order, steps, gpu_warmup_ms) = (args.order, args.steps, args.gpu_warmup_ms);
     let solver = SolverConfig {
-        substeps,
+        substeps: args.substeps,
+        iterations: args.iterations,
         kernel: engine.kernel(),
         friction_passes: engine.friction_passes(),
         order: match order {
@@ -334,15 +332,7 @@ fn main() {
         let mut rows = Vec::new();
         for &engine in &args.backends {
             let run = match engine.backend() {
-                Some(backend) => run_tumble(
-                    &scene,
-                    backend,
-                    engine,
-                    args.substeps,
-                    args.order,
-                    args.steps,
-                    args.gpu_warmup_ms,
-                ),
+                Some(backend) => run_tumble(&scene, backend, engine, &args),
                 None => Ok(run_rapier(&scene, args.substeps, args.steps)),
             };
             rows.push((engine.name(), run));
